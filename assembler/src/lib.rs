@@ -1,0 +1,1 @@
+//! Static linker, memory image and scene pipeline.

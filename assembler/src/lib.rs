@@ -1,1 +1,6 @@
 //! Static linker, memory image and scene pipeline.
+
+pub mod bvh;
+pub mod image;
+pub mod link;
+pub mod scene;

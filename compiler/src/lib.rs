@@ -1,1 +1,276 @@
 //! TRaX-Rust compiler: kernel source → MIPS32r6 ELF relocatable object with DWARF.
+//!
+//! Pipeline (one module per stage):
+//! - [`parse`]: `syn` parse of the kernel crate (from disk) and the prelude crate `trax`
+//!   (from memory), following `mod x;`/`#[path]` and evaluating `#[cfg]` for
+//!   `target_arch = "mips"`.
+//! - [`resolve`]: modules, `use`, structs, functions, consts/statics, impls (inherent and
+//!   `std::ops` operator traits) into a [`resolve::Program`]; rejects items outside the
+//!   subset with named diagnostics.
+//! - [`typeck`]: types of every expression (literal inference variables default to
+//!   `i32`/`f64`), path/method/operator resolution, builtin macros.
+//! - [`lower`]: LLVM IR via inkwell, on demand from `trax_main` (only reachable code is
+//!   emitted), with DWARF (subprograms, lexical blocks, 1-based line/column, typed
+//!   parameters and locals). TRaX instructions are `.word`s in inline asm.
+//! - [`target`]: `mipsel-unknown-none-elf`, `mips32r6`, `+msa,+fp64,+noabicalls`, static
+//!   relocations, no `$gp`-relative data; LLVM's `default<On>` pipeline; object emission.
+//!   [`memfns`] and [`rtlib`] add `memset`/`memcpy`/`memmove` and 64-bit division and
+//!   conversion helpers when the optimised code needs them (TRaX has no libc).
+//!
+//! Errors are [`CompileError::Diagnostics`] (kernel errors with stable ids, exit code 1)
+//! or [`CompileError::Internal`] (compiler bugs, exit code 101). Set
+//! `TRAX_COMPILER_TIMINGS=1` to print the time of each stage.
+
+pub mod diag;
+pub mod lower;
+pub mod memfns;
+pub mod parse;
+pub mod resolve;
+pub mod rtlib;
+pub mod target;
+pub mod ty;
+pub mod typeck;
+
+use diag::{Diagnostic, SourceMap};
+use parse::CrateSource;
+use std::path::{Path, PathBuf};
+
+/// What to produce.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Emit {
+    /// ELF relocatable object.
+    #[default]
+    Obj,
+    /// Assembly text.
+    Asm,
+    /// LLVM IR text (after optimisation).
+    LlvmIr,
+}
+
+/// The prelude crate (`trax`) compiled with every kernel.
+#[derive(Clone, Debug)]
+pub struct Prelude {
+    /// Files `(path relative to the crate root, source)`; the root is `lib.rs`.
+    pub files: Vec<(String, String)>,
+    /// Directory shown in diagnostics and DWARF.
+    pub dir: PathBuf,
+}
+
+impl Prelude {
+    /// The runtime's prelude (`trax_runtime::prelude`).
+    pub fn runtime() -> Prelude {
+        Prelude {
+            files: trax_runtime::prelude::FILES
+                .iter()
+                .map(|(p, s)| (p.to_string(), s.to_string()))
+                .collect(),
+            dir: PathBuf::from(trax_runtime::prelude::DIR),
+        }
+    }
+}
+
+/// Compiler options.
+#[derive(Clone, Debug, Default)]
+pub struct CompileOptions {
+    /// Optimisation level 0..=3.
+    pub opt_level: u8,
+    /// Output kind.
+    pub emit: Emit,
+    /// Prelude crate; `None` compiles the kernel alone (then `trax::` paths only reach the
+    /// builtin `trax::simd` module).
+    pub prelude: Option<Prelude>,
+}
+
+/// Compiler output.
+#[derive(Debug)]
+pub struct Output {
+    /// Object bytes, assembly text or LLVM IR text, per [`CompileOptions::emit`].
+    pub bytes: Vec<u8>,
+}
+
+/// Why compilation failed.
+#[derive(Debug, thiserror::Error)]
+pub enum CompileError {
+    /// Errors in the kernel (exit code 1).
+    #[error("{}", render(.0))]
+    Diagnostics(Vec<Diagnostic>),
+    /// A bug in the compiler or LLVM failure (exit code 101).
+    #[error("internal compiler error: {0}")]
+    Internal(String),
+}
+
+impl CompileError {
+    /// Process exit code for this error.
+    pub fn exit_code(&self) -> u8 {
+        match self {
+            CompileError::Diagnostics(_) => 1,
+            CompileError::Internal(_) => 101,
+        }
+    }
+}
+
+/// Renders diagnostics as text, one after the other.
+pub fn render(d: &[Diagnostic]) -> String {
+    let mut s = String::new();
+    for x in d {
+        s.push_str(&x.to_string());
+        s.push('\n');
+    }
+    let n = d.len();
+    s.push_str(&format!(
+        "error: could not compile due to {n} previous error{}\n",
+        if n == 1 { "" } else { "s" }
+    ));
+    s
+}
+
+/// Compiles the kernel whose root file is `path`.
+pub fn compile_file(path: &Path, opts: &CompileOptions) -> Result<Output, CompileError> {
+    let mut sources = SourceMap::default();
+    let kernel = parse::parse_crate(&mut sources, &CrateSource::Disk(path.to_path_buf()))
+        .map_err(|d| CompileError::Diagnostics(vec![d]))?;
+    let prelude = match &opts.prelude {
+        Some(p) => {
+            let files: Vec<(&str, &str)> = p
+                .files
+                .iter()
+                .map(|(a, b)| (a.as_str(), b.as_str()))
+                .collect();
+            let src = CrateSource::Memory {
+                files: &files,
+                dir: p.dir.clone(),
+            };
+            Some(
+                parse::parse_crate(&mut sources, &src)
+                    .map_err(|d| CompileError::Diagnostics(vec![d]))?,
+            )
+        }
+        None => None,
+    };
+    let name = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().replace('-', "_"))
+        .unwrap_or_else(|| "kernel".into());
+    compile_parsed(&sources, &kernel, &name, prelude.as_ref(), opts)
+}
+
+/// Prints the time of each stage to stderr when `TRAX_COMPILER_TIMINGS` is set.
+struct Timer {
+    on: bool,
+    last: std::time::Instant,
+}
+
+impl Timer {
+    fn new() -> Timer {
+        Timer {
+            on: std::env::var_os("TRAX_COMPILER_TIMINGS").is_some(),
+            last: std::time::Instant::now(),
+        }
+    }
+
+    fn lap(&mut self, stage: &str) {
+        if self.on {
+            eprintln!(
+                "trax-compiler: {stage:<10} {:8.1} ms",
+                self.last.elapsed().as_secs_f64() * 1e3
+            );
+        }
+        self.last = std::time::Instant::now();
+    }
+}
+
+fn compile_parsed(
+    sources: &SourceMap,
+    kernel: &parse::ParsedCrate,
+    name: &str,
+    prelude: Option<&parse::ParsedCrate>,
+    opts: &CompileOptions,
+) -> Result<Output, CompileError> {
+    let mut timer = Timer::new();
+    let program =
+        resolve::collect(sources, kernel, name, prelude).map_err(CompileError::Diagnostics)?;
+    timer.lap("resolve");
+    // Type-check every function and global.
+    let mut errs = Vec::new();
+    let mut fn_bodies = Vec::new();
+    for f in 0..program.fns.len() {
+        match typeck::check_fn(&program, f) {
+            Ok(b) => fn_bodies.push(b),
+            Err(e) => {
+                errs.push(e);
+                fn_bodies.push(typeck::Body::default());
+            }
+        }
+    }
+    let mut global_bodies = Vec::new();
+    for g in 0..program.globals.len() {
+        match typeck::check_global(&program, g) {
+            Ok(b) => global_bodies.push(b),
+            Err(e) => {
+                errs.push(e);
+                global_bodies.push(typeck::Body::default());
+            }
+        }
+    }
+    let root = program.modules[program.kernel_root].file;
+    let main = match program.modules[program.kernel_root].values_get("trax_main") {
+        Some(resolve::PathRes::Fn(f)) => Some(f),
+        _ => None,
+    };
+    let Some(main) = main else {
+        errs.push(Diagnostic::file_level(
+            &sources.get(root).display,
+            "missing-entry-point",
+            "the kernel has no `fn trax_main()` at its root",
+        ));
+        return Err(CompileError::Diagnostics(errs));
+    };
+    let mf = &program.fns[main];
+    if !mf.params.is_empty() || mf.ret != ty::Ty::Unit {
+        errs.push(Diagnostic::new(
+            sources,
+            mf.file,
+            mf.sig.ident.span(),
+            "invalid-entry-point",
+            "`trax_main` must be declared as `fn trax_main()`",
+        ));
+    }
+    if !errs.is_empty() {
+        return Err(CompileError::Diagnostics(errs));
+    }
+    timer.lap("typeck");
+    let tm = target::machine(opts.opt_level).map_err(CompileError::Internal)?;
+    let ctx = inkwell::context::Context::create();
+    let empty = typeck::Body::default();
+    let lowerer = lower::Lowerer::new(
+        &ctx,
+        name,
+        tm.get_target_data(),
+        &tm.get_triple(),
+        &program,
+        &fn_bodies,
+        &global_bodies,
+        opts.opt_level > 0,
+        &empty,
+    );
+    let module = match lowerer.run(main) {
+        Ok(m) => m,
+        Err(lower::LowerError::Diag(d)) => return Err(CompileError::Diagnostics(vec![d])),
+        Err(lower::LowerError::Internal(s)) => return Err(CompileError::Internal(s)),
+    };
+    timer.lap("lower");
+    module
+        .verify()
+        .map_err(|e| CompileError::Internal(format!("invalid LLVM IR: {}", e.to_string())))?;
+    target::optimize(&module, &tm, opts.opt_level).map_err(CompileError::Internal)?;
+    memfns::provide(&ctx, &module).map_err(CompileError::Internal)?;
+    rtlib::provide(&ctx, &module).map_err(CompileError::Internal)?;
+    timer.lap("optimize");
+    let bytes = match opts.emit {
+        Emit::LlvmIr => module.print_to_string().to_string().into_bytes(),
+        Emit::Asm => target::emit(&module, &tm, true).map_err(CompileError::Internal)?,
+        Emit::Obj => target::emit(&module, &tm, false).map_err(CompileError::Internal)?,
+    };
+    timer.lap("emit");
+    Ok(Output { bytes })
+}

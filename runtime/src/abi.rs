@@ -30,6 +30,11 @@ pub const ENTRY_SYMBOL: &str = "trax_main";
 pub const START_SYMBOL: &str = "__trax_start";
 /// Magic value of [`SceneHeader::magic`] ("TRAX" little-endian).
 pub const SCENE_MAGIC: u32 = u32::from_le_bytes(*b"TRAX");
+/// Prefix of the symbols through which a program references scene components: the symbol
+/// `__trax_scene_<field>` (field names as in [`scene_header_fields`]) is the absolute address
+/// of that header field. The linker defines these; the image builder loads exactly the
+/// components whose symbol the program references.
+pub const SCENE_SYMBOL_PREFIX: &str = "__trax_scene_";
 /// Version of the header layout; bump on any change.
 pub const SCENE_VERSION: u32 = 1;
 
@@ -100,7 +105,9 @@ pub struct SceneHeader {
     pub camera: u32,
     /// Framebuffer: `width*height` pixels of 3 × f32 linear RGB, row 0 at the top.
     pub framebuffer: Component,
-    /// BVH nodes, 32 bytes each (see the assembler's BVH layout), root first.
+    /// BVH nodes, 32 bytes each, root at index 0: `min: [f32; 3]`, `max: [f32; 3]`, `a: u32`,
+    /// `b: u32`. Interior node: `b == 0`, children at node indices `a` and `a + 1`.
+    /// Leaf: `b` = triangle count (>= 1), triangles `a .. a + b` of [`SceneHeader::triangles`].
     pub bvh_nodes: Component,
     /// Triangles, 36 bytes each: three vertices of 3 × f32, in BVH leaf order.
     pub triangles: Component,
@@ -174,10 +181,8 @@ mod tests {
         assert_eq!(std::mem::align_of::<SceneHeader>(), 4);
     }
 
-    #[test]
-    fn regions_do_not_overlap() {
-        assert!(NULL_GUARD_END <= SCENE_HEADER_ADDR);
-        assert!(SCENE_HEADER_ADDR as usize + SCENE_HEADER_SIZE <= TEXT_BASE as usize);
-        assert!(TEXT_BASE < STACK_TOP - DEFAULT_STACK_SIZE);
-    }
+    // The memory regions do not overlap (checked at compile time).
+    const _: () = assert!(NULL_GUARD_END <= SCENE_HEADER_ADDR);
+    const _: () = assert!(SCENE_HEADER_ADDR as usize + SCENE_HEADER_SIZE <= TEXT_BASE as usize);
+    const _: () = assert!(TEXT_BASE < STACK_TOP - DEFAULT_STACK_SIZE);
 }

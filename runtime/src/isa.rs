@@ -200,7 +200,12 @@ impl TraxInstr {
     ///
     /// Values are masked to 5 bits; fields not used by the instruction are zero.
     pub fn encode(&self, regs: &[u32]) -> u32 {
-        assert_eq!(regs.len(), self.operands.len(), "operand count for {}", self.mnemonic);
+        assert_eq!(
+            regs.len(),
+            self.operands.len(),
+            "operand count for {}",
+            self.mnemonic
+        );
         let mut w = (TRAX_MAJOR_OPCODE << 26) | self.funct;
         for (o, v) in self.operands.iter().zip(regs) {
             w |= (v & 0x1F) << o.field.shift();
@@ -215,7 +220,9 @@ impl TraxInstr {
 
     /// Mask of the bits that are operand fields of this instruction.
     pub fn operand_mask(&self) -> u32 {
-        self.operands.iter().fold(0, |m, o| m | (0x1F << o.field.shift()))
+        self.operands
+            .iter()
+            .fold(0, |m, o| m | (0x1F << o.field.shift()))
     }
 }
 
@@ -409,9 +416,19 @@ mod tests {
             assert!(m.insert(i.mnemonic), "duplicate mnemonic {}", i.mnemonic);
             assert!(ops.insert(i.op), "duplicate op {:?}", i.op);
             let fields: HashSet<_> = i.operands.iter().map(|o| o.field).collect();
-            assert_eq!(fields.len(), i.operands.len(), "{} reuses a field", i.mnemonic);
+            assert_eq!(
+                fields.len(),
+                i.operands.len(),
+                "{} reuses a field",
+                i.mnemonic
+            );
             for o in i.operands {
-                assert_eq!(o.kind == OperandKind::Imm5, o.field == Field::Sa, "{}", i.mnemonic);
+                assert_eq!(
+                    o.kind == OperandKind::Imm5,
+                    o.field == Field::Sa,
+                    "{}",
+                    i.mnemonic
+                );
             }
         }
     }

@@ -2,4 +2,11 @@
 //! the memory map and scene header ABI ([`abi`]), and the kernel prelude sources.
 
 pub mod abi;
+pub mod cheader;
+pub mod fops;
+pub mod host;
 pub mod isa;
+pub mod pipes;
+pub mod prelude;
+pub mod rng;
+pub mod startup;

@@ -2,8 +2,20 @@
 
 use clap::{Parser, Subcommand};
 
+mod build;
+mod common;
+mod disasm;
+mod native;
+mod prepare;
+mod run;
+mod scene;
+
 #[derive(Parser, Debug)]
-#[command(name = "trax", version, about = "TRaX-Rust toolchain and ray-tracing hardware simulator")]
+#[command(
+    name = "trax",
+    version,
+    about = "TRaX-Rust toolchain and ray-tracing hardware simulator"
+)]
 pub struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -11,11 +23,27 @@ pub struct Cli {
 
 #[derive(Subcommand, Debug)]
 enum Command {
+    /// Compile and link a TRaX-Rust kernel into a MIPS32r6 ELF executable with DWARF.
+    Build(build::BuildArgs),
+    /// Inspect scenes: triangles, materials, bounds, BVH, treelets, memory bytes.
+    Scene(scene::SceneArgs),
+    /// Build a kernel with rustc against the host prelude and run it on host threads.
+    Native(native::NativeArgs),
+    /// Run a linked kernel (ELF) on the simulated machine.
+    Run(run::RunArgs),
+    /// Disassemble an executable, optionally with source lines.
+    Disasm(disasm::DisasmArgs),
 }
 
 pub fn main() -> std::process::ExitCode {
     let cli = Cli::parse();
-    match cli.command {}
+    match cli.command {
+        Command::Build(a) => build::run(a),
+        Command::Scene(a) => scene::run(a),
+        Command::Native(a) => native::run(a),
+        Command::Run(a) => run::run(a),
+        Command::Disasm(a) => disasm::run(a),
+    }
 }
 
 #[cfg(test)]

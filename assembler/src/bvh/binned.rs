@@ -1,0 +1,481 @@
+//! Binned SAH builder (one thread).
+//!
+//! Each node of `n` triangles bins their centroids into `n` equal slots per axis (at least
+//! 16, at most `bins`; nodes of at most 32 triangles evaluate every split exactly instead),
+//! evaluates the SAH at every bin boundary of all three axes, and splits at the cheapest
+//! one; a node with at most `max_leaf` triangles becomes a leaf when that is no more
+//! expensive. Robustness:
+//! a node whose centroids coincide on every axis, or that has no split with both sides
+//! non-empty, is split at the middle of its range; past `sah_depth` splits are object
+//! medians, so depth stays bounded; bin indices are clamped so huge or tiny extents never
+//! index out of range or produce NaN. Child boxes are exact unions of their triangles'
+//! boxes, hence always inside the parent's.
+
+use super::aabb::{fmax, fmin};
+use super::{Aabb, Bvh, BvhOptions, Node, C_TRAV};
+use crate::scene::Vec3;
+
+/// A triangle's box and index, moved around during partitioning (32 bytes: cache-friendly).
+/// Lanes 0..3 are the box; lane 3 of `lo` carries the triangle index's bits, lane 3 of `hi`
+/// is unused. Four lanes let the bin updates compile to packed min/max.
+#[derive(Clone, Copy)]
+struct Prim {
+    lo: [f32; 4],
+    hi: [f32; 4],
+}
+
+impl Prim {
+    /// Twice the centroid (saves a multiply; only ever compared with itself).
+    #[inline(always)]
+    fn c(&self, axis: usize) -> f32 {
+        self.lo[axis] + self.hi[axis]
+    }
+    #[inline(always)]
+    fn aabb(&self) -> Aabb {
+        Aabb {
+            min: [self.lo[0], self.lo[1], self.lo[2]],
+            max: [self.hi[0], self.hi[1], self.hi[2]],
+        }
+    }
+    #[inline(always)]
+    fn idx(&self) -> u32 {
+        self.lo[3].to_bits()
+    }
+}
+
+/// One bin's bounds, in the same four-lane form as [`Prim`] (lane 3 is junk).
+#[derive(Clone, Copy)]
+struct Bin {
+    lo: [f32; 4],
+    hi: [f32; 4],
+}
+
+impl Bin {
+    const EMPTY: Bin = Bin {
+        lo: [f32::INFINITY; 4],
+        hi: [f32::NEG_INFINITY; 4],
+    };
+
+    #[inline(always)]
+    fn add(&mut self, p: &Prim) {
+        for l in 0..4 {
+            self.lo[l] = fmin(self.lo[l], p.lo[l]);
+            self.hi[l] = fmax(self.hi[l], p.hi[l]);
+        }
+    }
+
+    #[inline(always)]
+    fn merge(&mut self, o: &Bin) {
+        for l in 0..4 {
+            self.lo[l] = fmin(self.lo[l], o.lo[l]);
+            self.hi[l] = fmax(self.hi[l], o.hi[l]);
+        }
+    }
+
+    #[inline(always)]
+    fn aabb(&self) -> Aabb {
+        Aabb {
+            min: [self.lo[0], self.lo[1], self.lo[2]],
+            max: [self.hi[0], self.hi[1], self.hi[2]],
+        }
+    }
+}
+
+/// A chosen split: the left part's size and, when the binning already knows them, each
+/// side's (bounds, centroid bounds).
+struct Split {
+    mid: usize,
+    children: Option<[(Aabb, Aabb); 2]>,
+}
+
+impl Split {
+    fn at(mid: usize) -> Split {
+        Split {
+            mid,
+            children: None,
+        }
+    }
+}
+
+struct Task {
+    node: u32,
+    start: usize,
+    end: usize,
+    bounds: Aabb,
+    /// Bounds of the doubled centroids.
+    cbounds: Aabb,
+    depth: u32,
+}
+
+/// Nodes with at most this many triangles evaluate every split (a full sweep), which is
+/// cheap at that size and recovers the quality binning loses on small nodes.
+const EXACT_BELOW: usize = 32;
+
+/// Bounds of a range and of its doubled centroids.
+fn range_bounds(prims: &[Prim]) -> (Aabb, Aabb) {
+    let mut b = Aabb::EMPTY;
+    let mut c = Aabb::EMPTY;
+    for p in prims {
+        b = b.union(&p.aabb());
+        c.grow([p.c(0), p.c(1), p.c(2)]);
+    }
+    (b, c)
+}
+
+/// Builds the tree: nodes in depth-first order with sibling pairs allocated together.
+pub fn build(triangles: &[[Vec3; 3]], opts: &BvhOptions) -> Bvh {
+    let mut prims: Vec<Prim> = triangles
+        .iter()
+        .enumerate()
+        .map(|(i, t)| {
+            let b = Aabb::of_triangle(t);
+            Prim {
+                lo: [b.min[0], b.min[1], b.min[2], f32::from_bits(i as u32)],
+                hi: [b.max[0], b.max[1], b.max[2], 0.0],
+            }
+        })
+        .collect();
+    let nb = opts.bins as usize;
+    let max_leaf = opts.max_leaf as usize;
+    let mut nodes: Vec<Node> = Vec::with_capacity(2 * triangles.len());
+    nodes.push(Node::default());
+    let (bounds, cbounds) = range_bounds(&prims);
+    let mut stack = vec![Task {
+        node: 0,
+        start: 0,
+        end: prims.len(),
+        bounds,
+        cbounds,
+        depth: 1,
+    }];
+    let mut bins = vec![Bin::EMPTY; 6 * nb];
+    let mut counts = vec![0u32; 6 * nb];
+    let mut right_area = vec![0.0f32; nb];
+    while let Some(t) = stack.pop() {
+        let n = t.end - t.start;
+        let leaf = |nodes: &mut Vec<Node>| {
+            nodes[t.node as usize] = Node {
+                min: t.bounds.min,
+                max: t.bounds.max,
+                a: t.start as u32,
+                b: n as u32,
+            };
+        };
+        if n == 1 {
+            leaf(&mut nodes);
+            continue;
+        }
+        let range = &mut prims[t.start..t.end];
+        let ext = [0, 1, 2].map(|i| t.cbounds.max[i] - t.cbounds.min[i]);
+        let widest = (0..3)
+            .max_by(|&a, &b| ext[a].total_cmp(&ext[b]))
+            .unwrap_or(0);
+        // The split, or None for a leaf.
+        let split: Option<Split> = if ext[widest] <= 0.0 {
+            // All centroids coincide: no spatial split exists.
+            (n > max_leaf).then(|| Split::at(n / 2))
+        } else if t.depth >= opts.sah_depth {
+            let mid = n / 2;
+            range.select_nth_unstable_by(mid, |a, b| a.c(widest).total_cmp(&b.c(widest)));
+            Some(Split::at(mid))
+        } else if n <= EXACT_BELOW {
+            exact_split(range, &t, max_leaf, &mut right_area).map(Split::at)
+        } else {
+            sah_split(
+                range,
+                &t,
+                ext,
+                nb,
+                max_leaf,
+                (&mut bins, &mut counts),
+                &mut right_area,
+            )
+        };
+        let Some(split) = split else {
+            leaf(&mut nodes);
+            continue;
+        };
+        let mid = split.mid;
+        let [(lb, lc), (rb, rc)] = split
+            .children
+            .unwrap_or_else(|| [range_bounds(&range[..mid]), range_bounds(&range[mid..])]);
+        let a = nodes.len() as u32;
+        nodes.push(Node::default());
+        nodes.push(Node::default());
+        nodes[t.node as usize] = Node {
+            min: t.bounds.min,
+            max: t.bounds.max,
+            a,
+            b: 0,
+        };
+        stack.push(Task {
+            node: a + 1,
+            start: t.start + mid,
+            end: t.end,
+            bounds: rb,
+            cbounds: rc,
+            depth: t.depth + 1,
+        });
+        stack.push(Task {
+            node: a,
+            start: t.start,
+            end: t.start + mid,
+            bounds: lb,
+            cbounds: lc,
+            depth: t.depth + 1,
+        });
+    }
+    Bvh {
+        nodes,
+        tri_order: prims.iter().map(Prim::idx).collect(),
+        treelets: None,
+    }
+}
+
+/// Bins `range`, picks the cheapest SAH split, partitions the range in place and returns the
+/// size of the left part; `None` when a leaf is at least as cheap (and allowed).
+fn sah_split(
+    range: &mut [Prim],
+    t: &Task,
+    ext: [f32; 3],
+    nb: usize,
+    max_leaf: usize,
+    (bins, counts): (&mut [Bin], &mut [u32]),
+    right_area: &mut [f32],
+) -> Option<Split> {
+    let n = range.len();
+    // Many bins where they matter (large nodes near the root, where a few huge triangles
+    // such as enclosing walls must be separated precisely), few where they would be noise.
+    let nb = n.max(16).min(nb);
+    // Large nodes alternate between two bin sets, so that runs of neighbouring triangles
+    // falling in one bin do not serialise on that bin's memory; merged afterwards.
+    let sets = if n >= 8 * nb { 2 } else { 1 };
+    bins[..sets * 3 * nb].fill(Bin::EMPTY);
+    counts[..sets * 3 * nb].fill(0);
+    // A finite, non-negative scale; `as usize` saturates (NaN -> 0), then clamp.
+    let scale = ext.map(|e| {
+        let s = nb as f32 / e;
+        if e > 0.0 && s.is_finite() {
+            s * 0.999_99
+        } else {
+            0.0
+        }
+    });
+    let g = Grid {
+        cmin: t.cbounds.min,
+        scale,
+        last: nb - 1,
+    };
+    let bin_of = |p: &Prim, axis: usize| g.bin(p, axis);
+    {
+        // Per-axis slices of exactly `nb` bins let the compiler drop bounds checks.
+        let (set_a, set_b) = bins[..2 * 3 * nb].split_at_mut(3 * nb);
+        let (cnt_a, cnt_b) = counts[..2 * 3 * nb].split_at_mut(3 * nb);
+        if sets == 2 {
+            let mut pairs = range.chunks_exact(2);
+            for pair in &mut pairs {
+                g.add(&pair[0], set_a, cnt_a);
+                g.add(&pair[1], set_b, cnt_b);
+            }
+            for p in pairs.remainder() {
+                g.add(p, set_a, cnt_a);
+            }
+            for (a, b) in set_a.iter_mut().zip(set_b.iter()) {
+                a.merge(b);
+            }
+            for (a, b) in cnt_a.iter_mut().zip(cnt_b.iter()) {
+                *a += b;
+            }
+        } else {
+            for p in range.iter() {
+                g.add(p, set_a, cnt_a);
+            }
+        }
+    }
+    let mut best = (f32::INFINITY, 0usize, 0usize); // (cost, axis, last left bin)
+    for axis in 0..3 {
+        if scale[axis] == 0.0 {
+            continue;
+        }
+        let bins = &bins[axis * nb..axis * nb + nb];
+        let counts = &counts[axis * nb..axis * nb + nb];
+        let mut acc = Bin::EMPTY;
+        for k in (1..nb).rev() {
+            acc.merge(&bins[k]);
+            right_area[k] = acc.aabb().area();
+        }
+        let mut acc = Bin::EMPTY;
+        let mut nl = 0u32;
+        for k in 0..nb - 1 {
+            acc.merge(&bins[k]);
+            nl += counts[k];
+            let nr = n as u32 - nl;
+            if nl == 0 || nr == 0 {
+                continue;
+            }
+            let cost = acc.aabb().area() * nl as f32 + right_area[k + 1] * nr as f32;
+            if cost < best.0 {
+                best = (cost, axis, k);
+            }
+        }
+    }
+    let area = t.bounds.area();
+    let leaf_cost = n as f32 * area;
+    if !best.0.is_finite() {
+        // No split with both sides non-empty (e.g. extents too small to bin).
+        return (n > max_leaf).then(|| Split::at(median(range, ext)));
+    }
+    if n <= max_leaf && leaf_cost <= C_TRAV * area + best.0 {
+        return None;
+    }
+    let (axis, k) = (best.1, best.2);
+    let split_bins = &bins[axis * nb..axis * nb + nb];
+    let (mut lb, mut rb) = (Bin::EMPTY, Bin::EMPTY);
+    split_bins[..=k].iter().for_each(|b| lb.merge(b));
+    split_bins[k + 1..].iter().for_each(|b| rb.merge(b));
+    let (lb, rb) = (lb.aabb(), rb.aabb());
+    // In-place partition (bin <= k goes left), gathering each side's centroid bounds; one
+    // copy of the loop per axis so the axis is a constant inside it.
+    let (i, lc, rc) = match axis {
+        0 => partition(range, |p| bin_of(p, 0) <= k),
+        1 => partition(range, |p| bin_of(p, 1) <= k),
+        _ => partition(range, |p| bin_of(p, 2) <= k),
+    };
+    Some(Split {
+        mid: i,
+        children: Some([(lb, lc), (rb, rc)]),
+    })
+}
+
+/// The bin grid of one node: bin of a doubled centroid along an axis.
+struct Grid {
+    cmin: Vec3,
+    scale: [f32; 3],
+    last: usize,
+}
+
+impl Grid {
+    /// Bin index; `as i32` saturates (NaN -> 0) and is cheaper than a conversion to usize.
+    #[inline(always)]
+    fn bin(&self, p: &Prim, axis: usize) -> usize {
+        ((((p.c(axis) - self.cmin[axis]) * self.scale[axis]) as i32).max(0) as usize).min(self.last)
+    }
+
+    /// Adds a triangle to one bin per axis of a set of `3 * (last + 1)` bins.
+    #[inline(always)]
+    fn add(&self, p: &Prim, bins: &mut [Bin], counts: &mut [u32]) {
+        let nb = self.last + 1;
+        for axis in 0..3 {
+            let k = axis * nb + self.bin(p, axis);
+            bins[k].add(p);
+            counts[k] += 1;
+        }
+    }
+}
+
+/// Moves the triangles for which `left` holds to the front; returns their count and the
+/// centroid bounds of both sides.
+#[inline(always)]
+fn partition(range: &mut [Prim], left: impl Fn(&Prim) -> bool) -> (usize, Aabb, Aabb) {
+    let (mut lc, mut rc) = (Aabb::EMPTY, Aabb::EMPTY);
+    let (mut i, mut j) = (0usize, range.len());
+    while i < j {
+        let p = range[i];
+        if left(&p) {
+            lc.grow([p.c(0), p.c(1), p.c(2)]);
+            i += 1;
+        } else {
+            rc.grow([p.c(0), p.c(1), p.c(2)]);
+            j -= 1;
+            range.swap(i, j);
+        }
+    }
+    (i, lc, rc)
+}
+
+/// Full-sweep SAH over a small range; sorts the range on the chosen axis and returns the left
+/// size, or `None` for a leaf.
+fn exact_split(
+    range: &mut [Prim],
+    t: &Task,
+    max_leaf: usize,
+    right_area: &mut Vec<f32>,
+) -> Option<usize> {
+    let n = range.len();
+    if right_area.len() < n + 1 {
+        right_area.resize(n + 1, 0.0);
+    }
+    // Sort small (key, position) pairs rather than the 32-byte triangles themselves.
+    let mut keys = [(0.0f32, 0u8); EXACT_BELOW];
+    let keys = &mut keys[..n];
+    let mut best = (f32::INFINITY, 0usize, 0usize);
+    for axis in 0..3 {
+        for (i, k) in keys.iter_mut().enumerate() {
+            *k = (range[i].c(axis), i as u8);
+        }
+        sort_keys(keys);
+        let mut acc = Bin::EMPTY;
+        for k in (1..n).rev() {
+            acc.add(&range[keys[k].1 as usize]);
+            right_area[k] = acc.aabb().area();
+        }
+        let mut acc = Bin::EMPTY;
+        for k in 1..n {
+            acc.add(&range[keys[k - 1].1 as usize]);
+            if keys[k - 1].0 == keys[k].0 {
+                continue;
+            }
+            let cost = acc.aabb().area() * k as f32 + right_area[k] * (n - k) as f32;
+            if cost < best.0 {
+                best = (cost, axis, k);
+            }
+        }
+    }
+    let area = t.bounds.area();
+    if !best.0.is_finite() {
+        return (n > max_leaf).then_some(n / 2);
+    }
+    if n <= max_leaf && n as f32 * area <= C_TRAV * area + best.0 {
+        return None;
+    }
+    // Reorder by the chosen axis through a small buffer (cheaper than sorting 32-byte
+    // triangles); the split falls between distinct keys, so the sides are exact.
+    let axis = best.1;
+    for (i, k) in keys.iter_mut().enumerate() {
+        *k = (range[i].c(axis), i as u8);
+    }
+    sort_keys(keys);
+    let mut buf = [range[0]; EXACT_BELOW];
+    buf[..n].copy_from_slice(range);
+    for (dst, k) in range.iter_mut().zip(keys.iter()) {
+        *dst = buf[k.1 as usize];
+    }
+    Some(best.2)
+}
+
+/// Sorts (key, position) pairs by key, then position: insertion sort for the tiny arrays
+/// near the leaves (where a general sort's set-up dominates), the standard sort otherwise.
+fn sort_keys(keys: &mut [(f32, u8)]) {
+    let less = |a: &(f32, u8), b: &(f32, u8)| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)).is_lt();
+    if keys.len() > 8 {
+        keys.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        return;
+    }
+    for i in 1..keys.len() {
+        let mut j = i;
+        while j > 0 && less(&keys[j], &keys[j - 1]) {
+            keys.swap(j, j - 1);
+            j -= 1;
+        }
+    }
+}
+
+/// Object-median split on the widest centroid axis; returns the left size.
+fn median(range: &mut [Prim], ext: [f32; 3]) -> usize {
+    let axis = (0..3)
+        .max_by(|&a, &b| ext[a].total_cmp(&ext[b]))
+        .unwrap_or(0);
+    let mid = range.len() / 2;
+    range.select_nth_unstable_by(mid, |a, b| a.c(axis).total_cmp(&b.c(axis)));
+    mid
+}

@@ -1,0 +1,493 @@
+//! Scenes: triangles, per-vertex attributes, materials, camera and point lights, loaded from
+//! OBJ/MTL (`.obj`, simtrax `.objl` lists), the embedded Cornell box, or generated
+//! procedurally. Every loader ends in [`Scene::validate`], so a [`Scene`] handed to the BVH
+//! builder or the memory image has finite vertices and at least one triangle.
+
+mod cornell;
+mod obj;
+mod procedural;
+mod view;
+
+use std::path::{Path, PathBuf};
+
+pub use cornell::cornell_box;
+pub use obj::{load_obj, load_objl};
+pub use procedural::procedural;
+pub use view::{parse_light, parse_view, View};
+
+/// A 3-component vector.
+pub type Vec3 = [f32; 3];
+
+/// Material flag: the material emits light (non-zero emission).
+pub const MATERIAL_EMISSIVE: u32 = 1;
+/// Material flag: the material has a non-zero specular colour.
+pub const MATERIAL_SPECULAR: u32 = 2;
+/// Material flags: bits 8..16 hold the MTL `illum` model number.
+pub const MATERIAL_ILLUM_SHIFT: u32 = 8;
+
+/// A surface material (MTL `Kd`, `Ks`, `Ke`, `Ns`, `illum`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Material {
+    /// Name from `newmtl` (or a generated name).
+    pub name: String,
+    /// Diffuse reflectance (`Kd`).
+    pub diffuse: Vec3,
+    /// Specular reflectance (`Ks`).
+    pub specular: Vec3,
+    /// Emitted radiance (`Ke`).
+    pub emission: Vec3,
+    /// Specular exponent (`Ns`).
+    pub shininess: f32,
+    /// MTL illumination model (`illum`), 0 when absent.
+    pub illum: u8,
+}
+
+impl Material {
+    /// The grey material used for triangles without a (known) material, as in simtrax.
+    pub fn default_grey() -> Material {
+        Material {
+            name: "default".into(),
+            diffuse: [0.78; 3],
+            specular: [0.0; 3],
+            emission: [0.0; 3],
+            shininess: 0.0,
+            illum: 0,
+        }
+    }
+
+    /// Whether the material emits light.
+    pub fn is_emissive(&self) -> bool {
+        self.emission.iter().any(|&c| c > 0.0)
+    }
+
+    /// The flags word stored in memory ([`MATERIAL_EMISSIVE`], [`MATERIAL_SPECULAR`], illum).
+    pub fn flags(&self) -> u32 {
+        let mut f = (self.illum as u32) << MATERIAL_ILLUM_SHIFT;
+        if self.is_emissive() {
+            f |= MATERIAL_EMISSIVE;
+        }
+        if self.specular.iter().any(|&c| c > 0.0) {
+            f |= MATERIAL_SPECULAR;
+        }
+        f
+    }
+}
+
+/// A point light (simtrax `.light`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PointLight {
+    /// Position.
+    pub position: Vec3,
+    /// Colour (linear RGB).
+    pub color: Vec3,
+}
+
+/// A loaded scene. All per-triangle arrays have one entry per triangle.
+#[derive(Clone, Debug)]
+pub struct Scene {
+    /// Human-readable name (file name or built-in name).
+    pub name: String,
+    /// Triangle vertices.
+    pub triangles: Vec<[Vec3; 3]>,
+    /// Per-vertex normals (geometric normal where the file has none).
+    pub normals: Vec<[Vec3; 3]>,
+    /// Per-vertex texture coordinates (zero where the file has none).
+    pub texcoords: Vec<[[f32; 2]; 3]>,
+    /// Material index per triangle, into [`Scene::materials`].
+    pub material_ids: Vec<u32>,
+    /// Materials (never empty after validation: a grey default is appended when needed).
+    pub materials: Vec<Material>,
+    /// The camera.
+    pub view: View,
+    /// Point lights.
+    pub point_lights: Vec<PointLight>,
+    /// Non-fatal problems met while loading (e.g. a missing MTL library).
+    pub warnings: Vec<String>,
+}
+
+/// An axis-aligned bounding box of a scene.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Bounds {
+    /// Minimum corner.
+    pub min: Vec3,
+    /// Maximum corner.
+    pub max: Vec3,
+}
+
+impl Bounds {
+    /// Length of the diagonal.
+    pub fn diagonal(&self) -> f32 {
+        let d: f32 = (0..3).map(|i| (self.max[i] - self.min[i]).powi(2)).sum();
+        d.sqrt()
+    }
+
+    /// Centre point.
+    pub fn center(&self) -> Vec3 {
+        [0, 1, 2].map(|i| 0.5 * (self.min[i] + self.max[i]))
+    }
+}
+
+/// Errors from loading or validating a scene.
+#[derive(Debug, thiserror::Error)]
+pub enum SceneError {
+    /// A file could not be read.
+    #[error("cannot read {path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The underlying error.
+        source: std::io::Error,
+    },
+    /// A line of an OBJ, MTL, `.view`, `.light` or `.objl` file is malformed.
+    #[error("{path}:{line}: {message}")]
+    Syntax {
+        /// The file.
+        path: PathBuf,
+        /// 1-based line number.
+        line: usize,
+        /// What was expected.
+        message: String,
+    },
+    /// A vertex coordinate is NaN or infinite.
+    #[error("{path}:{line}: vertex coordinate is not finite ({value})")]
+    NonFiniteVertex {
+        /// The file.
+        path: PathBuf,
+        /// 1-based line number (0 when only known after loading).
+        line: usize,
+        /// The offending value as written.
+        value: String,
+    },
+    /// tobj rejected the file after our own checks passed.
+    #[error("{path}: OBJ parse error: {message}")]
+    Obj {
+        /// The file.
+        path: PathBuf,
+        /// tobj's message.
+        message: String,
+    },
+    /// The scene has no triangles.
+    #[error("scene `{0}` has no triangles")]
+    Empty(String),
+    /// A triangle vertex, normal or the camera is not finite after loading.
+    #[error("scene `{scene}`: triangle {triangle} has a non-finite {what}")]
+    NonFiniteTriangle {
+        /// Scene name.
+        scene: String,
+        /// Triangle index.
+        triangle: usize,
+        /// "vertex", "normal" or "texture coordinate".
+        what: &'static str,
+    },
+    /// The camera is unusable (zero gaze, up parallel to gaze, zero distance...).
+    #[error("{0}")]
+    BadCamera(String),
+    /// A scene name that is neither built in nor a file path with a known extension.
+    #[error(
+        "unknown scene `{0}`: expected `cornell`, `procedural:N` or a path to a .obj/.objl file"
+    )]
+    UnknownScene(String),
+    /// A procedural scene request is invalid.
+    #[error("bad procedural scene `{spec}`: {message}")]
+    Procedural {
+        /// The request as written.
+        spec: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// Per-triangle arrays disagree, or an index is out of range (a scene built by hand).
+    #[error("{0}")]
+    Inconsistent(String),
+    /// The scene does not fit in the 32-bit address space.
+    #[error("scene `{scene}` is too large: {what} needs {bytes} bytes, more than the 32-bit address space")]
+    TooLarge {
+        /// Scene name.
+        scene: String,
+        /// Which array.
+        what: &'static str,
+        /// Bytes needed.
+        bytes: u64,
+    },
+}
+
+/// Largest triangle count whose 36-byte array fits below the stack window.
+pub const MAX_TRIANGLES: u64 = (abi_limit() as u64) / 36;
+
+const fn abi_limit() -> u32 {
+    trax_runtime::abi::STACK_TOP
+}
+
+impl Scene {
+    /// Number of triangles.
+    pub fn len(&self) -> usize {
+        self.triangles.len()
+    }
+
+    /// Whether the scene has no triangles.
+    pub fn is_empty(&self) -> bool {
+        self.triangles.is_empty()
+    }
+
+    /// Bounding box of all vertices (zero box for an empty scene).
+    pub fn bounds(&self) -> Bounds {
+        let mut min = [f32::INFINITY; 3];
+        let mut max = [f32::NEG_INFINITY; 3];
+        for t in &self.triangles {
+            for v in t {
+                for i in 0..3 {
+                    min[i] = min[i].min(v[i]);
+                    max[i] = max[i].max(v[i]);
+                }
+            }
+        }
+        if self.triangles.is_empty() {
+            return Bounds {
+                min: [0.0; 3],
+                max: [0.0; 3],
+            };
+        }
+        Bounds { min, max }
+    }
+
+    /// Indices of triangles whose material is emissive.
+    pub fn emitters(&self) -> Vec<u32> {
+        (0..self.triangles.len() as u32)
+            .filter(|&i| {
+                self.materials
+                    .get(self.material_ids[i as usize] as usize)
+                    .is_some_and(Material::is_emissive)
+            })
+            .collect()
+    }
+
+    /// Resolves out-of-range material ids (unknown `usemtl` names) to an appended grey
+    /// default, then runs [`Scene::check`].
+    pub fn validate(&mut self) -> Result<(), SceneError> {
+        let nm = self.materials.len() as u32;
+        if self.material_ids.iter().any(|&m| m >= nm) || self.materials.is_empty() {
+            self.materials.push(Material::default_grey());
+            for m in &mut self.material_ids {
+                if *m >= nm {
+                    *m = nm;
+                }
+            }
+        }
+        self.check()
+    }
+
+    /// Checks the invariants every consumer relies on: at least one triangle, all
+    /// per-triangle arrays the same length, material ids in range, finite
+    /// vertices/normals/texcoords, a usable camera, and a size that fits the 32-bit
+    /// address space.
+    pub fn check(&self) -> Result<(), SceneError> {
+        let n = self.triangles.len();
+        if n == 0 {
+            return Err(SceneError::Empty(self.name.clone()));
+        }
+        if n as u64 > MAX_TRIANGLES {
+            return Err(SceneError::TooLarge {
+                scene: self.name.clone(),
+                what: "triangles",
+                bytes: n as u64 * 36,
+            });
+        }
+        for (what, len) in [
+            ("normals", self.normals.len()),
+            ("texcoords", self.texcoords.len()),
+            ("material_ids", self.material_ids.len()),
+        ] {
+            if len != n {
+                return Err(SceneError::Inconsistent(format!(
+                    "scene `{}` has {n} triangles but {len} {what}",
+                    self.name
+                )));
+            }
+        }
+        if let Some(i) = self
+            .material_ids
+            .iter()
+            .position(|&m| m as usize >= self.materials.len())
+        {
+            return Err(SceneError::Inconsistent(format!(
+                "scene `{}`: triangle {i} uses material {} of {}",
+                self.name,
+                self.material_ids[i],
+                self.materials.len()
+            )));
+        }
+        for (i, t) in self.triangles.iter().enumerate() {
+            if !t.iter().flatten().all(|c| c.is_finite()) {
+                return Err(self.non_finite(i, "vertex"));
+            }
+        }
+        for (i, t) in self.normals.iter().enumerate() {
+            if !t.iter().flatten().all(|c| c.is_finite()) {
+                return Err(self.non_finite(i, "normal"));
+            }
+        }
+        for (i, t) in self.texcoords.iter().enumerate() {
+            if !t.iter().flatten().all(|c| c.is_finite()) {
+                return Err(self.non_finite(i, "texture coordinate"));
+            }
+        }
+        if let Some(l) = self
+            .point_lights
+            .iter()
+            .find(|l| !l.position.iter().chain(&l.color).all(|c| c.is_finite()))
+        {
+            return Err(SceneError::Inconsistent(format!(
+                "scene `{}`: point light {:?} is not finite",
+                self.name, l.position
+            )));
+        }
+        self.view.camera().map(|_| ())
+    }
+
+    fn non_finite(&self, triangle: usize, what: &'static str) -> SceneError {
+        SceneError::NonFiniteTriangle {
+            scene: self.name.clone(),
+            triangle,
+            what,
+        }
+    }
+
+    /// Appends a triangle with flat (geometric) normals and zero texture coordinates.
+    pub fn push_flat(&mut self, tri: [Vec3; 3], material: u32) {
+        let n = geometric_normal(&tri);
+        self.triangles.push(tri);
+        self.normals.push([n; 3]);
+        self.texcoords.push([[0.0; 2]; 3]);
+        self.material_ids.push(material);
+    }
+
+    /// An empty scene with a given name and camera.
+    pub fn new(name: impl Into<String>, view: View) -> Scene {
+        Scene {
+            name: name.into(),
+            triangles: Vec::new(),
+            normals: Vec::new(),
+            texcoords: Vec::new(),
+            material_ids: Vec::new(),
+            materials: Vec::new(),
+            view,
+            point_lights: Vec::new(),
+            warnings: Vec::new(),
+        }
+    }
+}
+
+/// Unit geometric normal of a triangle (zero for a degenerate triangle).
+pub fn geometric_normal(t: &[Vec3; 3]) -> Vec3 {
+    let e1 = sub(t[1], t[0]);
+    let e2 = sub(t[2], t[0]);
+    normalize_or_zero(cross(e1, e2))
+}
+
+pub(crate) fn sub(a: Vec3, b: Vec3) -> Vec3 {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+pub(crate) fn cross(a: Vec3, b: Vec3) -> Vec3 {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+pub(crate) fn normalize_or_zero(v: Vec3) -> Vec3 {
+    // Compute in f64 so tiny (1e-6-scale) triangles do not underflow to a zero length.
+    let l = (v.iter().map(|&c| (c as f64) * (c as f64)).sum::<f64>()).sqrt();
+    if l > 0.0 && l.is_finite() {
+        v.map(|c| (c as f64 / l) as f32)
+    } else {
+        [0.0; 3]
+    }
+}
+
+/// Where to take the camera and lights from when loading a scene file.
+#[derive(Clone, Debug, Default)]
+pub struct LoadOptions {
+    /// Explicit `.view` file; otherwise one is looked for beside the scene file.
+    pub view: Option<PathBuf>,
+    /// Explicit `.light` file; otherwise one is looked for beside the scene file.
+    pub light: Option<PathBuf>,
+}
+
+/// Loads a scene by name: `cornell` (embedded), `procedural:N` (about N triangles), or a path
+/// to an `.obj` or `.objl` file. For files, the camera comes from `opts.view`, else a `.view`
+/// file with the same stem, else the only `.view` file in the same directory, else a camera
+/// framing the scene's bounds; lights likewise from `.light` files.
+pub fn load_scene(spec: &str, opts: &LoadOptions) -> Result<Scene, SceneError> {
+    let mut scene = if spec == "cornell" {
+        cornell_box()
+    } else if let Some(n) = spec.strip_prefix("procedural:") {
+        let n: u64 = n.trim().parse().map_err(|_| SceneError::Procedural {
+            spec: spec.into(),
+            message: "expected a triangle count after `procedural:`".into(),
+        })?;
+        procedural(n)?
+    } else {
+        let path = Path::new(spec);
+        match path.extension().and_then(|e| e.to_str()) {
+            Some(e) if e.eq_ignore_ascii_case("obj") => load_obj(path)?,
+            Some(e) if e.eq_ignore_ascii_case("objl") => load_objl(path)?,
+            _ if spec == "procedural" => {
+                return Err(SceneError::Procedural {
+                    spec: spec.into(),
+                    message: "expected `procedural:N`".into(),
+                })
+            }
+            _ => return Err(SceneError::UnknownScene(spec.into())),
+        }
+    };
+    let file = Path::new(spec);
+    let is_file = !(spec == "cornell" || spec.starts_with("procedural:"));
+    let view_path = opts
+        .view
+        .clone()
+        .or_else(|| is_file.then(|| companion(file, "view")).flatten());
+    match view_path {
+        Some(p) => scene.view = parse_view(&p)?,
+        None if is_file => {
+            scene.view = View::framing(&scene.bounds());
+            scene.warnings.push(format!(
+                "no .view file found for {}; using a camera framing the scene",
+                file.display()
+            ));
+        }
+        None => {}
+    }
+    let light_path = opts
+        .light
+        .clone()
+        .or_else(|| is_file.then(|| companion(file, "light")).flatten());
+    if let Some(p) = light_path {
+        scene.point_lights = vec![PointLight {
+            position: parse_light(&p)?,
+            color: [1.0; 3],
+        }];
+    }
+    scene.validate()?;
+    Ok(scene)
+}
+
+/// A `.view`/`.light` file for a scene file: same stem, else the only one in the directory.
+fn companion(file: &Path, ext: &str) -> Option<PathBuf> {
+    let same = file.with_extension(ext);
+    if same.is_file() {
+        return Some(same);
+    }
+    let dir = file.parent().filter(|d| !d.as_os_str().is_empty());
+    let dir = dir.unwrap_or(Path::new("."));
+    let mut found: Vec<PathBuf> = std::fs::read_dir(dir)
+        .ok()?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().and_then(|e| e.to_str()) == Some(ext))
+        .collect();
+    if found.len() == 1 {
+        found.pop()
+    } else {
+        None
+    }
+}

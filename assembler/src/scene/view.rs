@@ -1,0 +1,180 @@
+//! simtrax `.view` (camera) and `.light` (point light) files.
+//!
+//! `.view`: 15 whitespace-separated numbers `eye(3) gaze(3) up(3) aperture left right bottom
+//! top distance`. As in simtrax's `Camera.cc`, the second triple is a gaze *direction*, not a
+//! look-at point. `.light`: three numbers, the light position.
+
+use std::path::Path;
+
+use trax_runtime::abi::Camera;
+
+use super::{cross, normalize_or_zero, Bounds, SceneError, Vec3};
+
+/// A camera as written in a `.view` file.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct View {
+    /// Eye position.
+    pub eye: Vec3,
+    /// Gaze direction (need not be normalized).
+    pub gaze: Vec3,
+    /// Up vector.
+    pub up: Vec3,
+    /// Lens aperture (0 = pinhole).
+    pub aperture: f32,
+    /// Image-plane window: left edge.
+    pub left: f32,
+    /// Image-plane window: right edge.
+    pub right: f32,
+    /// Image-plane window: bottom edge.
+    pub bottom: f32,
+    /// Image-plane window: top edge.
+    pub top: f32,
+    /// Distance from the eye to the image plane.
+    pub distance: f32,
+}
+
+impl View {
+    /// A camera on the +z side of `b` looking down -z with +y up, framing the whole box.
+    pub fn framing(b: &Bounds) -> View {
+        let c = b.center();
+        let r = (0.5 * b.diagonal()).max(1e-6);
+        View {
+            eye: [c[0], c[1], c[2] + 2.5 * r],
+            gaze: [0.0, 0.0, -1.0],
+            up: [0.0, 1.0, 0.0],
+            aperture: 0.0,
+            left: -1.0,
+            right: 1.0,
+            bottom: -1.0,
+            top: 1.0,
+            distance: 2.0,
+        }
+    }
+
+    /// The camera basis stored in memory (see [`Camera`]): `w` = unit gaze,
+    /// `u` = unit(gaze × up), `v` = u × w.
+    pub fn camera(&self) -> Result<Camera, SceneError> {
+        let all = self
+            .eye
+            .iter()
+            .chain(&self.gaze)
+            .chain(&self.up)
+            .chain(&[
+                self.aperture,
+                self.left,
+                self.right,
+                self.bottom,
+                self.top,
+                self.distance,
+            ])
+            .all(|c| c.is_finite());
+        if !all {
+            return Err(SceneError::BadCamera(
+                "camera has a non-finite number".into(),
+            ));
+        }
+        let w = normalize_or_zero(self.gaze);
+        if w == [0.0; 3] {
+            return Err(SceneError::BadCamera(
+                "camera gaze direction is zero".into(),
+            ));
+        }
+        let u = normalize_or_zero(cross(self.gaze, self.up));
+        if u == [0.0; 3] {
+            return Err(SceneError::BadCamera(
+                "camera up vector is zero or parallel to the gaze direction".into(),
+            ));
+        }
+        if self.distance <= 0.0 {
+            return Err(SceneError::BadCamera(format!(
+                "camera image-plane distance must be positive, got {}",
+                self.distance
+            )));
+        }
+        let v = cross(u, w);
+        Ok(Camera {
+            eye: self.eye,
+            u,
+            v,
+            w,
+            left: self.left,
+            right: self.right,
+            bottom: self.bottom,
+            top: self.top,
+            distance: self.distance,
+            aperture: self.aperture,
+        })
+    }
+}
+
+/// Reads whitespace-separated numbers from a file, exactly `want` of them, with file:line errors.
+fn read_numbers(path: &Path, want: usize, what: &str) -> Result<Vec<f32>, SceneError> {
+    let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let mut nums = Vec::with_capacity(want);
+    let mut last_line = 1;
+    for (i, line) in text.lines().enumerate() {
+        for tok in line.split_whitespace() {
+            last_line = i + 1;
+            let syntax = |message: String| SceneError::Syntax {
+                path: path.to_path_buf(),
+                line: i + 1,
+                message,
+            };
+            if nums.len() == want {
+                return Err(syntax(format!(
+                    "unexpected `{tok}`: a {what} file has exactly {want} numbers"
+                )));
+            }
+            let v: f32 = tok
+                .parse()
+                .map_err(|_| syntax(format!("expected a number, found `{tok}`")))?;
+            if !v.is_finite() {
+                return Err(syntax(format!("expected a finite number, found `{tok}`")));
+            }
+            nums.push(v);
+        }
+    }
+    if nums.len() < want {
+        return Err(SceneError::Syntax {
+            path: path.to_path_buf(),
+            line: last_line,
+            message: format!(
+                "a {what} file needs {want} numbers, found only {}",
+                nums.len()
+            ),
+        });
+    }
+    Ok(nums)
+}
+
+/// Parses a simtrax `.view` file.
+pub fn parse_view(path: &Path) -> Result<View, SceneError> {
+    let n = read_numbers(
+        path,
+        15,
+        ".view (eye, gaze, up, aperture, left, right, bottom, top, distance)",
+    )?;
+    let view = View {
+        eye: [n[0], n[1], n[2]],
+        gaze: [n[3], n[4], n[5]],
+        up: [n[6], n[7], n[8]],
+        aperture: n[9],
+        left: n[10],
+        right: n[11],
+        bottom: n[12],
+        top: n[13],
+        distance: n[14],
+    };
+    view.camera()
+        .map_err(|e| SceneError::BadCamera(format!("{}: {e}", path.display())))?;
+    Ok(view)
+}
+
+/// Parses a simtrax `.light` file (one point-light position).
+pub fn parse_light(path: &Path) -> Result<Vec3, SceneError> {
+    let n = read_numbers(path, 3, ".light (position)")?;
+    Ok([n[0], n[1], n[2]])
+}

@@ -1,0 +1,311 @@
+//! Stage 1: read and parse the kernel crate and the prelude crate with `syn`, following
+//! `mod x;` declarations to their files and evaluating `#[cfg]` on items.
+
+use crate::diag::{DResult, Diagnostic, FileId, SourceMap};
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use syn::punctuated::Punctuated;
+use syn::{Attribute, Expr, Item, ItemMod, Lit, Meta, Token};
+
+/// Where a crate's files come from.
+pub enum CrateSource<'s> {
+    /// The root file on disk; `mod` files are found relative to it.
+    Disk(PathBuf),
+    /// In-memory files `(path relative to the crate directory, text)`, root `lib.rs`,
+    /// displayed under `dir`.
+    Memory {
+        /// Files of the crate.
+        files: &'s [(&'s str, &'s str)],
+        /// Directory shown in diagnostics and DWARF.
+        dir: PathBuf,
+    },
+}
+
+/// One parsed crate.
+pub struct ParsedCrate {
+    /// Root file.
+    pub root: FileId,
+    /// Parsed files by id (boxed so item addresses are stable).
+    pub files: HashMap<FileId, Box<syn::File>>,
+    /// For every out-of-line `mod x;` (by address of its `ItemMod`), the file it loads.
+    pub mod_files: HashMap<usize, FileId>,
+}
+
+/// Parses a crate from `source`, adding its files to `sources`.
+pub fn parse_crate(sources: &mut SourceMap, source: &CrateSource<'_>) -> DResult<ParsedCrate> {
+    let (root_rel, display_root) = match source {
+        CrateSource::Disk(p) => (p.clone(), p.clone()),
+        CrateSource::Memory { dir, .. } => (PathBuf::from("lib.rs"), dir.join("lib.rs")),
+    };
+    let mut pc = ParsedCrate {
+        root: FileId(0),
+        files: HashMap::new(),
+        mod_files: HashMap::new(),
+    };
+    let root_text = read(source, &root_rel, &display_root, None)?;
+    pc.root = load_file(
+        sources,
+        source,
+        &mut pc,
+        root_rel,
+        display_root,
+        root_text,
+        true,
+    )?;
+    Ok(pc)
+}
+
+fn read(
+    source: &CrateSource<'_>,
+    rel: &Path,
+    display: &Path,
+    at: Option<(&SourceMap, FileId, &ItemMod)>,
+) -> DResult<String> {
+    let found = match source {
+        CrateSource::Disk(_) => std::fs::read_to_string(rel).ok(),
+        CrateSource::Memory { files, .. } => files
+            .iter()
+            .find(|(p, _)| normalize(Path::new(p)) == normalize(rel))
+            .map(|(_, s)| s.to_string()),
+    };
+    found.ok_or_else(|| match at {
+        Some((sm, file, item)) => Diagnostic::new(
+            sm,
+            file,
+            item.ident.span(),
+            "module-file-not-found",
+            format!(
+                "file not found for module `{}`: {}",
+                item.ident,
+                display.display()
+            ),
+        ),
+        None => Diagnostic::file_level(
+            display,
+            "file-not-found",
+            format!("cannot read {}", display.display()),
+        ),
+    })
+}
+
+fn load_file(
+    sources: &mut SourceMap,
+    source: &CrateSource<'_>,
+    pc: &mut ParsedCrate,
+    rel: PathBuf,
+    display: PathBuf,
+    text: String,
+    owns_dir: bool,
+) -> DResult<FileId> {
+    let id = sources.add(display, text);
+    let ast = syn::parse_file(&sources.get(id).src).map_err(|e| {
+        Diagnostic::new(
+            sources,
+            id,
+            e.span(),
+            "syntax-error",
+            format!("syntax error: {e}"),
+        )
+    })?;
+    let ast = Box::new(ast);
+    // Directory where this file's child modules live.
+    let dir = if owns_dir {
+        rel.parent().map(Path::to_path_buf).unwrap_or_default()
+    } else {
+        rel.with_extension("")
+    };
+    let mut pending = Vec::new();
+    collect_mods(&ast.items, &dir, &mut pending);
+    pc.files.insert(id, ast);
+    for (ptr, child_dir, item) in pending {
+        // SAFETY: `item` points into the boxed AST just inserted into `pc.files`; boxes and
+        // their item vectors are never mutated or dropped while `pc` lives.
+        let item: &ItemMod = unsafe { &*item };
+        let name = item.ident.to_string();
+        let (cands, owns): (Vec<PathBuf>, bool) = match path_attr(&item.attrs) {
+            Some(p) => (vec![child_dir.join(p)], true),
+            None => (
+                vec![
+                    child_dir.join(format!("{name}.rs")),
+                    child_dir.join(&name).join("mod.rs"),
+                ],
+                false,
+            ),
+        };
+        let display_of = |p: &Path| match source {
+            CrateSource::Disk(_) => p.to_path_buf(),
+            CrateSource::Memory { dir, .. } => dir.join(p),
+        };
+        let mut loaded = None;
+        for c in &cands {
+            if let Ok(t) = read(source, c, &display_of(c), None) {
+                let owns_dir = owns || c.file_name().is_some_and(|f| f == "mod.rs");
+                loaded = Some(load_file(
+                    sources,
+                    source,
+                    pc,
+                    c.clone(),
+                    display_of(c),
+                    t,
+                    owns_dir,
+                )?);
+                break;
+            }
+        }
+        match loaded {
+            Some(f) => {
+                pc.mod_files.insert(ptr, f);
+            }
+            None => {
+                let c = &cands[0];
+                return Err(read(source, c, &display_of(c), Some((sources, id, item))).unwrap_err());
+            }
+        }
+    }
+    Ok(id)
+}
+
+/// Finds enabled out-of-line modules among `items` (descending into inline modules).
+fn collect_mods(items: &[Item], dir: &Path, out: &mut Vec<(usize, PathBuf, *const ItemMod)>) {
+    for it in items {
+        if let Item::Mod(m) = it {
+            if !cfg_enabled(&m.attrs) {
+                continue;
+            }
+            match &m.content {
+                Some((_, inner)) => {
+                    let sub = match path_attr(&m.attrs) {
+                        Some(p) => dir.join(p),
+                        None => dir.join(m.ident.to_string()),
+                    };
+                    collect_mods(inner, &sub, out)
+                }
+                None => out.push((m as *const ItemMod as usize, dir.to_path_buf(), m)),
+            }
+        }
+    }
+}
+
+fn path_attr(attrs: &[Attribute]) -> Option<String> {
+    attrs.iter().find_map(|a| match &a.meta {
+        Meta::NameValue(nv) if nv.path.is_ident("path") => match &nv.value {
+            Expr::Lit(l) => match &l.lit {
+                Lit::Str(s) => Some(s.value()),
+                _ => None,
+            },
+            _ => None,
+        },
+        _ => None,
+    })
+}
+
+/// Evaluates every `#[cfg(...)]` on an item for the TRaX target (`target_arch = "mips"`).
+///
+/// Malformed predicates count as false; the checker reports them.
+pub fn cfg_enabled(attrs: &[Attribute]) -> bool {
+    attrs.iter().all(|a| {
+        if !a.path().is_ident("cfg") {
+            return true;
+        }
+        match a.parse_args::<Meta>() {
+            Ok(m) => eval_cfg(&m).unwrap_or(false),
+            Err(_) => false,
+        }
+    })
+}
+
+/// Evaluates one cfg predicate; `None` when it is malformed.
+pub fn eval_cfg(m: &Meta) -> Option<bool> {
+    match m {
+        Meta::Path(p) => {
+            let name = p.get_ident()?.to_string();
+            Some(matches!(name.as_str(), "target_pointer_width_32"))
+        }
+        Meta::NameValue(nv) => {
+            let key = nv.path.get_ident()?.to_string();
+            let val = match &nv.value {
+                Expr::Lit(l) => match &l.lit {
+                    Lit::Str(s) => s.value(),
+                    _ => return None,
+                },
+                _ => return None,
+            };
+            Some(match key.as_str() {
+                "target_arch" => val == "mips",
+                "target_os" => val == "none",
+                "target_endian" => val == "little",
+                "target_pointer_width" => val == "32",
+                _ => false,
+            })
+        }
+        Meta::List(l) => {
+            let name = l.path.get_ident()?.to_string();
+            let args = l
+                .parse_args_with(Punctuated::<Meta, Token![,]>::parse_terminated)
+                .ok()?;
+            let vals: Option<Vec<bool>> = args.iter().map(eval_cfg).collect();
+            let vals = vals?;
+            match name.as_str() {
+                "not" if vals.len() == 1 => Some(!vals[0]),
+                "all" => Some(vals.iter().all(|v| *v)),
+                "any" => Some(vals.iter().any(|v| *v)),
+                _ => None,
+            }
+        }
+    }
+}
+
+/// Lexically removes `.` and `..` components.
+fn normalize(p: &Path) -> PathBuf {
+    use std::path::Component;
+    let mut out: Vec<Component> = Vec::new();
+    for c in p.components() {
+        match c {
+            Component::CurDir => {}
+            Component::ParentDir if matches!(out.last(), Some(Component::Normal(_))) => {
+                out.pop();
+            }
+            c => out.push(c),
+        }
+    }
+    out.iter().collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn attrs(src: &str) -> Vec<Attribute> {
+        let f: syn::File = syn::parse_str(&format!("{src} fn x() {{}}")).unwrap();
+        match &f.items[0] {
+            Item::Fn(f) => f.attrs.clone(),
+            _ => unreachable!(),
+        }
+    }
+
+    #[test]
+    fn cfg_targets_mips() {
+        assert!(cfg_enabled(&attrs("#[cfg(target_arch = \"mips\")]")));
+        assert!(!cfg_enabled(&attrs("#[cfg(not(target_arch = \"mips\"))]")));
+        assert!(cfg_enabled(&attrs(
+            "#[cfg(all(target_arch = \"mips\", not(test)))]"
+        )));
+        assert!(!cfg_enabled(&attrs(
+            "#[cfg(any(test, target_arch = \"x86_64\"))]"
+        )));
+        assert!(!cfg_enabled(&attrs("#[cfg(test)]")));
+        assert!(cfg_enabled(&attrs("#[inline]")));
+    }
+
+    #[test]
+    fn normalizes_parent_components() {
+        assert_eq!(
+            normalize(Path::new("a/../src/rng.rs")),
+            PathBuf::from("src/rng.rs")
+        );
+        assert_eq!(
+            normalize(Path::new("../src/rng.rs")),
+            PathBuf::from("../src/rng.rs")
+        );
+    }
+}

@@ -1,0 +1,1 @@
+fn trax_main(x: u32) {}

@@ -1,0 +1,3 @@
+fn trax_main() {
+    break;
+}

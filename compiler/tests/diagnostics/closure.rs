@@ -1,0 +1,3 @@
+fn trax_main() {
+    let f = |x: i32| x + 1;
+}

@@ -1,0 +1,6 @@
+enum Mode {
+    Fast,
+    Slow,
+}
+
+fn trax_main() {}

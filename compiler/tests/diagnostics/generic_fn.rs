@@ -1,0 +1,5 @@
+fn id<T>(x: T) -> T {
+    x
+}
+
+fn trax_main() {}

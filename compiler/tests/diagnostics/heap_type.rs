@@ -1,0 +1,5 @@
+struct Scene {
+    names: Vec<u32>,
+}
+
+fn trax_main() {}

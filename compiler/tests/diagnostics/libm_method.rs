@@ -1,0 +1,4 @@
+fn trax_main() {
+    let a = 1.0f32;
+    let s = a.sin();
+}

@@ -1,0 +1,5 @@
+fn name() -> String {
+    loop {}
+}
+
+fn trax_main() {}

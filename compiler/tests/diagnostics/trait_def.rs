@@ -1,0 +1,5 @@
+trait Shape {
+    fn area(&self) -> f32;
+}
+
+fn trax_main() {}

@@ -1,0 +1,3 @@
+fn trax_main() {
+    let p = (1, 2);
+}

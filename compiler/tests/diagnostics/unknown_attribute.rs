@@ -1,0 +1,4 @@
+#[no_std_please]
+fn helper() {}
+
+fn trax_main() {}

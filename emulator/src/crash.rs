@@ -1,0 +1,119 @@
+//! Human-readable crash reports: what went wrong, where (thread, TM, instruction count,
+//! PC, disassembly), the source location with its inline chain, a backtrace from the
+//! shadow call stack, and the source line.
+
+use std::fmt::Write as _;
+
+use crate::debuginfo::{DebugInfo, SourceFrame};
+use crate::elf::Executable;
+use crate::machine::Crash;
+use crate::thread::Shared;
+
+/// Formats the report of `crash`. `exe` supplies symbols, `dbg` source locations.
+pub fn report(
+    crash: &Crash,
+    sh: &Shared,
+    exe: Option<&Executable>,
+    dbg: Option<&DebugInfo>,
+) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "error: thread {} (TM {}, thread {}) crashed after {} instructions",
+        crash.gid, crash.tm, crash.tid, crash.retired
+    );
+    let _ = writeln!(s, "  what: {}", crash.fault);
+    let dis = sh
+        .program
+        .get(crash.pc)
+        .copied()
+        .or_else(|| sh.mem.peek_u32(crash.pc).map(crate::decode::decode))
+        .map(|i| i.to_string().replace('\t', " "))
+        .unwrap_or_else(|| "<no instruction>".into());
+    let slot = if crash.in_slot {
+        "  (in a delay/forbidden slot)"
+    } else {
+        ""
+    };
+    let sym = exe
+        .and_then(|e| e.symbol_at(crash.pc))
+        .map(|(s, off)| format!(" <{}+{:#x}>", demangle(&s.name), off))
+        .unwrap_or_default();
+    let _ = writeln!(s, "  pc:   {:#010x}{sym}: {dis}{slot}", crash.pc);
+    let frames = dbg.map(|d| d.frames(crash.pc));
+    if let Some(frames) = frames.as_deref().filter(|f| !f.is_empty()) {
+        let f0 = &frames[0];
+        let _ = write!(s, "  at:   {} in {}", f0.location(), fname(f0));
+        for w in frames.windows(2) {
+            let _ = write!(
+                s,
+                ", inlined into {} at {}",
+                fname(&w[1]),
+                w[0].call_site_hint(&w[1])
+            );
+        }
+        let _ = writeln!(s);
+        if let (Some(file), Some(d)) = (&f0.file, dbg) {
+            if let Some(line) = d.source_line(file, f0.line) {
+                let _ = writeln!(s, "  {:>5} | {}", f0.line, line.trim_end());
+            }
+        }
+    } else if dbg.is_some_and(|d| !d.has_dwarf()) {
+        let _ = writeln!(
+            s,
+            "  (no debug information: build with -g for source locations)"
+        );
+    }
+    let _ = writeln!(s, "backtrace:");
+    let mut n = 0;
+    let mut emit = |s: &mut String, pc: u32, frames: Option<&[SourceFrame]>| match frames
+        .filter(|f| !f.is_empty())
+    {
+        Some(frames) => {
+            for f in frames {
+                let inl = if f.inlined { " (inlined)" } else { "" };
+                let _ = writeln!(
+                    s,
+                    "  #{n:<2} {pc:#010x} {}{inl} at {}",
+                    fname(f),
+                    f.location()
+                );
+                n += 1;
+            }
+        }
+        None => {
+            let name = exe
+                .and_then(|e| e.symbol_at(pc))
+                .map(|(s, off)| format!("{}+{off:#x}", demangle(&s.name)))
+                .unwrap_or_else(|| "??".into());
+            let _ = writeln!(s, "  #{n:<2} {pc:#010x} {name}");
+            n += 1;
+        }
+    };
+    emit(&mut s, crash.pc, frames.as_deref());
+    for c in crash.calls.iter().rev() {
+        let f = dbg.map(|d| d.frames(c.call_pc));
+        emit(&mut s, c.call_pc, f.as_deref());
+    }
+    s
+}
+
+fn fname(f: &SourceFrame) -> String {
+    f.function
+        .as_deref()
+        .map(demangle)
+        .unwrap_or_else(|| "??".into())
+}
+
+/// Demangles a Rust symbol name (other names are returned unchanged).
+pub fn demangle(name: &str) -> String {
+    format!("{:#}", rustc_demangle::demangle(name))
+}
+
+impl SourceFrame {
+    /// Where this (inlined) frame's code was called from in `caller`: the caller frame's
+    /// own location is the call site in addr2line's model.
+    fn call_site_hint(&self, caller: &SourceFrame) -> String {
+        caller.location()
+    }
+}

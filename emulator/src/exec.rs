@@ -1,0 +1,1007 @@
+//! The interpreter: executes a thread's predecoded instructions.
+//!
+//! [`Thread::run`] is the hot loop: fetch from the predecoded [`crate::program::Program`] (decoding on
+//! the fly only outside the text), one `match` on [`Inst`], no allocation and no dynamic
+//! dispatch. It performs no I/O: prints go to [`Shared::output`].
+//!
+//! Behaviour chosen where MIPS32r6 leaves it open (UNPREDICTABLE or implementation
+//! defined):
+//! - `div`/`mod`/`divu`/`modu` by zero give `rs` / `0` (QEMU's choice); `INT_MIN / -1`
+//!   gives `INT_MIN` and `INT_MIN mod -1` gives 0 (LLVM guards division with `teq`).
+//! - Misaligned loads/stores fault (see [`crate::memory`]).
+//! - A branch or jump in a delay slot or forbidden slot is a reserved instruction.
+//! - `jalr` with `rd == rs` reads `rs` before linking.
+//! - Single-precision results leave the upper half of the 64-bit FPU register unchanged.
+//! - `rdhwr`: `$0` = global thread id, `$2` = instruction count, `$3` = 1, `$29` = 0.
+//! - `sc` succeeds if the thread's `ll` link is for the same address and the thread was
+//!   not descheduled in between (a context switch clears the link).
+
+use crate::decode::{Conv, Inst, F2, F3};
+use crate::fpu::{self, BinOp, IntRound};
+use crate::memory::MemFault;
+use crate::thread::{CallFrame, Fault, Shared, Thread, MAX_SHADOW_FRAMES};
+use crate::trax::{exec_trax, TraxFlow};
+
+/// Why [`Thread::run`] returned.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Stop {
+    /// The instruction budget was used up.
+    Budget,
+    /// The thread executed `trax.halt`.
+    Halted,
+    /// The thread is waiting (barrier): do not run it until released.
+    Blocked,
+    /// The thread could not proceed now (semaphore); retry it later.
+    Retry,
+    /// The thread faulted at `pc` (not advanced; `retired` excludes it).
+    Fault(Fault),
+}
+
+/// FCSR bits `ctc1 $31` can write (QEMU's r6 mask: RM, Flags, Enables, Cause, FS).
+const FCSR_WRITABLE: u32 = 0x0103_FFFF;
+/// FIR value read by `cfc1 $0` (F64, L, W, D, S, HAS2008, FREP; as QEMU's r6 core).
+pub const FIR: u32 = 0x20F3_0300;
+
+#[inline(always)]
+fn mem_fault(f: MemFault) -> Fault {
+    Fault::Memory {
+        fault: f,
+        fetch: false,
+    }
+}
+
+impl Thread {
+    #[cold]
+    fn fetch_slow(&self, sh: &Shared, pc: u32) -> Result<Inst, Fault> {
+        match sh.mem.read::<4>(&self.local, pc) {
+            Ok(b) => Ok(crate::decode::decode(u32::from_le_bytes(b))),
+            Err(f) => Err(Fault::Memory {
+                fault: f,
+                fetch: true,
+            }),
+        }
+    }
+
+    /// The instruction at the thread's pc (for crash reports and tools).
+    pub fn current_inst(&self, sh: &Shared) -> Option<Inst> {
+        match sh.program.get(self.pc) {
+            Some(i) => Some(*i),
+            None => self.fetch_slow(sh, self.pc).ok(),
+        }
+    }
+
+    #[inline(always)]
+    fn push_call(&mut self, call_pc: u32, return_addr: u32, target: u32) {
+        if self.calls.len() < MAX_SHADOW_FRAMES {
+            self.calls.push(CallFrame {
+                call_pc,
+                return_addr,
+                target,
+            });
+        } else {
+            self.dropped_calls += 1;
+        }
+    }
+
+    #[inline(always)]
+    fn note_jump(&mut self, target: u32) {
+        // A jump to a recorded return address is a return: pop to that frame.
+        let n = self.calls.len();
+        for i in (n.saturating_sub(8)..n).rev() {
+            if self.calls[i].return_addr == target {
+                self.calls.truncate(i);
+                return;
+            }
+        }
+    }
+
+    /// Runs up to `budget` instructions.
+    pub fn run(&mut self, sh: &mut Shared, budget: u64) -> Stop {
+        let end = self.retired.saturating_add(budget);
+        // pc and npc live in locals (registers) in the loop; `self` is updated on exit.
+        let (mut pc, mut npc) = (self.pc, self.npc);
+        while self.retired < end {
+            let inst = match sh.program.get(pc) {
+                Some(i) => *i,
+                None => match self.fetch_slow(sh, pc) {
+                    Ok(i) => i,
+                    Err(f) => {
+                        (self.pc, self.npc) = (pc, npc);
+                        return Stop::Fault(f);
+                    }
+                },
+            };
+            match self.step(sh, pc, npc, inst) {
+                Ok((p, n)) => (pc, npc) = (p, n),
+                Err(exit) => {
+                    return match exit {
+                        StepExit::Fault => {
+                            (self.pc, self.npc) = (pc, npc);
+                            match self.pending_fault.take() {
+                                Some(f) => Stop::Fault(f),
+                                None => Stop::Retry,
+                            }
+                        }
+                        StepExit::Flow(TraxFlow::Retry) => {
+                            (self.pc, self.npc) = (pc, npc);
+                            Stop::Retry
+                        }
+                        // Halt and Block completed the instruction and set pc/npc.
+                        StepExit::Flow(TraxFlow::Halt) => Stop::Halted,
+                        StepExit::Flow(TraxFlow::Block | TraxFlow::Next) => Stop::Blocked,
+                    };
+                }
+            }
+        }
+        (self.pc, self.npc) = (pc, npc);
+        Stop::Budget
+    }
+
+    /// Executes one instruction at `pc` (followed by `npc`). On `Ok` returns the new
+    /// `(pc, npc)`; on an error exit `self.pc`/`self.npc` are left for the caller.
+    #[inline(always)]
+    fn step(
+        &mut self,
+        sh: &mut Shared,
+        pc: u32,
+        npc: u32,
+        inst: Inst,
+    ) -> Result<(u32, u32), StepExit> {
+        use Inst::*;
+        let mut next = npc.wrapping_add(4);
+        macro_rules! g {
+            ($r:expr) => {
+                self.regs.gpr[($r & 31) as usize]
+            };
+        }
+        macro_rules! fault {
+            ($f:expr) => {
+                return Err(self.set_fault($f))
+            };
+        }
+        macro_rules! cti {
+            () => {
+                if pc == self.slot_pc {
+                    fault!(Fault::BranchInSlot)
+                }
+            };
+        }
+        // Branch with a delay slot.
+        macro_rules! branch {
+            ($cond:expr, $off:expr) => {{
+                cti!();
+                self.slot_pc = npc;
+                if $cond {
+                    next = npc.wrapping_add($off as u32);
+                }
+            }};
+        }
+        // Compact branch: taken jumps now; not taken makes the next word a forbidden slot.
+        macro_rules! compact {
+            ($cond:expr, $off:expr) => {{
+                cti!();
+                if $cond {
+                    let t = pc.wrapping_add(4).wrapping_add($off as u32);
+                    self.retired += 1;
+                    return Ok((t, t.wrapping_add(4)));
+                }
+                self.slot_pc = pc.wrapping_add(4);
+            }};
+        }
+        macro_rules! ea {
+            ($base:expr, $off:expr) => {
+                g!($base).wrapping_add($off as i32 as u32)
+            };
+        }
+        macro_rules! load {
+            ($n:literal, $base:expr, $off:expr) => {
+                match sh.mem.read::<$n>(&self.local, ea!($base, $off)) {
+                    Ok(b) => b,
+                    Err(f) => fault!(mem_fault(f)),
+                }
+            };
+        }
+        macro_rules! store {
+            ($base:expr, $off:expr, $v:expr) => {
+                if let Err(f) = sh.mem.write(&mut self.local, ea!($base, $off), $v) {
+                    fault!(mem_fault(f))
+                }
+            };
+        }
+        macro_rules! fcsr {
+            ($exc:expr) => {
+                if let Err(t) = fpu::update(&mut self.regs.fcsr, $exc) {
+                    fault!(Fault::FpException {
+                        cause: t.cause,
+                        msa: false
+                    })
+                }
+            };
+        }
+        macro_rules! fs32 {
+            ($r:expr) => {
+                self.regs.f32_bits(($r & 31) as usize)
+            };
+        }
+        macro_rules! fs64 {
+            ($r:expr) => {
+                self.regs.f64_bits(($r & 31) as usize)
+            };
+        }
+        macro_rules! set32 {
+            ($r:expr, $v:expr) => {
+                self.regs.set_f32_bits(($r & 31) as usize, $v)
+            };
+        }
+        macro_rules! set64 {
+            ($r:expr, $v:expr) => {
+                self.regs.set_f64_bits(($r & 31) as usize, $v)
+            };
+        }
+        macro_rules! bin_s {
+            ($op:expr, $x:expr) => {{
+                let F3 { fd, fs, ft } = $x;
+                let (v, e) = fpu::bin_s($op, fs32!(fs), fs32!(ft), self.regs.fcsr);
+                fcsr!(e);
+                set32!(fd, v);
+            }};
+        }
+        macro_rules! bin_d {
+            ($op:expr, $x:expr) => {{
+                let F3 { fd, fs, ft } = $x;
+                let (v, e) = fpu::bin_d($op, fs64!(fs), fs64!(ft), self.regs.fcsr);
+                fcsr!(e);
+                set64!(fd, v);
+            }};
+        }
+        let fcsr_now = self.regs.fcsr;
+        match inst {
+            Add { rd, rs, rt } => match (g!(rs) as i32).checked_add(g!(rt) as i32) {
+                Some(v) => g!(rd) = v as u32,
+                None => fault!(Fault::IntegerOverflow),
+            },
+            Addu { rd, rs, rt } => g!(rd) = g!(rs).wrapping_add(g!(rt)),
+            Sub { rd, rs, rt } => match (g!(rs) as i32).checked_sub(g!(rt) as i32) {
+                Some(v) => g!(rd) = v as u32,
+                None => fault!(Fault::IntegerOverflow),
+            },
+            Subu { rd, rs, rt } => g!(rd) = g!(rs).wrapping_sub(g!(rt)),
+            And { rd, rs, rt } => g!(rd) = g!(rs) & g!(rt),
+            Or { rd, rs, rt } => g!(rd) = g!(rs) | g!(rt),
+            Xor { rd, rs, rt } => g!(rd) = g!(rs) ^ g!(rt),
+            Nor { rd, rs, rt } => g!(rd) = !(g!(rs) | g!(rt)),
+            Slt { rd, rs, rt } => g!(rd) = ((g!(rs) as i32) < (g!(rt) as i32)) as u32,
+            Sltu { rd, rs, rt } => g!(rd) = (g!(rs) < g!(rt)) as u32,
+            Mul { rd, rs, rt } => g!(rd) = g!(rs).wrapping_mul(g!(rt)),
+            Muh { rd, rs, rt } => {
+                g!(rd) = ((g!(rs) as i32 as i64 * g!(rt) as i32 as i64) >> 32) as u32
+            }
+            Mulu { rd, rs, rt } => g!(rd) = g!(rs).wrapping_mul(g!(rt)),
+            Muhu { rd, rs, rt } => g!(rd) = ((g!(rs) as u64 * g!(rt) as u64) >> 32) as u32,
+            Div { rd, rs, rt } => {
+                let (a, b) = (g!(rs) as i32, g!(rt) as i32);
+                g!(rd) = if b == 0 {
+                    a as u32
+                } else {
+                    a.wrapping_div(b) as u32
+                };
+            }
+            Mod { rd, rs, rt } => {
+                let (a, b) = (g!(rs) as i32, g!(rt) as i32);
+                g!(rd) = if b == 0 { 0 } else { a.wrapping_rem(b) as u32 };
+            }
+            Divu { rd, rs, rt } => {
+                let (a, b) = (g!(rs), g!(rt));
+                g!(rd) = a.checked_div(b).unwrap_or(a);
+            }
+            Modu { rd, rs, rt } => {
+                let (a, b) = (g!(rs), g!(rt));
+                g!(rd) = a.checked_rem(b).unwrap_or(0);
+            }
+            Seleqz { rd, rs, rt } => g!(rd) = if g!(rt) == 0 { g!(rs) } else { 0 },
+            Selnez { rd, rs, rt } => g!(rd) = if g!(rt) != 0 { g!(rs) } else { 0 },
+            Sllv { rd, rt, rs } => g!(rd) = g!(rt) << (g!(rs) & 31),
+            Srlv { rd, rt, rs } => g!(rd) = g!(rt) >> (g!(rs) & 31),
+            Srav { rd, rt, rs } => g!(rd) = ((g!(rt) as i32) >> (g!(rs) & 31)) as u32,
+            Rotrv { rd, rt, rs } => g!(rd) = g!(rt).rotate_right(g!(rs) & 31),
+            Sll { rd, rt, sa } => g!(rd) = g!(rt) << (sa & 31),
+            Srl { rd, rt, sa } => g!(rd) = g!(rt) >> (sa & 31),
+            Sra { rd, rt, sa } => g!(rd) = ((g!(rt) as i32) >> (sa & 31)) as u32,
+            Rotr { rd, rt, sa } => g!(rd) = g!(rt).rotate_right(sa as u32 & 31),
+            Lsa { rd, rs, rt, sa } => g!(rd) = (g!(rs) << (sa & 7)).wrapping_add(g!(rt)),
+            Clz { rd, rs } => g!(rd) = g!(rs).leading_zeros(),
+            Clo { rd, rs } => g!(rd) = g!(rs).leading_ones(),
+            Addiu { rt, rs, imm } => g!(rt) = g!(rs).wrapping_add(imm as i32 as u32),
+            Slti { rt, rs, imm } => g!(rt) = ((g!(rs) as i32) < imm as i32) as u32,
+            Sltiu { rt, rs, imm } => g!(rt) = (g!(rs) < imm as i32 as u32) as u32,
+            Andi { rt, rs, imm } => g!(rt) = g!(rs) & imm as u32,
+            Ori { rt, rs, imm } => g!(rt) = g!(rs) | imm as u32,
+            Xori { rt, rs, imm } => g!(rt) = g!(rs) ^ imm as u32,
+            Aui { rt, rs, imm } => g!(rt) = g!(rs).wrapping_add((imm as u32) << 16),
+            Align { rd, rs, rt, bp } => {
+                let bp = (bp & 3) as u32;
+                g!(rd) = if bp == 0 {
+                    g!(rt)
+                } else {
+                    (g!(rt) << (8 * bp)) | (g!(rs) >> (32 - 8 * bp))
+                };
+            }
+            Bitswap { rd, rt } => {
+                let b = g!(rt).to_le_bytes().map(u8::reverse_bits);
+                g!(rd) = u32::from_le_bytes(b);
+            }
+            Wsbh { rd, rt } => {
+                let v = g!(rt);
+                g!(rd) = ((v & 0x00FF_00FF) << 8) | ((v >> 8) & 0x00FF_00FF);
+            }
+            Seb { rd, rt } => g!(rd) = g!(rt) as i8 as i32 as u32,
+            Seh { rd, rt } => g!(rd) = g!(rt) as i16 as i32 as u32,
+            Ext { rt, rs, pos, size } => {
+                let mask = if size >= 32 {
+                    u32::MAX
+                } else {
+                    (1u32 << size) - 1
+                };
+                g!(rt) = (g!(rs) >> (pos & 31)) & mask;
+            }
+            Ins { rt, rs, pos, size } => {
+                let mask = if size >= 32 {
+                    u32::MAX
+                } else {
+                    (1u32 << size) - 1
+                };
+                let p = (pos & 31) as u32;
+                g!(rt) = (g!(rt) & !(mask << p)) | ((g!(rs) & mask) << p);
+            }
+            Addiupc { rs, off } => g!(rs) = pc.wrapping_add(off as u32),
+            Lwpc { rs, off } => {
+                let a = pc.wrapping_add(off as u32);
+                match sh.mem.read::<4>(&self.local, a) {
+                    Ok(b) => g!(rs) = u32::from_le_bytes(b),
+                    Err(f) => fault!(mem_fault(f)),
+                }
+            }
+            Auipc { rs, imm } => g!(rs) = pc.wrapping_add((imm as u32) << 16),
+            Aluipc { rs, imm } => g!(rs) = pc.wrapping_add((imm as u32) << 16) & !0xFFFF,
+            Lb { rt, base, off } => g!(rt) = load!(1, base, off)[0] as i8 as i32 as u32,
+            Lbu { rt, base, off } => g!(rt) = load!(1, base, off)[0] as u32,
+            Lh { rt, base, off } => g!(rt) = i16::from_le_bytes(load!(2, base, off)) as i32 as u32,
+            Lhu { rt, base, off } => g!(rt) = u16::from_le_bytes(load!(2, base, off)) as u32,
+            Lw { rt, base, off } => g!(rt) = u32::from_le_bytes(load!(4, base, off)),
+            Sb { rt, base, off } => store!(base, off, [g!(rt) as u8]),
+            Sh { rt, base, off } => store!(base, off, (g!(rt) as u16).to_le_bytes()),
+            Sw { rt, base, off } => store!(base, off, g!(rt).to_le_bytes()),
+            Ll { rt, base, off } => {
+                let a = ea!(base, off);
+                g!(rt) = u32::from_le_bytes(load!(4, base, off));
+                self.ll_addr = Some(a);
+            }
+            Sc { rt, base, off } => {
+                let a = ea!(base, off);
+                if self.ll_addr == Some(a) {
+                    store!(base, off, g!(rt).to_le_bytes());
+                    g!(rt) = 1;
+                } else {
+                    g!(rt) = 0;
+                }
+                self.ll_addr = None;
+            }
+            Lwc1 { ft, base, off } => {
+                let v = u32::from_le_bytes(load!(4, base, off));
+                set32!(ft, v);
+            }
+            Swc1 { ft, base, off } => store!(base, off, fs32!(ft).to_le_bytes()),
+            Ldc1 { ft, base, off } => {
+                let v = u64::from_le_bytes(load!(8, base, off));
+                set64!(ft, v);
+            }
+            Sdc1 { ft, base, off } => store!(base, off, fs64!(ft).to_le_bytes()),
+            Pref { .. } | Sync { .. } | Synci { .. } => {}
+            Sigrie { code } => fault!(Fault::ReservedInstruction(0x0417_0000 | code as u32)),
+            Teq { rs, rt, code } => {
+                if g!(rs) == g!(rt) {
+                    fault!(Fault::Trap { code })
+                }
+            }
+            Tne { rs, rt, code } => {
+                if g!(rs) != g!(rt) {
+                    fault!(Fault::Trap { code })
+                }
+            }
+            Tge { rs, rt, code } => {
+                if g!(rs) as i32 >= g!(rt) as i32 {
+                    fault!(Fault::Trap { code })
+                }
+            }
+            Tgeu { rs, rt, code } => {
+                if g!(rs) >= g!(rt) {
+                    fault!(Fault::Trap { code })
+                }
+            }
+            Tlt { rs, rt, code } => {
+                if (g!(rs) as i32) < g!(rt) as i32 {
+                    fault!(Fault::Trap { code })
+                }
+            }
+            Tltu { rs, rt, code } => {
+                if g!(rs) < g!(rt) {
+                    fault!(Fault::Trap { code })
+                }
+            }
+            Syscall { code } => fault!(Fault::Syscall(code)),
+            Break { code } => fault!(Fault::Break(code)),
+            Sdbbp { code } => fault!(Fault::DebugBreakpoint(code)),
+            Rdhwr { rt, rd, sel: _ } => {
+                g!(rt) = match rd {
+                    0 => self.gid,
+                    2 => self.retired as u32,
+                    3 => 1,
+                    29 => 0,
+                    _ => fault!(Fault::ReservedInstruction(
+                        0x7C00_003B | (rt as u32) << 16 | (rd as u32) << 11
+                    )),
+                }
+            }
+            Beq { rs, rt, off } => branch!(g!(rs) == g!(rt), off),
+            Bne { rs, rt, off } => branch!(g!(rs) != g!(rt), off),
+            Blez { rs, off } => branch!((g!(rs) as i32) <= 0, off),
+            Bgtz { rs, off } => branch!((g!(rs) as i32) > 0, off),
+            Bltz { rs, off } => branch!((g!(rs) as i32) < 0, off),
+            Bgez { rs, off } => branch!((g!(rs) as i32) >= 0, off),
+            Bal { off } => {
+                branch!(true, off);
+                g!(31) = pc.wrapping_add(8);
+                self.push_call(pc, pc.wrapping_add(8), next);
+            }
+            J { target } => {
+                cti!();
+                self.slot_pc = npc;
+                next = (npc & 0xF000_0000) | target;
+                self.note_jump(next);
+            }
+            Jal { target } => {
+                cti!();
+                self.slot_pc = npc;
+                next = (npc & 0xF000_0000) | target;
+                g!(31) = pc.wrapping_add(8);
+                self.push_call(pc, pc.wrapping_add(8), next);
+            }
+            Jalr { rd, rs, hb: _ } => {
+                cti!();
+                self.slot_pc = npc;
+                next = g!(rs);
+                if rd != 0 {
+                    g!(rd) = pc.wrapping_add(8);
+                    self.push_call(pc, pc.wrapping_add(8), next);
+                } else {
+                    self.note_jump(next);
+                }
+            }
+            Bc1eqz { ft, off } => branch!(fs64!(ft) & 1 == 0, off),
+            Bc1nez { ft, off } => branch!(fs64!(ft) & 1 != 0, off),
+            Bc { off } => compact!(true, off),
+            Balc { off } => {
+                cti!();
+                g!(31) = pc.wrapping_add(4);
+                let t = pc.wrapping_add(4).wrapping_add(off as u32);
+                self.push_call(pc, pc.wrapping_add(4), t);
+                compact!(true, off);
+            }
+            Beqc { rs, rt, off } => compact!(g!(rs) == g!(rt), off),
+            Bnec { rs, rt, off } => compact!(g!(rs) != g!(rt), off),
+            Bltc { rs, rt, off } => compact!((g!(rs) as i32) < (g!(rt) as i32), off),
+            Bgec { rs, rt, off } => compact!((g!(rs) as i32) >= (g!(rt) as i32), off),
+            Bltuc { rs, rt, off } => compact!(g!(rs) < g!(rt), off),
+            Bgeuc { rs, rt, off } => compact!(g!(rs) >= g!(rt), off),
+            Bovc { rs, rt, off } => {
+                compact!((g!(rs) as i32).checked_add(g!(rt) as i32).is_none(), off)
+            }
+            Bnvc { rs, rt, off } => {
+                compact!((g!(rs) as i32).checked_add(g!(rt) as i32).is_some(), off)
+            }
+            Beqzc { rs, off } => compact!(g!(rs) == 0, off),
+            Bnezc { rs, off } => compact!(g!(rs) != 0, off),
+            Blezc { rt, off } => compact!((g!(rt) as i32) <= 0, off),
+            Bgezc { rt, off } => compact!((g!(rt) as i32) >= 0, off),
+            Bgtzc { rt, off } => compact!((g!(rt) as i32) > 0, off),
+            Bltzc { rt, off } => compact!((g!(rt) as i32) < 0, off),
+            Blezalc { rt, off }
+            | Bgezalc { rt, off }
+            | Bgtzalc { rt, off }
+            | Bltzalc { rt, off }
+            | Beqzalc { rt, off }
+            | Bnezalc { rt, off } => {
+                cti!();
+                let v = g!(rt) as i32;
+                let cond = match inst {
+                    Blezalc { .. } => v <= 0,
+                    Bgezalc { .. } => v >= 0,
+                    Bgtzalc { .. } => v > 0,
+                    Bltzalc { .. } => v < 0,
+                    Beqzalc { .. } => v == 0,
+                    _ => v != 0,
+                };
+                // The link register is written whether or not the branch is taken.
+                g!(31) = pc.wrapping_add(4);
+                if cond {
+                    let t = pc.wrapping_add(4).wrapping_add(off as u32);
+                    self.push_call(pc, pc.wrapping_add(4), t);
+                }
+                compact!(cond, off);
+            }
+            Jic { rt, off } => {
+                cti!();
+                let t = g!(rt).wrapping_add(off as i32 as u32);
+                self.note_jump(t);
+                self.retired += 1;
+                return Ok((t, t.wrapping_add(4)));
+            }
+            Jialc { rt, off } => {
+                cti!();
+                let t = g!(rt).wrapping_add(off as i32 as u32);
+                g!(31) = pc.wrapping_add(4);
+                self.push_call(pc, pc.wrapping_add(4), t);
+                self.retired += 1;
+                return Ok((t, t.wrapping_add(4)));
+            }
+            AddS(x) => bin_s!(BinOp::Add, x),
+            SubS(x) => bin_s!(BinOp::Sub, x),
+            MulS(x) => bin_s!(BinOp::Mul, x),
+            DivS(x) => bin_s!(BinOp::Div, x),
+            AddD(x) => bin_d!(BinOp::Add, x),
+            SubD(x) => bin_d!(BinOp::Sub, x),
+            MulD(x) => bin_d!(BinOp::Mul, x),
+            DivD(x) => bin_d!(BinOp::Div, x),
+            SqrtS(F2 { fd, fs }) => {
+                let (v, e) = fpu::sqrt_s(fs32!(fs), fcsr_now);
+                fcsr!(e);
+                set32!(fd, v);
+            }
+            SqrtD(F2 { fd, fs }) => {
+                let (v, e) = fpu::sqrt_d(fs64!(fs), fcsr_now);
+                fcsr!(e);
+                set64!(fd, v);
+            }
+            AbsS(F2 { fd, fs }) => set32!(fd, fs32!(fs) & 0x7FFF_FFFF),
+            AbsD(F2 { fd, fs }) => set64!(fd, fs64!(fs) & !(1 << 63)),
+            NegS(F2 { fd, fs }) => set32!(fd, fs32!(fs) ^ 0x8000_0000),
+            NegD(F2 { fd, fs }) => set64!(fd, fs64!(fs) ^ (1 << 63)),
+            MovS(F2 { fd, fs }) => set32!(fd, fs32!(fs)),
+            MovD(F2 { fd, fs }) => set64!(fd, fs64!(fs)),
+            RecipS(F2 { fd, fs }) => {
+                let (v, e) = fpu::bin_s(BinOp::Div, 1f32.to_bits(), fs32!(fs), fcsr_now);
+                fcsr!(e);
+                set32!(fd, v);
+            }
+            RecipD(F2 { fd, fs }) => {
+                let (v, e) = fpu::bin_d(BinOp::Div, 1f64.to_bits(), fs64!(fs), fcsr_now);
+                fcsr!(e);
+                set64!(fd, v);
+            }
+            RsqrtS(F2 { fd, fs }) => {
+                let (s, e1) = fpu::sqrt_s(fs32!(fs), fcsr_now);
+                let (v, e2) = fpu::bin_s(BinOp::Div, 1f32.to_bits(), s, fcsr_now);
+                fcsr!(e1 | e2);
+                set32!(fd, v);
+            }
+            RsqrtD(F2 { fd, fs }) => {
+                let (s, e1) = fpu::sqrt_d(fs64!(fs), fcsr_now);
+                let (v, e2) = fpu::bin_d(BinOp::Div, 1f64.to_bits(), s, fcsr_now);
+                fcsr!(e1 | e2);
+                set64!(fd, v);
+            }
+            RintS(F2 { fd, fs }) => {
+                let (v, e) = fpu::rint::<f32>(fs32!(fs), fcsr_now, |x| x as f64, |x| x as f32);
+                fcsr!(e);
+                set32!(fd, v);
+            }
+            RintD(F2 { fd, fs }) => {
+                let (v, e) = fpu::rint::<f64>(fs64!(fs), fcsr_now, |x| x, |x| x);
+                fcsr!(e);
+                set64!(fd, v);
+            }
+            ClassS(F2 { fd, fs }) => set32!(fd, fpu::class::<f32>(fs32!(fs))),
+            ClassD(F2 { fd, fs }) => set64!(fd, fpu::class::<f64>(fs64!(fs)) as u64),
+            MaddfS(F3 { fd, fs, ft }) | MsubfS(F3 { fd, fs, ft }) => {
+                let sub = matches!(inst, MsubfS(_));
+                let (v, e) = fpu::fma_s(fs32!(fd), fs32!(fs), fs32!(ft), sub, fcsr_now);
+                fcsr!(e);
+                set32!(fd, v);
+            }
+            MaddfD(F3 { fd, fs, ft }) | MsubfD(F3 { fd, fs, ft }) => {
+                let sub = matches!(inst, MsubfD(_));
+                let (v, e) = fpu::fma_d(fs64!(fd), fs64!(fs), fs64!(ft), sub, fcsr_now);
+                fcsr!(e);
+                set64!(fd, v);
+            }
+            SelS(F3 { fd, fs, ft }) => {
+                let v = if fs32!(fd) & 1 != 0 {
+                    fs32!(ft)
+                } else {
+                    fs32!(fs)
+                };
+                set32!(fd, v);
+            }
+            SelD(F3 { fd, fs, ft }) => {
+                let v = if fs64!(fd) & 1 != 0 {
+                    fs64!(ft)
+                } else {
+                    fs64!(fs)
+                };
+                set64!(fd, v);
+            }
+            SeleqzS(F3 { fd, fs, ft }) => {
+                set32!(fd, if fs32!(ft) & 1 == 0 { fs32!(fs) } else { 0 })
+            }
+            SeleqzD(F3 { fd, fs, ft }) => {
+                set64!(fd, if fs64!(ft) & 1 == 0 { fs64!(fs) } else { 0 })
+            }
+            SelnezS(F3 { fd, fs, ft }) => {
+                set32!(fd, if fs32!(ft) & 1 != 0 { fs32!(fs) } else { 0 })
+            }
+            SelnezD(F3 { fd, fs, ft }) => {
+                set64!(fd, if fs64!(ft) & 1 != 0 { fs64!(fs) } else { 0 })
+            }
+            MinS(F3 { fd, fs, ft })
+            | MaxS(F3 { fd, fs, ft })
+            | MinaS(F3 { fd, fs, ft })
+            | MaxaS(F3 { fd, fs, ft }) => {
+                let is_max = matches!(inst, MaxS(_) | MaxaS(_));
+                let mag = matches!(inst, MinaS(_) | MaxaS(_));
+                let (v, e) = fpu::minmax::<f32>(fs32!(fs), fs32!(ft), is_max, mag);
+                fcsr!(e);
+                set32!(fd, v);
+            }
+            MinD(F3 { fd, fs, ft })
+            | MaxD(F3 { fd, fs, ft })
+            | MinaD(F3 { fd, fs, ft })
+            | MaxaD(F3 { fd, fs, ft }) => {
+                let is_max = matches!(inst, MaxD(_) | MaxaD(_));
+                let mag = matches!(inst, MinaD(_) | MaxaD(_));
+                let (v, e) = fpu::minmax::<f64>(fs64!(fs), fs64!(ft), is_max, mag);
+                fcsr!(e);
+                set64!(fd, v);
+            }
+            CmpS {
+                cond,
+                f: F3 { fd, fs, ft },
+            } => {
+                let (v, e) = fpu::compare::<f32>(fs32!(fs), fs32!(ft), cond);
+                fcsr!(e);
+                set32!(fd, if v { u32::MAX } else { 0 });
+            }
+            CmpD {
+                cond,
+                f: F3 { fd, fs, ft },
+            } => {
+                let (v, e) = fpu::compare::<f64>(fs64!(fs), fs64!(ft), cond);
+                fcsr!(e);
+                set64!(fd, if v { u64::MAX } else { 0 });
+            }
+            Cvt {
+                op,
+                f: F2 { fd, fs },
+            } => {
+                if let Err(f) = self.convert(op, fd, fs) {
+                    fault!(f)
+                }
+            }
+            Mfc1 { rt, fs } => g!(rt) = fs32!(fs),
+            Mtc1 { rt, fs } => set32!(fs, g!(rt)),
+            Mfhc1 { rt, fs } => g!(rt) = (fs64!(fs) >> 32) as u32,
+            Mthc1 { rt, fs } => {
+                let v = (fs64!(fs) & 0xFFFF_FFFF) | ((g!(rt) as u64) << 32);
+                set64!(fs, v);
+            }
+            Cfc1 { rt, fs } => {
+                let f = self.regs.fcsr;
+                g!(rt) = match fs {
+                    0 => FIR,
+                    25 => 0,
+                    26 => f & 0x0003_F07C,
+                    28 => (f & 0x0000_0F83) | ((f >> 22) & 4),
+                    31 => f,
+                    _ => fault!(Fault::ReservedInstruction(
+                        0x4440_0000 | (rt as u32) << 16 | (fs as u32) << 11
+                    )),
+                }
+            }
+            Ctc1 { rt, fs } => {
+                let v = g!(rt);
+                let f = &mut self.regs.fcsr;
+                match fs {
+                    26 => *f = (*f & !0x0003_F07C) | (v & 0x0003_F07C),
+                    28 => *f = (*f & !0x0100_0F83) | (v & 0x0000_0F83) | ((v & 4) << 22),
+                    31 => *f = (*f & !FCSR_WRITABLE) | (v & FCSR_WRITABLE),
+                    _ => fault!(Fault::ReservedInstruction(
+                        0x44C0_0000 | (rt as u32) << 16 | (fs as u32) << 11
+                    )),
+                }
+                let cause = (*f >> 12) & 0x3F;
+                let enabled = ((*f >> 7) & 0x1F) | 0x20;
+                if cause & enabled != 0 {
+                    fault!(Fault::FpException { cause, msa: false })
+                }
+            }
+            Mfc2 { rt, rd, sel: _ } => g!(rt) = self.cop2[(rd & 31) as usize],
+            Mtc2 { rt, rd, sel: _ } => self.cop2[(rd & 31) as usize] = g!(rt),
+            Trax { op, rd, rs, rt, sa } => match exec_trax(self, sh, op, rd, rs, rt, sa) {
+                Ok(TraxFlow::Next) => {}
+                Ok(TraxFlow::Retry) => return Err(StepExit::Flow(TraxFlow::Retry)),
+                Ok(flow) => {
+                    // Halt/Block complete the instruction, then stop the thread.
+                    self.regs.gpr[0] = 0;
+                    self.pc = npc;
+                    self.npc = next;
+                    self.retired += 1;
+                    return Err(StepExit::Flow(flow));
+                }
+                Err(f) => fault!(f),
+            },
+            Msa(m) => match crate::msa_glue::execute(self, sh, &m) {
+                Ok(None) => {}
+                Ok(Some(taken)) => {
+                    // MSA branches have a delay slot.
+                    branch!(taken, m.imm);
+                }
+                Err(f) => fault!(f),
+            },
+            Reserved(w) => fault!(Fault::ReservedInstruction(w)),
+        }
+        self.regs.gpr[0] = 0;
+        self.retired += 1;
+        Ok((npc, next))
+    }
+
+    fn convert(&mut self, op: Conv, fd: u8, fs: u8) -> Result<(), Fault> {
+        use Conv::*;
+        let r = &mut self.regs;
+        let (fd, fs) = ((fd & 31) as usize, (fs & 31) as usize);
+        let fcsr = r.fcsr;
+        let s = || f32::from_bits(r.f32_bits(fs)) as f64;
+        let d = || f64::from_bits(r.f64_bits(fs));
+        let (bits, e, wide): (u64, u32, bool) = match op {
+            CvtSD => {
+                let (v, e) = fpu::f64_to_f32(d(), fcsr);
+                (v as u64, e, false)
+            }
+            CvtSW => {
+                let (v, e) = fpu::i64_to_f32(r.f32_bits(fs) as i32 as i64, fcsr);
+                (v as u64, e, false)
+            }
+            CvtSL => {
+                let (v, e) = fpu::i64_to_f32(r.f64_bits(fs) as i64, fcsr);
+                (v as u64, e, false)
+            }
+            CvtDS => {
+                let (v, e) = fpu::f32_to_f64(r.f32_bits(fs));
+                (v, e, true)
+            }
+            CvtDW => ((r.f32_bits(fs) as i32 as f64).to_bits(), 0, true),
+            CvtDL => {
+                let (v, e) = fpu::i64_to_f64(r.f64_bits(fs) as i64, fcsr);
+                (v, e, true)
+            }
+            CvtWS | RoundWS | TruncWS | CeilWS | FloorWS => {
+                let (v, e) = fpu::to_i32(s(), int_round(op), fcsr);
+                (v as u64, e, false)
+            }
+            CvtWD | RoundWD | TruncWD | CeilWD | FloorWD => {
+                let (v, e) = fpu::to_i32(d(), int_round(op), fcsr);
+                (v as u64, e, false)
+            }
+            CvtLS | RoundLS | TruncLS | CeilLS | FloorLS => {
+                let (v, e) = fpu::to_i64(s(), int_round(op), fcsr);
+                (v, e, true)
+            }
+            CvtLD | RoundLD | TruncLD | CeilLD | FloorLD => {
+                let (v, e) = fpu::to_i64(d(), int_round(op), fcsr);
+                (v, e, true)
+            }
+        };
+        if let Err(t) = fpu::update(&mut r.fcsr, e) {
+            return Err(Fault::FpException {
+                cause: t.cause,
+                msa: false,
+            });
+        }
+        if wide {
+            r.set_f64_bits(fd, bits);
+        } else {
+            r.set_f32_bits(fd, bits as u32);
+        }
+        Ok(())
+    }
+}
+
+fn int_round(op: Conv) -> IntRound {
+    use Conv::*;
+    match op {
+        RoundWS | RoundWD | RoundLS | RoundLD => IntRound::Nearest,
+        TruncWS | TruncWD | TruncLS | TruncLD => IntRound::Trunc,
+        CeilWS | CeilWD | CeilLS | CeilLD => IntRound::Ceil,
+        FloorWS | FloorWD | FloorLS | FloorLD => IntRound::Floor,
+        _ => IntRound::Current,
+    }
+}
+
+/// Internal early exit of [`Thread::step`] (small, so the hot path returns in registers;
+/// the fault itself waits in `Thread::pending_fault`).
+#[derive(Clone, Copy)]
+enum StepExit {
+    Fault,
+    Flow(TraxFlow),
+}
+
+impl Thread {
+    #[cold]
+    #[inline(never)]
+    fn set_fault(&mut self, f: Fault) -> StepExit {
+        self.pending_fault = Some(f);
+        StepExit::Fault
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::memory::{Memory, Segment};
+    use crate::program::Program;
+    use crate::thread::{ChipShape, Shared};
+
+    /// Runs `words` (then `trax.halt`) on one thread with `init` applied to its registers.
+    fn run(words: &[u32], init: impl FnOnce(&mut Thread)) -> (Thread, Stop) {
+        let mut w = words.to_vec();
+        w.push(0x7000_0007); // trax.halt
+        let data: Vec<u8> = w.iter().flat_map(|x| x.to_le_bytes()).collect();
+        let segs = vec![
+            Segment {
+                addr: 0x10_0000,
+                mem_size: data.len() as u32,
+                data,
+                writable: false,
+            },
+            Segment {
+                addr: 0x20_0000,
+                data: vec![0; 64],
+                mem_size: 64,
+                writable: true,
+            },
+        ];
+        let mem = Memory::new(&segs, 4096).unwrap();
+        let program =
+            Program::decode_range(&mem, 0x10_0000, 0x10_0000 + 4 * w.len() as u32, 0x10_0000);
+        let mut sh = Shared::new(
+            mem,
+            program,
+            ChipShape {
+                tms: 1,
+                threads_per_tm: 1,
+            },
+        );
+        let mut t = Thread::new(0x10_0000, 0, 0, 0, 4096, 0);
+        init(&mut t);
+        let stop = t.run(&mut sh, 1000);
+        (t, stop)
+    }
+
+    #[test]
+    fn division_edge_cases() {
+        // div $4,$2,$3; mod $5,$2,$3; divu $6,$2,$7; modu $8,$2,$7 (with $7 = 0)
+        let words = [0x0043_209A, 0x0043_28DA, 0x0047_309B, 0x0047_40DB];
+        let (t, stop) = run(&words, |t| {
+            t.regs.gpr[2] = 0x8000_0000;
+            t.regs.gpr[3] = u32::MAX; // -1
+        });
+        assert_eq!(stop, Stop::Halted);
+        assert_eq!(t.regs.gpr[4], 0x8000_0000, "INT_MIN / -1 = INT_MIN");
+        assert_eq!(t.regs.gpr[5], 0, "INT_MIN mod -1 = 0");
+        assert_eq!(t.regs.gpr[6], 0x8000_0000, "x / 0 = x");
+        assert_eq!(t.regs.gpr[8], 0, "x mod 0 = 0");
+    }
+
+    #[test]
+    fn shifts_by_0_and_31_and_multiply_high() {
+        // sll $4,$2,0; sra $5,$2,31; srl $6,$2,31; rotr $7,$2,31; muh $8,$2,$2; muhu $9,$2,$2
+        let words = [
+            0x0002_2000,
+            0x0002_2FC3,
+            0x0002_37C2,
+            0x0022_3FC2,
+            0x0042_40D8,
+            0x0042_48D9,
+        ];
+        let (t, _) = run(&words, |t| t.regs.gpr[2] = 0x8000_0001);
+        assert_eq!(t.regs.gpr[4], 0x8000_0001);
+        assert_eq!(t.regs.gpr[5], u32::MAX);
+        assert_eq!(t.regs.gpr[6], 1);
+        assert_eq!(t.regs.gpr[7], 0x0000_0003);
+        let s = 0x8000_0001u32 as i32 as i64;
+        assert_eq!(t.regs.gpr[8], ((s * s) >> 32) as u32);
+        assert_eq!(t.regs.gpr[9], ((0x8000_0001u64 * 0x8000_0001) >> 32) as u32);
+    }
+
+    #[test]
+    fn add_overflow_traps_and_zero_register_stays_zero() {
+        // addu $0,$2,$2 then add $4,$2,$2 (overflows)
+        let (t, stop) = run(&[0x0042_0021, 0x0042_2020], |t| t.regs.gpr[2] = 0x7FFF_FFFF);
+        assert_eq!(t.regs.gpr[0], 0);
+        assert_eq!(stop, Stop::Fault(Fault::IntegerOverflow));
+        assert_eq!(t.pc, 0x10_0004, "pc stays at the faulting instruction");
+        assert_eq!(t.retired, 1);
+    }
+
+    #[test]
+    fn delay_slot_executes_and_branch_in_slot_is_reserved() {
+        // beq $0,$0,+8 ; addiu $4,$0,1 (delay slot) ; addiu $5,$0,1 (skipped) ; addiu $6,$0,1
+        let (t, _) = run(
+            &[0x1000_0002, 0x2404_0001, 0x2405_0001, 0x2406_0001],
+            |_| {},
+        );
+        assert_eq!((t.regs.gpr[4], t.regs.gpr[5], t.regs.gpr[6]), (1, 0, 1));
+        // beq $0,$0,+8 with another beq in its delay slot.
+        let (_, stop) = run(&[0x1000_0002, 0x1000_0001, 0, 0], |_| {});
+        assert_eq!(stop, Stop::Fault(Fault::BranchInSlot));
+    }
+
+    #[test]
+    fn compact_branches_and_forbidden_slot() {
+        // bnezc $2, +4 (taken: skips one) ; addiu $4,$0,1 ; addiu $5,$0,1
+        let (t, _) = run(&[0xF840_0001, 0x2404_0001, 0x2405_0001], |t| {
+            t.regs.gpr[2] = 1
+        });
+        assert_eq!((t.regs.gpr[4], t.regs.gpr[5]), (0, 1));
+        // Not taken: the forbidden slot executes; a branch there is reserved.
+        let (t, _) = run(&[0xF840_0001, 0x2404_0001, 0x2405_0001], |_| {});
+        assert_eq!((t.regs.gpr[4], t.regs.gpr[5]), (1, 1));
+        let (_, stop) = run(&[0xF840_0001, 0xC800_0000, 0], |_| {});
+        assert_eq!(stop, Stop::Fault(Fault::BranchInSlot));
+        // bovc $2,$3 on INT_MAX + 1 is taken.
+        let (t, _) = run(&[0x2062_0001, 0x2404_0001, 0x2405_0001], |t| {
+            t.regs.gpr[2] = 1;
+            t.regs.gpr[3] = 0x7FFF_FFFF;
+        });
+        assert_eq!((t.regs.gpr[4], t.regs.gpr[5]), (0, 1));
+    }
+
+    #[test]
+    fn calls_are_tracked_for_backtraces() {
+        // balc +4 ; trax.halt ; (callee) jr $ra ; nop
+        let (t, stop) = run(&[0xE800_0001, 0x7000_0007, 0x03E0_0009, 0], |_| {});
+        assert_eq!(stop, Stop::Halted);
+        assert!(t.calls.is_empty(), "return popped the frame: {:?}", t.calls);
+        assert_eq!(t.regs.gpr[31], 0x10_0004);
+    }
+
+    #[test]
+    fn fpu_conversions_and_fcsr() {
+        // mtc1 $2,$f0 ; trunc.w.s $f1,$f0 ; mfc1 $4,$f1 ; cfc1 $5,$31
+        let words = [0x4482_0000, 0x4600_004D, 0x4404_0800, 0x4445_F800];
+        let (t, _) = run(&words, |t| t.regs.gpr[2] = 3e9f32.to_bits());
+        assert_eq!(t.regs.gpr[4], i32::MAX as u32, "saturates");
+        assert_eq!(
+            (t.regs.gpr[5] >> 12) & 0x3F,
+            fpu::EX_INVALID,
+            "cause = invalid"
+        );
+        assert_eq!(
+            (t.regs.gpr[5] >> 2) & 0x1F,
+            fpu::EX_INVALID,
+            "flag = invalid"
+        );
+        assert_eq!(t.regs.gpr[5] & 0x000C_0000, 0x000C_0000, "NaN2008/ABS2008");
+        // An enabled exception traps: ctc1 enables Invalid, then the conversion faults.
+        let words = [0x44C6_F800, 0x4482_0000, 0x4600_004D];
+        let (_, stop) = run(&words, |t| {
+            t.regs.gpr[2] = f32::NAN.to_bits();
+            t.regs.gpr[6] = 1 << 11;
+        });
+        assert_eq!(
+            stop,
+            Stop::Fault(Fault::FpException {
+                cause: fpu::EX_INVALID,
+                msa: false
+            })
+        );
+    }
+}

@@ -1,0 +1,347 @@
+//! The flat 32-bit address space: chip-wide global memory built from segments, the null
+//! guard, and each thread's private local store (its stack window below `STACK_TOP`).
+//!
+//! Global memory is one `Vec<u8>` from address 0 to the end of the highest segment, plus
+//! a page table of permissions (4 KiB pages): the common access path is one bounds check,
+//! one permission byte and one unaligned load. Pages not covered by a segment are
+//! unmapped; the null guard `[0, NULL_GUARD_END)` is never mapped.
+//!
+//! Misaligned accesses (a `lw` at an address not a multiple of 4, etc.) are reported as
+//! faults: MIPS32r6 lets an implementation either support them or raise an Address Error,
+//! and trapping catches kernel bugs early.
+
+use trax_runtime::abi;
+
+/// Page size of the permission map.
+pub const PAGE_SHIFT: u32 = 12;
+
+const PERM_NONE: u8 = 0;
+const PERM_R: u8 = 1;
+const PERM_RW: u8 = 2;
+
+/// Highest end address of global memory (it is backed by one host allocation).
+pub const MAX_GLOBAL: u32 = 1 << 30;
+
+/// Addresses this far below the stack window are reported as stack overflow.
+pub const STACK_GUARD: u32 = 16 << 20;
+
+/// One initialized region of the memory image.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Segment {
+    /// First address.
+    pub addr: u32,
+    /// Contents.
+    pub data: Vec<u8>,
+    /// Size in memory (>= `data.len()`; the rest is zero-filled, like `.bss`).
+    pub mem_size: u32,
+    /// Whether stores are allowed.
+    pub writable: bool,
+}
+
+/// Why an access failed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MemFaultKind {
+    /// Address in the null guard.
+    Null,
+    /// Address not a multiple of the access size.
+    Misaligned,
+    /// Address below the thread's stack window (the stack grew past its local store).
+    StackOverflow,
+    /// Address not mapped.
+    BadAddress,
+    /// Store to read-only memory (program text or read-only data).
+    ReadOnly,
+}
+
+/// A failed access.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct MemFault {
+    /// What went wrong.
+    pub kind: MemFaultKind,
+    /// The effective address.
+    pub addr: u32,
+    /// Access size in bytes.
+    pub size: u8,
+    /// True for stores.
+    pub write: bool,
+}
+
+/// Errors building memory from segments.
+#[derive(Debug, thiserror::Error, PartialEq, Eq)]
+pub enum LayoutError {
+    /// A segment touches the null guard.
+    #[error(
+        "segment at {addr:#010x} (+{size:#x} bytes) overlaps the null guard [0, {:#x})",
+        abi::NULL_GUARD_END
+    )]
+    NullGuard { addr: u32, size: u32 },
+    /// A segment reaches the stack window or wraps around the address space.
+    #[error("segment at {addr:#010x} (+{size:#x} bytes) overlaps the stack window starting at {stack_base:#010x}")]
+    StackWindow {
+        addr: u32,
+        size: u32,
+        stack_base: u32,
+    },
+    /// Global memory would exceed the supported size.
+    #[error(
+        "segment at {addr:#010x} ends above {MAX_GLOBAL:#x}: global memory is limited to 1 GiB"
+    )]
+    TooLarge { addr: u32 },
+    /// Two segments overlap.
+    #[error("segments at {a:#010x} and {b:#010x} overlap")]
+    Overlap { a: u32, b: u32 },
+}
+
+/// Chip-wide global memory.
+#[derive(Clone, Debug)]
+pub struct Memory {
+    bytes: Vec<u8>,
+    perms: Vec<u8>,
+    /// Lowest address of the per-thread stack window.
+    pub stack_base: u32,
+    /// Size of each thread's local store.
+    pub stack_size: u32,
+}
+
+impl Memory {
+    /// Builds global memory from segments. `stack_size` is each thread's local store size.
+    pub fn new(segments: &[Segment], stack_size: u32) -> Result<Memory, LayoutError> {
+        let stack_base = abi::STACK_TOP - stack_size;
+        let mut end = 0u64;
+        let mut sorted: Vec<&Segment> = segments.iter().collect();
+        sorted.sort_by_key(|s| s.addr);
+        for (i, s) in sorted.iter().enumerate() {
+            let size = s.mem_size.max(s.data.len() as u32);
+            let e = s.addr as u64 + size as u64;
+            if s.addr < abi::NULL_GUARD_END {
+                return Err(LayoutError::NullGuard { addr: s.addr, size });
+            }
+            if e > stack_base as u64 - STACK_GUARD as u64 {
+                return Err(LayoutError::StackWindow {
+                    addr: s.addr,
+                    size,
+                    stack_base,
+                });
+            }
+            if i > 0 {
+                let p = sorted[i - 1];
+                if (p.addr as u64 + p.mem_size.max(p.data.len() as u32) as u64) > s.addr as u64 {
+                    return Err(LayoutError::Overlap {
+                        a: p.addr,
+                        b: s.addr,
+                    });
+                }
+            }
+            if e > MAX_GLOBAL as u64 {
+                return Err(LayoutError::TooLarge { addr: s.addr });
+            }
+            end = end.max(e);
+        }
+        let pages = end.div_ceil(1 << PAGE_SHIFT) as usize;
+        let mut bytes = vec![0u8; pages << PAGE_SHIFT];
+        let mut perms = vec![PERM_NONE; pages];
+        for s in sorted {
+            let a = s.addr as usize;
+            bytes[a..a + s.data.len()].copy_from_slice(&s.data);
+            let size = s.mem_size.max(s.data.len() as u32) as usize;
+            let (p0, p1) = (a >> PAGE_SHIFT, (a + size).div_ceil(1 << PAGE_SHIFT));
+            for p in &mut perms[p0..p1] {
+                // A page shared by a read-only and a writable segment becomes writable.
+                *p = (*p).max(if s.writable { PERM_RW } else { PERM_R });
+            }
+        }
+        Ok(Memory {
+            bytes,
+            perms,
+            stack_base,
+            stack_size,
+        })
+    }
+
+    /// One past the highest global address.
+    pub fn global_end(&self) -> u32 {
+        self.bytes.len() as u32
+    }
+
+    #[cold]
+    fn fault(&self, addr: u32, size: u8, write: bool) -> MemFault {
+        let kind = if addr < abi::NULL_GUARD_END {
+            MemFaultKind::Null
+        } else if addr & (size as u32 - 1) != 0 {
+            MemFaultKind::Misaligned
+        } else if addr < self.stack_base && addr >= self.stack_base.saturating_sub(STACK_GUARD) {
+            MemFaultKind::StackOverflow
+        } else if write
+            && (addr as usize) < self.bytes.len()
+            && self.perms[(addr >> PAGE_SHIFT) as usize] == PERM_R
+        {
+            MemFaultKind::ReadOnly
+        } else {
+            MemFaultKind::BadAddress
+        };
+        MemFault {
+            kind,
+            addr,
+            size,
+            write,
+        }
+    }
+
+    /// Reads `N` bytes at an `N`-aligned address from global memory or `local`.
+    #[inline(always)]
+    pub fn read<const N: usize>(&self, local: &[u8], addr: u32) -> Result<[u8; N], MemFault> {
+        const { assert!(N.is_power_of_two() && N <= 1 << PAGE_SHIFT) };
+        if addr & (N as u32 - 1) != 0 {
+            return Err(self.fault(addr, N as u8, false));
+        }
+        let a = addr as usize;
+        if a < self.bytes.len() {
+            // SAFETY: `a < bytes.len()`; `bytes.len()` is a multiple of the page size and
+            // `perms.len()` is the page count, so `a >> PAGE_SHIFT < perms.len()`. `a` is a
+            // multiple of N (checked above) and N divides the page size, so `a + N` does
+            // not cross the end of `bytes`.
+            if unsafe { *self.perms.get_unchecked(a >> PAGE_SHIFT) } != PERM_NONE {
+                let mut out = [0u8; N];
+                out.copy_from_slice(unsafe { self.bytes.get_unchecked(a..a + N) });
+                return Ok(out);
+            }
+        } else {
+            let o = addr.wrapping_sub(self.stack_base) as usize;
+            if let Some(b) = local.get(o..o + N) {
+                let mut out = [0u8; N];
+                out.copy_from_slice(b);
+                return Ok(out);
+            }
+        }
+        Err(self.fault(addr, N as u8, false))
+    }
+
+    /// Writes `N` bytes at an `N`-aligned address to global memory or `local`.
+    #[inline(always)]
+    pub fn write<const N: usize>(
+        &mut self,
+        local: &mut [u8],
+        addr: u32,
+        v: [u8; N],
+    ) -> Result<(), MemFault> {
+        const { assert!(N.is_power_of_two() && N <= 1 << PAGE_SHIFT) };
+        if addr & (N as u32 - 1) != 0 {
+            return Err(self.fault(addr, N as u8, true));
+        }
+        let a = addr as usize;
+        if a < self.bytes.len() {
+            // SAFETY: as in `read`: the page index and `a..a + N` are in bounds.
+            if unsafe { *self.perms.get_unchecked(a >> PAGE_SHIFT) } == PERM_RW {
+                unsafe { self.bytes.get_unchecked_mut(a..a + N) }.copy_from_slice(&v);
+                return Ok(());
+            }
+        } else {
+            let o = addr.wrapping_sub(self.stack_base) as usize;
+            if let Some(b) = local.get_mut(o..o + N) {
+                b.copy_from_slice(&v);
+                return Ok(());
+            }
+        }
+        Err(self.fault(addr, N as u8, true))
+    }
+
+    /// Reads a byte string (for prints and abort messages); any byte may be unaligned.
+    pub fn read_bytes(&self, local: &[u8], addr: u32, len: u32) -> Result<Vec<u8>, MemFault> {
+        let mut out = Vec::with_capacity(len.min(1 << 16) as usize);
+        for i in 0..len {
+            let a = addr.wrapping_add(i);
+            out.push(self.read::<1>(local, a)?[0]);
+        }
+        Ok(out)
+    }
+
+    /// Reads an aligned word of global memory without permission checks (tooling).
+    pub fn peek_u32(&self, addr: u32) -> Option<u32> {
+        let a = addr as usize;
+        let b = self.bytes.get(a..a + 4)?;
+        Some(u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+    }
+
+    /// Global memory bytes `[addr, addr+len)` if mapped (tooling, e.g. framebuffer read-back).
+    pub fn global_slice(&self, addr: u32, len: u32) -> Option<&[u8]> {
+        let (a, e) = (addr as usize, addr as usize + len as usize);
+        if e > self.bytes.len() {
+            return None;
+        }
+        let ok = (a >> PAGE_SHIFT..e.div_ceil(1 << PAGE_SHIFT)).all(|p| self.perms[p] != PERM_NONE);
+        ok.then(|| &self.bytes[a..e])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn mem() -> Memory {
+        let segs = vec![
+            Segment {
+                addr: 0x10_0000,
+                data: vec![1, 2, 3, 4],
+                mem_size: 4,
+                writable: false,
+            },
+            Segment {
+                addr: 0x20_0000,
+                data: vec![],
+                mem_size: 0x2000,
+                writable: true,
+            },
+        ];
+        Memory::new(&segs, 4096).unwrap()
+    }
+
+    #[test]
+    fn classifies_faults() {
+        let mut m = mem();
+        let mut local = vec![0u8; 4096];
+        assert_eq!(m.read::<4>(&local, 0x10_0000).unwrap(), [1, 2, 3, 4]);
+        assert_eq!(m.read::<4>(&local, 8).unwrap_err().kind, MemFaultKind::Null);
+        assert_eq!(
+            m.read::<4>(&local, 0x10_0002).unwrap_err().kind,
+            MemFaultKind::Misaligned
+        );
+        assert_eq!(
+            m.write::<4>(&mut local, 0x10_0000, [0; 4])
+                .unwrap_err()
+                .kind,
+            MemFaultKind::ReadOnly
+        );
+        assert_eq!(
+            m.read::<4>(&local, 0x15_0000).unwrap_err().kind,
+            MemFaultKind::BadAddress
+        );
+        let below = abi::STACK_TOP - 4096 - 4;
+        assert_eq!(
+            m.read::<4>(&local, below).unwrap_err().kind,
+            MemFaultKind::StackOverflow
+        );
+        m.write::<4>(&mut local, abi::STACK_TOP - 4, [9, 8, 7, 6])
+            .unwrap();
+        assert_eq!(local[4092..], [9, 8, 7, 6]);
+        m.write::<2>(&mut local, 0x20_1ffe, [5, 5]).unwrap();
+        assert_eq!(m.read::<2>(&local, 0x20_1ffe).unwrap(), [5, 5]);
+    }
+
+    #[test]
+    fn rejects_bad_layouts() {
+        let s = |addr, n| Segment {
+            addr,
+            data: vec![0; n],
+            mem_size: n as u32,
+            writable: true,
+        };
+        assert!(matches!(
+            Memory::new(&[s(0x100, 4)], 4096),
+            Err(LayoutError::NullGuard { .. })
+        ));
+        assert!(matches!(
+            Memory::new(&[s(0x10_0000, 8), s(0x10_0004, 8)], 4096),
+            Err(LayoutError::Overlap { .. })
+        ));
+    }
+}

@@ -1,0 +1,229 @@
+//! A resumable copy of [`Machine::run`]'s scheduler with a pluggable per-thread executor.
+//!
+//! The profiler runs each thread's quantum in basic-block chunks and the debugger pauses
+//! the chip at a breakpoint and resumes it later; both need the interleaving of an
+//! ordinary run (TM-major round robin, `quantum` instructions per turn, LL link cleared
+//! on a context switch, barrier release when a thread halts) so their results equal an
+//! unprofiled, undebugged run. Keep this in step with `machine.rs`.
+
+use std::io::Write;
+
+use crate::exec::Stop;
+use crate::machine::{Crash, Machine, Outcome};
+use crate::thread::{RunState, Shared, Thread};
+
+/// Runs one thread's turn (or part of it).
+pub trait Executor {
+    /// Runs thread `idx` (index in [`Machine::threads`]) for at most `budget` instructions.
+    /// Returning [`Stop::Budget`] with fewer instructions retired than `budget` ends the
+    /// turn early; if [`Executor::pause`] then says so, the whole chip pauses.
+    fn exec(&mut self, idx: usize, t: &mut Thread, sh: &mut Shared, budget: u64) -> Stop;
+
+    /// Whether the last short [`Stop::Budget`] asks the chip to pause (a breakpoint).
+    fn pause(&self) -> bool {
+        false
+    }
+}
+
+/// Plain execution (no instrumentation).
+#[derive(Debug, Default)]
+pub struct PlainExec;
+
+impl Executor for PlainExec {
+    fn exec(&mut self, _idx: usize, t: &mut Thread, sh: &mut Shared, budget: u64) -> Stop {
+        t.run(sh, budget)
+    }
+}
+
+/// Why [`Scheduler::run`] returned.
+#[derive(Clone, Debug)]
+pub enum Driven {
+    /// The run is over.
+    Done(Outcome),
+    /// The executor paused the chip while running thread `thread`.
+    Paused {
+        /// Index of the thread that asked for the pause.
+        thread: usize,
+    },
+}
+
+/// Scheduler position, so a paused run resumes exactly where it stopped.
+#[derive(Clone, Debug, Default)]
+pub struct Scheduler {
+    next: usize,
+    left: Option<u64>,
+    progressed: bool,
+    /// Instructions retired by all threads so far.
+    pub total: u64,
+    done: Option<Outcome>,
+}
+
+impl Scheduler {
+    /// A scheduler at the start of `m`'s run.
+    pub fn new(m: &Machine) -> Scheduler {
+        Scheduler {
+            total: m.threads.iter().map(|t| t.retired).sum(),
+            ..Scheduler::default()
+        }
+    }
+
+    /// The final outcome, once the run is over.
+    pub fn outcome(&self) -> Option<&Outcome> {
+        self.done.as_ref()
+    }
+
+    /// Runs until the end or until the executor pauses the chip.
+    pub fn run(&mut self, m: &mut Machine, out: &mut dyn Write, e: &mut dyn Executor) -> Driven {
+        if let Some(o) = &self.done {
+            return Driven::Done(o.clone());
+        }
+        let d = self.run_inner(m, out, e);
+        drain(&mut m.shared.output, out);
+        if let Driven::Done(o) = &d {
+            self.done = Some(o.clone());
+        }
+        d
+    }
+
+    fn run_inner(&mut self, m: &mut Machine, out: &mut dyn Write, e: &mut dyn Executor) -> Driven {
+        let quantum = m.config.quantum.max(1) as u64;
+        loop {
+            if m.shared.live_threads == 0 {
+                return Driven::Done(Outcome::Finished);
+            }
+            while self.next < m.threads.len() {
+                let i = self.next;
+                let t = &mut m.threads[i];
+                match t.state {
+                    RunState::Halted => {
+                        self.next += 1;
+                        continue;
+                    }
+                    RunState::Barrier { reg, generation } => {
+                        if m.shared.barrier_generation[reg as usize] > generation {
+                            t.state = RunState::Running;
+                        } else {
+                            self.next += 1;
+                            continue;
+                        }
+                    }
+                    RunState::Running => {}
+                }
+                let mut budget = self.left.take().unwrap_or(quantum);
+                if let Some(max) = m.config.max_instructions {
+                    if self.total >= max {
+                        return Driven::Done(Outcome::InstructionLimit);
+                    }
+                    budget = budget.min(max - self.total);
+                }
+                let before = t.retired;
+                let stop = e.exec(i, t, &mut m.shared, budget);
+                let ran = t.retired - before;
+                self.total += ran;
+                self.progressed |= ran != 0;
+                if stop == Stop::Budget && ran < budget && e.pause() {
+                    self.left = Some(budget - ran);
+                    return Driven::Paused { thread: i };
+                }
+                t.ll_addr = None;
+                self.next += 1;
+                if let Some(o) = account(m, i, stop) {
+                    return Driven::Done(o);
+                }
+            }
+            self.next = 0;
+            drain(&mut m.shared.output, out);
+            if !std::mem::take(&mut self.progressed) && m.shared.live_threads > 0 {
+                let releasable = m.threads.iter().any(|t| match t.state {
+                    RunState::Barrier { reg, generation } => {
+                        m.shared.barrier_generation[reg as usize] > generation
+                    }
+                    RunState::Running | RunState::Halted => false,
+                });
+                if !releasable {
+                    return Driven::Done(Outcome::Deadlock {
+                        waiting: m.shared.live_threads,
+                    });
+                }
+            }
+        }
+    }
+
+    /// Runs up to `n` instructions of thread `idx` outside its turn (debugger single
+    /// step). Returns the outcome if this ended the run (a fault or the last halt).
+    pub fn step_thread(
+        &mut self,
+        m: &mut Machine,
+        out: &mut dyn Write,
+        idx: usize,
+        n: u64,
+    ) -> Option<Outcome> {
+        if self.done.is_some() {
+            return self.done.clone();
+        }
+        let t = &mut m.threads[idx];
+        if let RunState::Barrier { reg, generation } = t.state {
+            if m.shared.barrier_generation[reg as usize] > generation {
+                t.state = RunState::Running;
+            }
+        }
+        if t.state != RunState::Running {
+            return None;
+        }
+        let before = t.retired;
+        let stop = t.run(&mut m.shared, n);
+        self.total += t.retired - before;
+        let o = account(m, idx, stop);
+        drain(&mut m.shared.output, out);
+        let o = o.or_else(|| (m.shared.live_threads == 0).then_some(Outcome::Finished));
+        if let Some(o) = &o {
+            self.done = Some(o.clone());
+        }
+        o
+    }
+}
+
+/// Applies a thread's stop to the chip; returns the outcome if it ends the run.
+fn account(m: &mut Machine, i: usize, stop: Stop) -> Option<Outcome> {
+    match stop {
+        Stop::Budget | Stop::Blocked | Stop::Retry => None,
+        Stop::Halted => {
+            m.shared.live_threads -= 1;
+            release_barriers(&mut m.shared);
+            None
+        }
+        Stop::Fault(fault) => {
+            let t = &m.threads[i];
+            Some(Outcome::Crashed(Box::new(Crash {
+                fault,
+                gid: t.gid,
+                tid: t.tid,
+                tm: t.tm,
+                retired: t.retired,
+                pc: t.pc,
+                in_slot: t.slot_pc == t.pc,
+                calls: t.calls.clone(),
+                regs: t.regs.clone(),
+            })))
+        }
+    }
+}
+
+/// Releases barriers whose arrivals now cover every live thread (as `machine.rs`).
+fn release_barriers(sh: &mut Shared) {
+    for i in 0..sh.barrier_waiting.len() {
+        if sh.barrier_waiting[i] > 0 && sh.globals[i] >= sh.live_threads {
+            sh.globals[i] = 0;
+            sh.barrier_generation[i] += 1;
+            sh.barrier_waiting[i] = 0;
+        }
+    }
+}
+
+fn drain(buf: &mut Vec<u8>, out: &mut dyn Write) {
+    if !buf.is_empty() {
+        let _ = out.write_all(buf);
+        let _ = out.flush();
+        buf.clear();
+    }
+}

@@ -1,0 +1,62 @@
+//! The architectural register file of one hardware thread.
+
+/// One thread's registers: GPRs, FPU/MSA vector registers and the FPU/MSA control words.
+///
+/// The FPU runs with `Status.FR = 1`: FPU register `n` is the low 64 bits of `fpr[n]`;
+/// a single-precision value lives in the low 32 bits. MSA vector register `wn` is all
+/// 128 bits of `fpr[n]` (element 0 in the least significant bits).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct RegFile {
+    /// General-purpose registers; `gpr[0]` is always 0 (writes are discarded by the core).
+    pub gpr: [u32; 32],
+    /// FPU / MSA registers.
+    pub fpr: [u128; 32],
+    /// FPU control and status register (FCSR, `$31` of cp1).
+    pub fcsr: u32,
+    /// MSA control and status register (MSACSR).
+    pub msacsr: u32,
+}
+
+/// FCSR value at reset: NaN-2008 and ABS-2008 set (read-only 1 in r6), round to nearest.
+pub const FCSR_RESET: u32 = (1 << 18) | (1 << 19);
+
+impl Default for RegFile {
+    fn default() -> Self {
+        RegFile {
+            gpr: [0; 32],
+            fpr: [0; 32],
+            fcsr: FCSR_RESET,
+            msacsr: 0,
+        }
+    }
+}
+
+impl RegFile {
+    /// Reads FPU register `n` as a single (low 32 bits).
+    #[inline(always)]
+    pub fn f32_bits(&self, n: usize) -> u32 {
+        self.fpr[n] as u32
+    }
+
+    /// Reads FPU register `n` as a double (low 64 bits).
+    #[inline(always)]
+    pub fn f64_bits(&self, n: usize) -> u64 {
+        self.fpr[n] as u64
+    }
+
+    /// Writes a single to FPU register `n`.
+    ///
+    /// The upper 32 bits of the FPU register become UNPREDICTABLE in the architecture;
+    /// here they keep their previous value, like QEMU. Bits 64..128 (the MSA upper half)
+    /// are also UNPREDICTABLE; here they are preserved.
+    #[inline(always)]
+    pub fn set_f32_bits(&mut self, n: usize, v: u32) {
+        self.fpr[n] = (self.fpr[n] & !0xFFFF_FFFFu128) | v as u128;
+    }
+
+    /// Writes a double to FPU register `n` (the MSA upper half is preserved).
+    #[inline(always)]
+    pub fn set_f64_bits(&mut self, n: usize, v: u64) {
+        self.fpr[n] = (self.fpr[n] & !(u64::MAX as u128)) | v as u128;
+    }
+}

@@ -1,0 +1,302 @@
+//! One hardware thread's architectural state and the chip state its instructions touch.
+
+use crate::memory::{MemFault, Memory};
+use crate::program::Program;
+use crate::regs::RegFile;
+use trax_runtime::abi;
+use trax_runtime::isa::AbortKind;
+use trax_runtime::rng::Rng;
+
+/// Number of chip-wide global registers (`G[0..NUM_GLOBALS)`).
+pub const NUM_GLOBALS: usize = 256;
+/// Number of statistics counters (`trax.stat 0..32`).
+pub const NUM_STATS: usize = 32;
+/// Number of coprocessor-2 (pipeline) registers per thread.
+pub const NUM_COP2: usize = 32;
+/// Deepest shadow call stack kept for backtraces (deeper calls are counted, not stored).
+pub const MAX_SHADOW_FRAMES: usize = 4096;
+
+/// One entry of the shadow call stack.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CallFrame {
+    /// Address of the call instruction.
+    pub call_pc: u32,
+    /// Address it returns to.
+    pub return_addr: u32,
+    /// Called address.
+    pub target: u32,
+}
+
+/// Whether a thread can run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RunState {
+    /// Runnable.
+    Running,
+    /// Executed `trax.halt`.
+    Halted,
+    /// Waiting at barrier register `reg` for release number `generation`.
+    Barrier {
+        /// Global register of the barrier.
+        reg: u32,
+        /// Release count of that barrier when the thread arrived.
+        generation: u64,
+    },
+}
+
+/// What stopped a thread (the crash report's "what went wrong").
+#[derive(Clone, Debug, PartialEq)]
+pub enum Fault {
+    /// A load, store or instruction fetch failed.
+    Memory {
+        /// The failed access.
+        fault: MemFault,
+        /// True for instruction fetches.
+        fetch: bool,
+    },
+    /// A reserved (undefined) instruction word.
+    ReservedInstruction(u32),
+    /// A branch or jump in a delay slot or forbidden slot.
+    BranchInSlot,
+    /// `add`/`sub` signed overflow (Integer Overflow exception).
+    IntegerOverflow,
+    /// A conditional trap (`teq` etc.); LLVM uses code 7 for integer division by zero.
+    Trap {
+        /// The trap code field.
+        code: u16,
+    },
+    /// `break`.
+    Break(u32),
+    /// `syscall` (there is no operating system).
+    Syscall(u32),
+    /// `sdbbp`.
+    DebugBreakpoint(u32),
+    /// An enabled floating-point exception (FCSR or MSACSR Enables).
+    FpException {
+        /// Cause bits (`fpu::EX_*`).
+        cause: u32,
+        /// Raised by an MSA instruction.
+        msa: bool,
+    },
+    /// The kernel stopped the program with `trax.abort`.
+    Abort {
+        /// The abort kind, if the code is known.
+        kind: Option<AbortKind>,
+        /// Raw code.
+        code: u32,
+        /// Message from the kernel (lossy UTF-8).
+        message: String,
+    },
+    /// A TRaX global-register, stream or counter index out of range.
+    BadIndex {
+        /// What was indexed.
+        what: &'static str,
+        /// The index.
+        index: u32,
+    },
+}
+
+impl std::fmt::Display for Fault {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        use crate::memory::MemFaultKind::*;
+        match self {
+            Fault::Memory { fault, fetch } => {
+                let access = if *fetch {
+                    "instruction fetch".to_string()
+                } else {
+                    format!(
+                        "{}-byte {}",
+                        fault.size,
+                        if fault.write { "store" } else { "load" }
+                    )
+                };
+                let what = match fault.kind {
+                    Null => "null pointer dereference",
+                    Misaligned => "misaligned access",
+                    StackOverflow => "stack overflow",
+                    BadAddress => "bad address",
+                    ReadOnly => "store to read-only memory",
+                };
+                write!(f, "{what}: {access} at address {:#010x}", fault.addr)
+            }
+            Fault::ReservedInstruction(w) => write!(f, "reserved instruction {w:#010x}"),
+            Fault::BranchInSlot => {
+                write!(
+                    f,
+                    "reserved instruction: branch or jump in a delay or forbidden slot"
+                )
+            }
+            Fault::IntegerOverflow => write!(f, "integer overflow (add/sub trap)"),
+            Fault::Trap { code: 7 } => write!(f, "integer divide by zero (trap code 7)"),
+            Fault::Trap { code: 6 } => write!(f, "integer overflow (trap code 6)"),
+            Fault::Trap { code } => write!(f, "conditional trap (code {code})"),
+            Fault::Break(c) => write!(f, "break instruction (code {c})"),
+            Fault::Syscall(c) => write!(f, "syscall (code {c}): there is no operating system"),
+            Fault::DebugBreakpoint(c) => write!(f, "sdbbp (code {c})"),
+            Fault::FpException { cause, msa } => write!(
+                f,
+                "{}floating-point exception: {}",
+                if *msa { "MSA " } else { "" },
+                crate::fpu::describe_exceptions(*cause)
+            ),
+            Fault::Abort {
+                kind,
+                code,
+                message,
+            } => {
+                let k = kind
+                    .map(|k| k.describe().to_string())
+                    .unwrap_or(format!("abort code {code}"));
+                // Kernel messages often restate the kind (rustc's wording): say it once.
+                if message.is_empty() {
+                    write!(f, "{k}")
+                } else if message.starts_with(k.as_str()) {
+                    write!(f, "{message}")
+                } else {
+                    write!(f, "{k}: {message}")
+                }
+            }
+            Fault::BadIndex { what, index } => write!(f, "{what} index {index} out of range"),
+        }
+    }
+}
+
+/// Chip configuration that instructions observe.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ChipShape {
+    /// Number of thread multiprocessors.
+    pub tms: u32,
+    /// Threads per TM.
+    pub threads_per_tm: u32,
+}
+
+impl ChipShape {
+    /// Total hardware threads.
+    pub fn total(&self) -> u32 {
+        self.tms * self.threads_per_tm
+    }
+}
+
+/// Chip-wide state shared by every thread.
+#[derive(Debug)]
+pub struct Shared {
+    /// Global memory.
+    pub mem: Memory,
+    /// Predecoded program text.
+    pub program: Program,
+    /// Chip shape.
+    pub shape: ChipShape,
+    /// Global registers.
+    pub globals: Vec<u32>,
+    /// Release count per barrier register.
+    pub barrier_generation: Vec<u64>,
+    /// Threads currently waiting at each barrier register.
+    pub barrier_waiting: Vec<u32>,
+    /// Threads not yet halted.
+    pub live_threads: u32,
+    /// Output of the print instructions not yet drained.
+    pub output: Vec<u8>,
+    /// Statistics counters (`trax.stat`).
+    pub stats: [u64; NUM_STATS],
+    /// Instructions executed inside each profile region (`trax.profbegin/profend`).
+    pub profile: [u64; 32],
+    /// Ray stream queues (STRaTA), indexed by stream id.
+    pub streams: Vec<std::collections::VecDeque<Vec<u32>>>,
+    /// Stream each TM reads from (set by `trax.strsched`).
+    pub tm_stream: Vec<u32>,
+    /// Pipeline mode per TM (`trax.setpipe`).
+    pub tm_pipe_mode: Vec<u8>,
+}
+
+impl Shared {
+    /// Chip state for a program loaded into `mem`.
+    pub fn new(mem: Memory, program: Program, shape: ChipShape) -> Shared {
+        Shared {
+            mem,
+            program,
+            shape,
+            globals: vec![0; NUM_GLOBALS],
+            barrier_generation: vec![0; NUM_GLOBALS],
+            barrier_waiting: vec![0; NUM_GLOBALS],
+            live_threads: shape.total(),
+            output: Vec::new(),
+            stats: [0; NUM_STATS],
+            profile: [0; 32],
+            streams: Vec::new(),
+            tm_stream: vec![u32::MAX; shape.tms as usize],
+            tm_pipe_mode: vec![0; shape.tms as usize],
+        }
+    }
+}
+
+/// One hardware thread.
+#[derive(Clone, Debug)]
+pub struct Thread {
+    /// Registers.
+    pub regs: RegFile,
+    /// Address of the next instruction to execute.
+    pub pc: u32,
+    /// Address of the instruction after it (differs from `pc + 4` in a delay slot).
+    pub npc: u32,
+    /// Address of the instruction currently in a delay or forbidden slot (a branch there
+    /// is a reserved instruction).
+    pub slot_pc: u32,
+    /// The thread's local store (stack window).
+    pub local: Vec<u8>,
+    /// Instructions retired.
+    pub retired: u64,
+    /// Thread index within its TM.
+    pub tid: u32,
+    /// TM index.
+    pub tm: u32,
+    /// Chip-wide id.
+    pub gid: u32,
+    /// Run state.
+    pub state: RunState,
+    /// LL/SC link: the address of the last `ll`, cleared on a context switch.
+    pub ll_addr: Option<u32>,
+    /// Shadow call stack (calls and returns), for backtraces.
+    pub calls: Vec<CallFrame>,
+    /// Calls not recorded because the shadow stack was full.
+    pub dropped_calls: u32,
+    /// Coprocessor-2 registers (pipeline inputs and outputs).
+    pub cop2: [u32; NUM_COP2],
+    /// Random stream.
+    pub rng: Rng,
+    /// Ray being written to a stream: (stream id, words).
+    pub stream_write: Option<(u32, Vec<u32>)>,
+    /// Ray being read and the read position.
+    pub stream_read: Option<(Vec<u32>, usize)>,
+    /// Open profile regions: (region, retired count at begin).
+    pub profile_open: Vec<(u8, u64)>,
+    /// The fault of the instruction being executed (set on the interpreter's cold path).
+    pub pending_fault: Option<Fault>,
+}
+
+impl Thread {
+    /// A thread about to execute `entry`, with `$sp` at the top of its stack.
+    pub fn new(entry: u32, tid: u32, tm: u32, gid: u32, stack_size: u32, seed: u32) -> Thread {
+        let mut regs = RegFile::default();
+        regs.gpr[29] = abi::STACK_TOP;
+        Thread {
+            regs,
+            pc: entry,
+            npc: entry.wrapping_add(4),
+            slot_pc: u32::MAX,
+            local: vec![0; stack_size as usize],
+            retired: 0,
+            tid,
+            tm,
+            gid,
+            state: RunState::Running,
+            ll_addr: None,
+            calls: Vec::new(),
+            dropped_calls: 0,
+            cop2: [0; NUM_COP2],
+            rng: Rng::new(seed, gid),
+            stream_write: None,
+            stream_read: None,
+            profile_open: Vec::new(),
+            pending_fault: None,
+        }
+    }
+}

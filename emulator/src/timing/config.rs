@@ -1,0 +1,497 @@
+//! The chip configuration of the timing model: TOML with serde, named presets.
+//!
+//! A file may start with `preset = "NAME"` (`tiny`, `baseline`, `strata`): the preset is the
+//! base and the file's keys override it, table by table (`[memory.dram]` may name a DRAM
+//! preset of its own, see [`crate::memsys::DramConfig::preset`]). Every struct rejects unknown
+//! fields, so a misspelt key is named in the error.
+//!
+//! Units: latencies in core cycles, areas in mm² (65 nm, thesis Table 2.2), energies in nJ per
+//! activation (thesis Tables 3.1 and 3.3 and the original simtrax defaults).
+
+use std::collections::BTreeMap;
+
+use serde::{Deserialize, Serialize};
+use trax_runtime::isa::UnitClass;
+
+use crate::memsys::{self, DramConfig, MemSysConfig};
+
+/// Names of the chip presets, for help texts.
+pub const CHIP_PRESETS: &[&str] = &["tiny", "baseline", "strata"];
+
+/// Configuration errors; messages name the field.
+#[derive(Debug, thiserror::Error)]
+pub enum ConfigError {
+    /// TOML syntax or an unknown/mistyped field.
+    #[error("chip config {origin}: {msg}")]
+    Parse {
+        /// File name or preset name.
+        origin: String,
+        /// What is wrong.
+        msg: String,
+    },
+    /// A value out of range.
+    #[error("chip config: {0}")]
+    Invalid(String),
+    /// Reading the file failed.
+    #[error("chip config {path}: {err}")]
+    Io {
+        /// Path.
+        path: String,
+        /// Error.
+        err: std::io::Error,
+    },
+}
+
+/// One kind of execution unit in each TM.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct UnitConfig {
+    /// Units of this class per TM; each is wired to `threads_per_tm / count` thread
+    /// processors (round-robin arbitration among them). No default (required).
+    pub count: u32,
+    /// Cycles from issue until a dependent instruction may issue (1 = back-to-back). Default 1.
+    #[serde(default = "one")]
+    pub latency: u32,
+    /// Fully pipelined (accepts one op per cycle) if true; otherwise busy for `latency`
+    /// cycles per op. Default true.
+    #[serde(default = "yes")]
+    pub pipelined: bool,
+    /// Area of one unit, mm². Default 0.
+    #[serde(default)]
+    pub area_mm2: f64,
+    /// Energy per operation, nJ. Default 0.
+    #[serde(default)]
+    pub energy_nj: f64,
+}
+
+fn one() -> u32 {
+    1
+}
+fn yes() -> bool {
+    true
+}
+
+/// Shared, multibanked instruction caches of a TM (always hit: kernels fit).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ICacheConfig {
+    /// I-caches per TM; thread `t` fetches from cache `t % per_tm`. Default 2 (Table 2.5).
+    pub per_tm: u32,
+    /// Banks per I-cache; bank = (pc / 4) % banks. Default 16 (Table 2.5).
+    pub banks: u32,
+    /// Fetches one bank serves per cycle (double pumped). Default 2 (thesis §2.2.1.1).
+    pub fetches_per_bank: u32,
+    /// Area of one I-cache, mm². Default 0.07 (Table 2.2, 4 KB).
+    pub area_mm2: f64,
+    /// Energy per fetch, nJ. Default 0.014 (Table 3.3, 4 KB).
+    pub energy_nj: f64,
+}
+
+impl Default for ICacheConfig {
+    fn default() -> Self {
+        ICacheConfig {
+            per_tm: 2,
+            banks: 16,
+            fetches_per_bank: 2,
+            area_mm2: 0.07,
+            energy_nj: 0.014,
+        }
+    }
+}
+
+/// Per-thread register files.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct RegisterFileConfig {
+    /// Area of one thread's register file, mm². Default 0.019 (Table 2.2, 128 x 32 bit).
+    pub area_mm2: f64,
+    /// Energy per register read or write, nJ. Default 0.008 (Table 3.3).
+    pub energy_nj: f64,
+}
+
+impl Default for RegisterFileConfig {
+    fn default() -> Self {
+        RegisterFileConfig {
+            area_mm2: 0.019,
+            energy_nj: 0.008,
+        }
+    }
+}
+
+/// Per-thread local store holding the stack (not cached, fixed latency).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct LocalStoreConfig {
+    /// Load-to-use latency, cycles. Default 1 (original).
+    pub latency: u32,
+    /// Bytes per thread. Default 65536 (`trax_runtime::abi::DEFAULT_STACK_SIZE`).
+    pub bytes: u32,
+    /// Area per thread, mm². Default 0.01396329 (original simtrax).
+    pub area_mm2: f64,
+    /// Energy per access, nJ. Default 0.008 (assumed equal to a register-file access).
+    pub energy_nj: f64,
+}
+
+impl Default for LocalStoreConfig {
+    fn default() -> Self {
+        LocalStoreConfig {
+            latency: 1,
+            bytes: trax_runtime::abi::DEFAULT_STACK_SIZE,
+            area_mm2: 0.013_963_29,
+            energy_nj: 0.008,
+        }
+    }
+}
+
+/// The chip-wide global register file (atomics, barriers, semaphores).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct GlobalRegConfig {
+    /// Cycles until the result register of an atomic is ready. Default 1 (original).
+    pub latency: u32,
+    /// Operations the whole chip serves per cycle. Default 1 (original intent).
+    pub ops_per_cycle: u32,
+}
+
+impl Default for GlobalRegConfig {
+    fn default() -> Self {
+        GlobalRegConfig {
+            latency: 1,
+            ops_per_cycle: 1,
+        }
+    }
+}
+
+/// The whole chip.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ChipConfig {
+    /// Informational name (the preset's name). Default "custom".
+    pub name: String,
+    /// Thread multiprocessors. Default 1.
+    pub tms: u32,
+    /// In-order single-issue thread processors per TM. Default 32.
+    pub threads_per_tm: u32,
+    /// TMs sharing one L2 (consecutive TM ids). Default 1.
+    pub tms_per_l2: u32,
+    /// Core clock, GHz. Default 1.0 (thesis).
+    pub clock_ghz: f64,
+    /// Execution units per TM, keyed by class (`int_add`, `int_mul`, `int_div`, `bitwise`,
+    /// `branch`, `fp_add`, `fp_mul`, `fp_min_max`, `fp_cmp`, `fp_div`, `fp_inv_sqrt`, `conv`,
+    /// `stream`, `box_pipe`, `tri_pipe`). A class not listed gets one unit per thread with
+    /// latency 1 and no area or energy. Default: the baseline TM (Table 2.5).
+    pub units: BTreeMap<String, UnitConfig>,
+    /// Instruction caches.
+    pub icache: ICacheConfig,
+    /// Register files.
+    pub register_file: RegisterFileConfig,
+    /// Local stores.
+    pub local_store: LocalStoreConfig,
+    /// Global registers.
+    pub global_registers: GlobalRegConfig,
+    /// L1, L2 and DRAM (see [`crate::memsys::config`]).
+    pub memory: MemSysConfig,
+}
+
+/// Execution-unit classes that can be configured, with their config key.
+pub const UNIT_NAMES: &[(UnitClass, &str)] = &[
+    (UnitClass::IntAdd, "int_add"),
+    (UnitClass::IntMul, "int_mul"),
+    (UnitClass::IntDiv, "int_div"),
+    (UnitClass::Bitwise, "bitwise"),
+    (UnitClass::Branch, "branch"),
+    (UnitClass::FpAdd, "fp_add"),
+    (UnitClass::FpMul, "fp_mul"),
+    (UnitClass::FpMinMax, "fp_min_max"),
+    (UnitClass::FpCmp, "fp_cmp"),
+    (UnitClass::FpDiv, "fp_div"),
+    (UnitClass::FpInvSqrt, "fp_inv_sqrt"),
+    (UnitClass::Conv, "conv"),
+    (UnitClass::Stream, "stream"),
+    (UnitClass::BoxPipe, "box_pipe"),
+    (UnitClass::TriPipe, "tri_pipe"),
+];
+
+/// Config key / stats name of a unit class.
+pub fn class_name(c: UnitClass) -> &'static str {
+    match c {
+        UnitClass::RegFile => "reg_file",
+        UnitClass::Memory => "memory",
+        UnitClass::LocalStore => "local_store",
+        UnitClass::GlobalRegs => "global_regs",
+        UnitClass::Debug => "debug",
+        c => UNIT_NAMES
+            .iter()
+            .find(|(k, _)| *k == c)
+            .map(|(_, n)| *n)
+            .unwrap_or("other"),
+    }
+}
+
+fn unit(count: u32, latency: u32, area_mm2: f64, energy_nj: f64) -> UnitConfig {
+    UnitConfig {
+        count,
+        latency,
+        pipelined: true,
+        area_mm2,
+        energy_nj,
+    }
+}
+
+/// A TM's units: `fp_add`, `fp_mul`, `int_mul`, `fp_inv` counts as given, the small units
+/// one per thread. Areas: Table 2.2 where given, else the original's defaults; energies:
+/// the original's defaults (nJ).
+fn tm_units(
+    threads: u32,
+    fp_add: u32,
+    fp_mul: u32,
+    int_mul: u32,
+    fp_inv: u32,
+) -> BTreeMap<String, UnitConfig> {
+    let mut m = BTreeMap::new();
+    let mut put = |k: &str, u: UnitConfig| {
+        m.insert(k.to_string(), u);
+    };
+    put("int_add", unit(threads, 1, 0.00066, 0.000572));
+    put("bitwise", unit(threads, 1, 0.00066, 0.000572));
+    put("branch", unit(threads, 1, 0.00066, 0.000572));
+    put("fp_min_max", unit(threads, 1, 0.00072, 0.000536));
+    put("fp_cmp", unit(threads, 1, 0.000722, 0.000536));
+    put("conv", unit(threads, 1, 0.001814, 0.001));
+    put("fp_add", unit(fp_add, 2, 0.003, 0.0074));
+    put("fp_mul", unit(fp_mul, 2, 0.01, 0.0142));
+    put("int_mul", unit(int_mul, 1, 0.012, 0.0177));
+    put("fp_inv_sqrt", unit(fp_inv, 16, 0.11, 0.1563));
+    put("fp_div", unit(fp_inv, 16, 0.11, 0.1563));
+    put("int_div", unit(fp_inv, 16, 0.11, 0.1563));
+    put("stream", unit(1, 1, 0.0, 0.0));
+    put("box_pipe", unit(1, 8, 0.0, 0.0));
+    put("tri_pipe", unit(1, 12, 0.0, 0.0));
+    m
+}
+
+impl Default for ChipConfig {
+    fn default() -> Self {
+        ChipConfig {
+            name: "custom".into(),
+            tms: 1,
+            threads_per_tm: 32,
+            tms_per_l2: 1,
+            clock_ghz: 1.0,
+            units: tm_units(32, 8, 8, 2, 1),
+            icache: ICacheConfig::default(),
+            register_file: RegisterFileConfig::default(),
+            local_store: LocalStoreConfig::default(),
+            global_registers: GlobalRegConfig::default(),
+            memory: MemSysConfig::default(),
+        }
+    }
+}
+
+impl ChipConfig {
+    /// A named preset: `tiny` (1 TM x 8 threads, the original `tiny.config` units, simple
+    /// DRAM), `baseline` (thesis Table 2.5 top row: 80 TMs x 32 threads, 4 L2s of 256 KB /
+    /// 16 banks, 32 KB / 4-bank L1s, 2 int-mul, 8 fp-mul, 8 fp-add, 1 fp-invsqrt per TM,
+    /// 2 I-caches of 16 banks, thesis GDDR5), `strata` (chapter 3/5: 128 TMs x 32 threads,
+    /// 4 L2s of 512 KB, thesis GDDR5).
+    pub fn preset(name: &str) -> Option<ChipConfig> {
+        let mut c = ChipConfig {
+            name: name.to_string(),
+            ..ChipConfig::default()
+        };
+        match name {
+            "tiny" => {
+                c.tms = 1;
+                c.threads_per_tm = 8;
+                c.tms_per_l2 = 1;
+                c.units = tm_units(8, 1, 1, 1, 1);
+                c.icache.per_tm = 1;
+                c.memory.l2.capacity_bytes = 128 * 1024;
+                c.memory.l2.banks = 8;
+                c.memory.dram = DramConfig::preset("simple")?;
+                c.memory.dram.simple.latency = 50;
+            }
+            "baseline" => {
+                c.tms = 80;
+                c.tms_per_l2 = 20;
+                c.memory.l1.capacity_bytes = 32 * 1024;
+                c.memory.l1.banks = 4;
+                c.memory.l2.capacity_bytes = 256 * 1024;
+                c.memory.l2.banks = 16;
+                c.memory.dram = DramConfig::gddr5_thesis();
+            }
+            "strata" => {
+                c.tms = 128;
+                c.tms_per_l2 = 32;
+                c.memory.l2.capacity_bytes = 512 * 1024;
+                c.memory.l2.banks = 16;
+                c.memory.dram = DramConfig::gddr5_thesis();
+            }
+            _ => return None,
+        }
+        Some(c)
+    }
+
+    /// A preset name or a TOML file path.
+    pub fn load(spec: &str) -> Result<ChipConfig, ConfigError> {
+        if let Some(c) = ChipConfig::preset(spec) {
+            return Ok(c);
+        }
+        let text = std::fs::read_to_string(spec).map_err(|err| ConfigError::Io {
+            path: spec.to_string(),
+            err,
+        })?;
+        ChipConfig::from_toml_str(&text, spec)
+    }
+
+    /// Parses a TOML document (`origin` names it in errors).
+    pub fn from_toml_str(text: &str, origin: &str) -> Result<ChipConfig, ConfigError> {
+        let perr = |msg: String| ConfigError::Parse {
+            origin: origin.to_string(),
+            msg,
+        };
+        let mut user: toml::Table = toml::from_str(text).map_err(|e| perr(e.to_string()))?;
+        let base = match user.remove("preset") {
+            None => ChipConfig::default(),
+            Some(toml::Value::String(n)) => ChipConfig::preset(&n).ok_or_else(|| {
+                perr(format!(
+                    "unknown preset {n:?} (expected one of {})",
+                    CHIP_PRESETS.join(", ")
+                ))
+            })?,
+            Some(v) => {
+                return Err(perr(format!(
+                    "preset must be a string, found {}",
+                    v.type_str()
+                )))
+            }
+        };
+        // A `[memory.dram]` preset replaces the base DRAM before the user's keys apply.
+        let mut base_val = toml::Value::try_from(&base).map_err(|e| perr(e.to_string()))?;
+        if let Some(toml::Value::Table(mem)) = user.get_mut("memory") {
+            if let Some(toml::Value::Table(dram)) = mem.get_mut("dram") {
+                if let Some(p) = dram.remove("preset") {
+                    let name = p.as_str().unwrap_or("").to_string();
+                    let d = DramConfig::preset(&name)
+                        .ok_or_else(|| perr(format!("[memory.dram]: unknown preset {p}")))?;
+                    let dv = toml::Value::try_from(&d).map_err(|e| perr(e.to_string()))?;
+                    if let Some(m) = base_val.get_mut("memory").and_then(|m| m.as_table_mut()) {
+                        m.insert("dram".into(), dv);
+                    }
+                }
+            }
+        }
+        // Units are replaced per class, not merged field by field with the preset's.
+        if let Some(toml::Value::Table(units)) = user.remove("units") {
+            if let Some(b) = base_val.get_mut("units").and_then(|u| u.as_table_mut()) {
+                for (k, v) in units {
+                    b.insert(k, v);
+                }
+            }
+        }
+        merge(&mut base_val, toml::Value::Table(user));
+        let cfg: ChipConfig =
+            ChipConfig::deserialize(base_val).map_err(|e| perr(e.message().to_string()))?;
+        cfg.validate()?;
+        Ok(cfg)
+    }
+
+    /// The units of `class` (configured or the default one-per-thread).
+    pub fn unit(&self, class: UnitClass) -> UnitConfig {
+        self.units
+            .get(class_name(class))
+            .cloned()
+            .unwrap_or_else(|| unit(self.threads_per_tm, 1, 0.0, 0.0))
+    }
+
+    /// Checks ranges and cross-field constraints.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        let bad = |m: String| Err(ConfigError::Invalid(m));
+        if self.tms == 0 || self.tms > 4096 {
+            return bad(format!("tms = {} must be in 1..=4096", self.tms));
+        }
+        if self.threads_per_tm == 0 || self.threads_per_tm > 1024 {
+            return bad(format!(
+                "threads_per_tm = {} must be in 1..=1024",
+                self.threads_per_tm
+            ));
+        }
+        if self.tms_per_l2 == 0 {
+            return bad("tms_per_l2 must be >= 1".into());
+        }
+        if !(self.clock_ghz.is_finite() && self.clock_ghz > 0.0 && self.clock_ghz < 100.0) {
+            return bad(format!(
+                "clock_ghz = {} must be in (0, 100)",
+                self.clock_ghz
+            ));
+        }
+        for (k, u) in &self.units {
+            if !UNIT_NAMES.iter().any(|(_, n)| n == k) {
+                let names: Vec<&str> = UNIT_NAMES.iter().map(|(_, n)| *n).collect();
+                return bad(format!(
+                    "units.{k}: unknown unit class (expected one of {})",
+                    names.join(", ")
+                ));
+            }
+            if u.count == 0 {
+                return bad(format!("units.{k}.count must be >= 1"));
+            }
+            if u.latency == 0 || u.latency > 10_000 {
+                return bad(format!(
+                    "units.{k}.latency = {} must be in 1..=10000",
+                    u.latency
+                ));
+            }
+            if !(u.area_mm2 >= 0.0 && u.energy_nj >= 0.0) {
+                return bad(format!("units.{k}: area_mm2 and energy_nj must be >= 0"));
+            }
+        }
+        let ic = &self.icache;
+        if ic.per_tm == 0 || ic.banks == 0 || ic.fetches_per_bank == 0 {
+            return bad(
+                "icache.per_tm, icache.banks and icache.fetches_per_bank must be >= 1".into(),
+            );
+        }
+        if self.local_store.latency == 0 {
+            return bad("local_store.latency must be >= 1".into());
+        }
+        let b = self.local_store.bytes;
+        if b == 0 || !b.is_multiple_of(16) || b > 64 << 20 {
+            return bad(format!(
+                "local_store.bytes = {b} must be a non-zero multiple of 16 up to 64 MiB"
+            ));
+        }
+        if self.global_registers.latency == 0 || self.global_registers.ops_per_cycle == 0 {
+            return bad("global_registers.latency and ops_per_cycle must be >= 1".into());
+        }
+        self.memory
+            .validate()
+            .map_err(|e: memsys::MemSysError| ConfigError::Invalid(e.to_string()))
+    }
+
+    /// Core clock in MHz (rounded).
+    pub fn clock_mhz(&self) -> u32 {
+        (self.clock_ghz * 1000.0).round().max(1.0) as u32
+    }
+
+    /// The config as TOML.
+    pub fn to_toml(&self) -> String {
+        toml::to_string(self).unwrap_or_default()
+    }
+}
+
+fn merge(base: &mut toml::Value, over: toml::Value) {
+    match (base, over) {
+        (toml::Value::Table(b), toml::Value::Table(o)) => {
+            for (k, v) in o {
+                match b.get_mut(&k) {
+                    Some(slot) if slot.is_table() && v.is_table() => merge(slot, v),
+                    _ => {
+                        b.insert(k, v);
+                    }
+                }
+            }
+        }
+        (b, o) => *b = o,
+    }
+}

@@ -1,0 +1,385 @@
+//! Statistics of a timing run: performance, stalls, instruction mix, memory, energy, area.
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+
+use serde::Serialize;
+use trax_runtime::isa::UnitClass;
+
+use super::config::{class_name, ChipConfig, UNIT_NAMES};
+use super::engine::{Counters, ThreadCycles};
+use crate::memsys::{CacheStats, MemStats};
+use crate::program::Program;
+
+/// Energy per frame by component (thesis Figure 1.1 categories), joules.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct EnergyBreakdown {
+    /// Execution units.
+    pub execution_units: f64,
+    /// Register files (reads and writes).
+    pub register_files: f64,
+    /// Instruction fetch (I-caches).
+    pub instruction_caches: f64,
+    /// Local stores (stacks).
+    pub local_stores: f64,
+    /// L1 data caches.
+    pub l1: f64,
+    /// L2 data caches.
+    pub l2: f64,
+    /// Off-chip DRAM.
+    pub dram: f64,
+    /// Sum.
+    pub total: f64,
+}
+
+/// Chip area by component, mm².
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct AreaBreakdown {
+    /// Execution units (all TMs).
+    pub execution_units: f64,
+    /// Register files.
+    pub register_files: f64,
+    /// Instruction caches.
+    pub instruction_caches: f64,
+    /// Local stores.
+    pub local_stores: f64,
+    /// L1 data caches.
+    pub l1: f64,
+    /// L2 data caches.
+    pub l2: f64,
+    /// Sum.
+    pub total: f64,
+}
+
+/// Everything a timing run reports (`--stats-json`).
+#[derive(Clone, Debug, Serialize)]
+pub struct TimingStats {
+    /// Chip config name.
+    pub chip: String,
+    /// TMs.
+    pub tms: u32,
+    /// Threads per TM.
+    pub threads_per_tm: u32,
+    /// Core clock, GHz.
+    pub clock_ghz: f64,
+    /// Core cycles until the last thread halted.
+    pub cycles: u64,
+    /// Simulated seconds.
+    pub seconds: f64,
+    /// Frames per second (one run = one frame).
+    pub fps: f64,
+    /// Thread-instructions issued (Debug-class ops excluded).
+    pub instructions: u64,
+    /// Debug-class ops executed at zero cost.
+    pub debug_ops: u64,
+    /// Rays (statistics counter 0).
+    pub rays: u64,
+    /// Million rays per second.
+    pub mrps: f64,
+    /// Issued thread-instructions / (cycles x threads).
+    pub issue_rate: f64,
+    /// Average threads issuing per cycle.
+    pub avg_threads_issuing: f64,
+    /// Where every thread-cycle went.
+    pub thread_cycles: ThreadCycles,
+    /// Data-dependence stalls by the mnemonic of the producing instruction.
+    pub data_stalls_by_producer: BTreeMap<String, u64>,
+    /// Execution-unit conflicts by unit class.
+    pub unit_conflicts: BTreeMap<String, u64>,
+    /// Dynamic instruction mix by mnemonic.
+    pub instruction_mix: BTreeMap<String, u64>,
+    /// Issued operations by unit class.
+    pub class_mix: BTreeMap<String, u64>,
+    /// L1 load hit rate (all TMs).
+    pub l1_hit_rate: f64,
+    /// L2 load hit rate (all L2s).
+    pub l2_hit_rate: f64,
+    /// L1 -> register bandwidth, GB/s.
+    pub l1_to_register_gbps: f64,
+    /// L2 -> L1 bandwidth, GB/s.
+    pub l2_to_l1_gbps: f64,
+    /// DRAM -> L2 bandwidth, GB/s.
+    pub dram_gbps: f64,
+    /// Memory-system statistics (caches and DRAM).
+    pub memory: MemStats,
+    /// Energy, joules.
+    pub energy: EnergyBreakdown,
+    /// Average power, watts.
+    pub power_w: f64,
+    /// Area, mm².
+    pub area: AreaBreakdown,
+    /// MRPS per mm².
+    pub mrps_per_mm2: f64,
+    /// The `trax.stat` counters.
+    pub counters: Vec<u64>,
+}
+
+fn mnemonic(p: &Program, idx: usize) -> String {
+    match p.insts.get(idx) {
+        Some(i) => {
+            let s = i.to_string();
+            s.split_whitespace().next().unwrap_or("?").to_string()
+        }
+        None => "(outside text)".into(),
+    }
+}
+
+fn by_mnemonic(p: &Program, counts: &[u64]) -> BTreeMap<String, u64> {
+    let mut m = BTreeMap::new();
+    for (i, &c) in counts.iter().enumerate() {
+        if c > 0 {
+            *m.entry(mnemonic(p, i)).or_insert(0) += c;
+        }
+    }
+    m
+}
+
+fn ratio(a: f64, b: f64) -> f64 {
+    if b > 0.0 {
+        a / b
+    } else {
+        0.0
+    }
+}
+
+/// Builds the statistics from the raw counters.
+pub fn build(
+    cfg: &ChipConfig,
+    c: &Counters,
+    cycles: u64,
+    program: &Program,
+    mem: MemStats,
+    counters: &[u64],
+) -> TimingStats {
+    let threads = cfg.tms as u64 * cfg.threads_per_tm as u64;
+    let hz = cfg.clock_ghz * 1e9;
+    let seconds = cycles as f64 / hz;
+    let rays = counters.first().copied().unwrap_or(0);
+    let mrps = ratio(rays as f64 / 1e6, seconds);
+    let mut unit_conflicts = BTreeMap::new();
+    let mut class_mix = BTreeMap::new();
+    let mut eu_energy = 0.0;
+    for k in 0..c.class_ops.len() {
+        let name = class_name_of(k);
+        if c.unit_conflicts[k] > 0 {
+            unit_conflicts.insert(name.to_string(), c.unit_conflicts[k]);
+        }
+        if c.class_ops[k] > 0 {
+            class_mix.insert(name.to_string(), c.class_ops[k]);
+        }
+        if let Some((cl, _)) = UNIT_NAMES.iter().find(|(cl, _)| *cl as usize == k) {
+            eu_energy += cfg.unit(*cl).energy_nj * c.class_ops[k] as f64;
+        }
+    }
+    let mut l2 = CacheStats::default();
+    for s in &mem.l2 {
+        l2.add(s);
+    }
+    let bw = |bytes: u64| ratio(bytes as f64, seconds) / 1e9;
+    let nj = 1e-9;
+    let mut energy = EnergyBreakdown {
+        execution_units: eu_energy * nj,
+        register_files: cfg.register_file.energy_nj * c.reg_accesses as f64 * nj,
+        instruction_caches: cfg.icache.energy_nj * c.fetches as f64 * nj,
+        local_stores: cfg.local_store.energy_nj * c.local_accesses as f64 * nj,
+        l1: mem.l1_energy_nj * nj,
+        l2: mem.l2_energy_nj * nj,
+        dram: mem.dram.energy.total_nj() * nj,
+        total: 0.0,
+    };
+    energy.total = energy.execution_units
+        + energy.register_files
+        + energy.instruction_caches
+        + energy.local_stores
+        + energy.l1
+        + energy.l2
+        + energy.dram;
+    let tms = cfg.tms as f64;
+    let per_tm_units: f64 = UNIT_NAMES
+        .iter()
+        .map(|(cl, _)| {
+            let u = cfg.unit(*cl);
+            u.area_mm2 * u.count as f64
+        })
+        .sum();
+    let mut area = AreaBreakdown {
+        execution_units: per_tm_units * tms,
+        register_files: cfg.register_file.area_mm2 * threads as f64,
+        instruction_caches: cfg.icache.area_mm2 * cfg.icache.per_tm as f64 * tms,
+        local_stores: cfg.local_store.area_mm2 * threads as f64,
+        l1: mem.l1_area_mm2,
+        l2: mem.l2_area_mm2,
+        total: 0.0,
+    };
+    area.total = area.execution_units
+        + area.register_files
+        + area.instruction_caches
+        + area.local_stores
+        + area.l1
+        + area.l2;
+    TimingStats {
+        chip: cfg.name.clone(),
+        tms: cfg.tms,
+        threads_per_tm: cfg.threads_per_tm,
+        clock_ghz: cfg.clock_ghz,
+        cycles,
+        seconds,
+        fps: ratio(1.0, seconds),
+        instructions: c.tc.issued,
+        debug_ops: c.debug_ops,
+        rays,
+        mrps,
+        issue_rate: ratio(c.tc.issued as f64, (cycles * threads) as f64),
+        avg_threads_issuing: ratio(c.tc.issued as f64, cycles as f64),
+        thread_cycles: c.tc.clone(),
+        data_stalls_by_producer: by_mnemonic(program, &c.dep_by_producer),
+        unit_conflicts,
+        instruction_mix: by_mnemonic(program, &c.issued_at),
+        class_mix,
+        l1_hit_rate: mem.l1.hit_rate(),
+        l2_hit_rate: l2.hit_rate(),
+        l1_to_register_gbps: bw(mem.l1.load_bytes),
+        l2_to_l1_gbps: bw(l2.load_bytes),
+        dram_gbps: bw(mem.dram.bytes),
+        power_w: ratio(energy.total, seconds),
+        mrps_per_mm2: ratio(mrps, area.total),
+        energy,
+        area,
+        memory: mem,
+        counters: counters.to_vec(),
+    }
+}
+
+fn class_name_of(k: usize) -> &'static str {
+    use UnitClass::*;
+    let all = [
+        RegFile, IntAdd, IntMul, IntDiv, Bitwise, Branch, FpAdd, FpMul, FpMinMax, FpCmp, FpDiv,
+        FpInvSqrt, Conv, Memory, LocalStore, GlobalRegs, Debug, Stream, BoxPipe, TriPipe,
+    ];
+    all.iter()
+        .find(|c| **c as usize == k)
+        .map(|c| class_name(*c))
+        .unwrap_or("other")
+}
+
+fn pct(a: u64, b: u64) -> f64 {
+    ratio(a as f64 * 100.0, b as f64)
+}
+
+fn top(out: &mut String, title: &str, m: &BTreeMap<String, u64>, total: u64, n: usize) {
+    let _ = writeln!(out, "{title}");
+    let mut v: Vec<(&String, &u64)> = m.iter().collect();
+    v.sort_by(|a, b| b.1.cmp(a.1).then(a.0.cmp(b.0)));
+    for (k, c) in v.into_iter().take(n) {
+        let _ = writeln!(out, "   {k:<14} {c:>14} ({:5.2}%)", pct(*c, total));
+    }
+}
+
+impl TimingStats {
+    /// Human-readable summary.
+    pub fn summary(&self) -> String {
+        let mut s = String::new();
+        let tc = &self.thread_cycles;
+        let thread_cycles = self.cycles * self.tms as u64 * self.threads_per_tm as u64;
+        let _ = writeln!(
+            s,
+            "chip: {} ({} TMs x {} threads, {} GHz)",
+            self.chip, self.tms, self.threads_per_tm, self.clock_ghz
+        );
+        let _ = writeln!(
+            s,
+            "cycles: {}  ({:.6} s, {:.3} frames/s)",
+            self.cycles, self.seconds, self.fps
+        );
+        let _ = writeln!(
+            s,
+            "instructions: {}  issue rate {:.2}%  ({:.2} threads issuing per cycle)",
+            self.instructions,
+            self.issue_rate * 100.0,
+            self.avg_threads_issuing
+        );
+        let _ = writeln!(
+            s,
+            "rays: {}  {:.3} MRPS  {:.4} MRPS/mm2",
+            self.rays, self.mrps, self.mrps_per_mm2
+        );
+        let _ = writeln!(s, "thread-cycles:");
+        for (name, v) in [
+            ("issued", tc.issued),
+            ("data dependence", tc.data_dependence),
+            ("unit conflict", tc.unit_conflict),
+            ("icache conflict", tc.icache_conflict),
+            ("L1 bank conflict", tc.l1_bank_conflict),
+            ("L2 bank conflict", tc.l2_bank_conflict),
+            ("L1 MSHRs full", tc.l1_mshr_full),
+            ("L2 MSHRs full", tc.l2_mshr_full),
+            ("DRAM queue full", tc.dram_queue_full),
+            ("barrier/semaphore", tc.sync_wait),
+            ("halted", tc.halted),
+        ] {
+            let _ = writeln!(s, "   {name:<18} {v:>14} ({:5.2}%)", pct(v, thread_cycles));
+        }
+        let dep_total: u64 = self.data_stalls_by_producer.values().sum();
+        top(
+            &mut s,
+            "data dependence stalls by producer:",
+            &self.data_stalls_by_producer,
+            dep_total,
+            12,
+        );
+        let uc: u64 = self.unit_conflicts.values().sum();
+        top(
+            &mut s,
+            "execution-unit conflicts:",
+            &self.unit_conflicts,
+            uc,
+            12,
+        );
+        top(
+            &mut s,
+            "instruction mix:",
+            &self.instruction_mix,
+            self.instructions + self.debug_ops,
+            16,
+        );
+        let m = &self.memory;
+        let _ = writeln!(
+            s,
+            "L1: {} accesses, {:.2}% hit, {} bank conflicts, {} stores; L2: {:.2}% hit ({} L2s)",
+            m.l1.accesses,
+            self.l1_hit_rate * 100.0,
+            m.l1.bank_conflicts,
+            m.l1.stores,
+            self.l2_hit_rate * 100.0,
+            m.l2.len()
+        );
+        let _ = writeln!(
+            s,
+            "bandwidth (GB/s): L1->reg {:.2}  L2->L1 {:.2}  DRAM {:.2}",
+            self.l1_to_register_gbps, self.l2_to_l1_gbps, self.dram_gbps
+        );
+        let d = &m.dram;
+        let _ = writeln!(
+            s,
+            "DRAM: {} reads, {} writes, row-hit {:.2}%, avg read latency {:.1} cycles, avg read queue {:.2}",
+            d.reads,
+            d.writes,
+            d.row_hit_rate * 100.0,
+            d.avg_read_latency_cycles,
+            d.avg_read_queue
+        );
+        let a = &self.area;
+        let _ = writeln!(
+            s,
+            "area (mm2): units {:.2}  regs {:.2}  icache {:.2}  local {:.2}  L1 {:.2}  L2 {:.2}  total {:.2}",
+            a.execution_units, a.register_files, a.instruction_caches, a.local_stores, a.l1, a.l2, a.total
+        );
+        let e = &self.energy;
+        let _ = writeln!(
+            s,
+            "energy (J): units {:.3e}  regs {:.3e}  icache {:.3e}  local {:.3e}  L1 {:.3e}  L2 {:.3e}  DRAM {:.3e}  total {:.3e}  ({:.2} W)",
+            e.execution_units, e.register_files, e.instruction_caches, e.local_stores, e.l1, e.l2, e.dram, e.total, self.power_w
+        );
+        s
+    }
+}

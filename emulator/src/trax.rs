@@ -1,0 +1,358 @@
+//! Functional semantics of the TRaX extension instructions (`trax_runtime::isa`).
+//!
+//! Choices documented here:
+//! - Global registers: `G[0..NUM_GLOBALS)`; an index outside is a fault.
+//! - `trax.barrier rs`: `G[rs]` counts arrivals; when it reaches the number of live
+//!   (not halted) threads it is reset to 0 and every waiting thread is released. A thread
+//!   halting while others wait re-checks the condition.
+//! - `trax.semacq`: if `G[rs] == 0` the thread retries on its next turn (no progress is
+//!   made, so a program where every thread waits is reported as a deadlock).
+//! - `trax.clock`: the thread's retired-instruction count in functional mode.
+//! - `trax.rand`: `trax_runtime::rng::Rng` seeded from the scene header seed and the
+//!   thread's global id (identical to `trax native`).
+//! - `trax.fmin/fmax/invsqrt`: `trax_runtime::fops` (identical to `trax native`).
+//! - Streams: unbounded FIFO queues of rays; `trax.strsched` picks the non-empty stream
+//!   with the most rays (lowest id on ties) and makes it the TM's current stream.
+//! - Box pipeline: slab test with the ray's inverse direction; NaN slab distances (0 * inf)
+//!   are ignored; returns the entry distance `max(tmin, 0)` when `tmax >= max(tmin, 0)`,
+//!   else +inf. Triangle pipeline: Möller–Trumbore in f32, hits with `t > 0` and
+//!   barycentrics in [0, 1]; barycentrics go to cop2 21 and 22.
+
+use crate::thread::{Fault, RunState, Shared, Thread, NUM_GLOBALS, NUM_STATS};
+use std::fmt::Write as _;
+use trax_runtime::fops;
+use trax_runtime::isa::{AbortKind, TraxOp};
+
+/// What the scheduler does after a TRaX instruction.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TraxFlow {
+    /// Continue.
+    Next,
+    /// The thread halted.
+    Halt,
+    /// The thread waits at a barrier.
+    Block,
+    /// Not executed; try again later (pc unchanged).
+    Retry,
+}
+
+fn greg(index: u32) -> Result<usize, Fault> {
+    if (index as usize) < NUM_GLOBALS {
+        Ok(index as usize)
+    } else {
+        Err(Fault::BadIndex {
+            what: "global register",
+            index,
+        })
+    }
+}
+
+fn mem_err(f: crate::memory::MemFault) -> Fault {
+    Fault::Memory {
+        fault: f,
+        fetch: false,
+    }
+}
+
+/// Executes one TRaX instruction.
+#[inline(never)]
+pub fn exec_trax(
+    t: &mut Thread,
+    sh: &mut Shared,
+    op: TraxOp,
+    rd: u8,
+    rs: u8,
+    rt: u8,
+    sa: u8,
+) -> Result<TraxFlow, Fault> {
+    use TraxOp::*;
+    let g = |r: u8| t.regs.gpr[(r & 31) as usize];
+    let (vs, vt) = (g(rs), g(rt));
+    let f32s = f32::from_bits(t.regs.f32_bits((rs & 31) as usize));
+    let f32t = f32::from_bits(t.regs.f32_bits((rt & 31) as usize));
+    let rd = (rd & 31) as usize;
+    let set = |t: &mut Thread, v: u32| {
+        if rd != 0 {
+            t.regs.gpr[rd] = v;
+        }
+    };
+    match op {
+        ThreadId => set(t, t.tid),
+        TmId => set(t, t.tm),
+        GlobalId => set(t, t.gid),
+        NumThreads => set(t, sh.shape.total()),
+        NumTms => set(t, sh.shape.tms),
+        Clock => set(t, t.retired as u32),
+        Rand => {
+            let v = t.rng.next_f32();
+            t.regs.set_f32_bits(rd, v.to_bits());
+        }
+        Halt => {
+            t.state = RunState::Halted;
+            return Ok(TraxFlow::Halt);
+        }
+        AtomicInc | AtomicDec | AtomicAdd | IncReset => {
+            let i = greg(vs)?;
+            let old = sh.globals[i];
+            sh.globals[i] = match op {
+                AtomicInc => old.wrapping_add(1),
+                AtomicDec => old.wrapping_sub(1),
+                AtomicAdd => old.wrapping_add(vt),
+                _ => {
+                    let n = old.wrapping_add(1);
+                    if n >= sh.shape.total() {
+                        0
+                    } else {
+                        n
+                    }
+                }
+            };
+            set(t, old);
+        }
+        GlobalRead => {
+            let v = sh.globals[greg(vs)?];
+            set(t, v);
+        }
+        GlobalWrite => sh.globals[greg(vs)?] = vt,
+        Barrier => {
+            let i = greg(vs)?;
+            sh.globals[i] = sh.globals[i].wrapping_add(1);
+            if sh.globals[i] >= sh.live_threads {
+                sh.globals[i] = 0;
+                sh.barrier_generation[i] += 1;
+                sh.barrier_waiting[i] = 0;
+            } else {
+                sh.barrier_waiting[i] += 1;
+                t.state = RunState::Barrier {
+                    reg: i as u32,
+                    generation: sh.barrier_generation[i],
+                };
+                return Ok(TraxFlow::Block);
+            }
+        }
+        SemAcquire => {
+            let i = greg(vs)?;
+            if sh.globals[i] == 0 {
+                return Ok(TraxFlow::Retry);
+            }
+            sh.globals[i] -= 1;
+        }
+        SemRelease => {
+            let i = greg(vs)?;
+            sh.globals[i] = sh.globals[i].wrapping_add(1);
+        }
+        FMin => t.regs.set_f32_bits(rd, fops::fmin(f32s, f32t).to_bits()),
+        FMax => t.regs.set_f32_bits(rd, fops::fmax(f32s, f32t).to_bits()),
+        InvSqrt => t.regs.set_f32_bits(rd, fops::invsqrt(f32s).to_bits()),
+        PrintInt => {
+            let _ = write!(Out(&mut sh.output), "{}", vs as i32);
+        }
+        PrintUint => {
+            let _ = write!(Out(&mut sh.output), "{vs}");
+        }
+        PrintF32 => {
+            let _ = write!(Out(&mut sh.output), "{f32s}");
+        }
+        PrintF64 => {
+            let v = f64::from_bits(t.regs.f64_bits((rs & 31) as usize));
+            let _ = write!(Out(&mut sh.output), "{v}");
+        }
+        PrintStr => {
+            let bytes = sh.mem.read_bytes(&t.local, vs, vt).map_err(mem_err)?;
+            sh.output
+                .extend_from_slice(String::from_utf8_lossy(&bytes).as_bytes());
+        }
+        PrintChar => {
+            let c = char::from_u32(vs).unwrap_or(char::REPLACEMENT_CHARACTER);
+            let _ = write!(Out(&mut sh.output), "{c}");
+        }
+        PrintBool => {
+            let _ = write!(Out(&mut sh.output), "{}", vs != 0);
+        }
+        PrintI64 => {
+            let v = ((vt as u64) << 32 | vs as u64) as i64;
+            let _ = write!(Out(&mut sh.output), "{v}");
+        }
+        PrintU64 => {
+            let v = (vt as u64) << 32 | vs as u64;
+            let _ = write!(Out(&mut sh.output), "{v}");
+        }
+        Abort => {
+            let len = g(rd as u8).min(4096);
+            let message = match sh.mem.read_bytes(&t.local, vt, len) {
+                Ok(b) => String::from_utf8_lossy(&b).into_owned(),
+                Err(_) => format!("<unreadable message at {vt:#010x}>"),
+            };
+            return Err(Fault::Abort {
+                kind: AbortKind::from_code(vs),
+                code: vs,
+                message,
+            });
+        }
+        ProfBegin => t.profile_open.push((sa, t.retired)),
+        ProfEnd => {
+            if let Some(p) = t.profile_open.iter().rposition(|(r, _)| *r == sa) {
+                let (_, start) = t.profile_open.remove(p);
+                sh.profile[(sa & 31) as usize] += t.retired - start;
+            }
+        }
+        Stat => {
+            let i = sa as usize;
+            if i >= NUM_STATS {
+                return Err(Fault::BadIndex {
+                    what: "statistics counter",
+                    index: sa as u32,
+                });
+            }
+            sh.stats[i] += 1;
+        }
+        StreamWriteStart => t.stream_write = Some((vs, Vec::new())),
+        StreamWrite => {
+            if let Some((_, w)) = &mut t.stream_write {
+                w.push(vs);
+            }
+        }
+        StreamWriteEnd => {
+            if let Some((id, words)) = t.stream_write.take() {
+                let id = stream_index(id)?;
+                if sh.streams.len() <= id {
+                    sh.streams.resize_with(id + 1, Default::default);
+                }
+                sh.streams[id].push_back(words);
+            }
+        }
+        StreamReadStart => {
+            let cur = sh.tm_stream[t.tm as usize];
+            let ray = sh.streams.get_mut(cur as usize).and_then(|q| q.pop_front());
+            let got = ray.is_some();
+            t.stream_read = ray.map(|r| (r, 0));
+            set(t, got as u32);
+        }
+        StreamRead => {
+            let v = match &mut t.stream_read {
+                Some((w, pos)) => {
+                    let v = w.get(*pos).copied().unwrap_or(0);
+                    *pos += 1;
+                    v
+                }
+                None => 0,
+            };
+            set(t, v);
+        }
+        StreamReadEnd => t.stream_read = None,
+        StreamSize => {
+            let n = sh.streams.get(vs as usize).map_or(0, |q| q.len() as u32);
+            set(t, n);
+        }
+        StreamSchedule => {
+            let best = sh
+                .streams
+                .iter()
+                .enumerate()
+                .filter(|(_, q)| !q.is_empty())
+                .max_by(|a, b| a.1.len().cmp(&b.1.len()).then(b.0.cmp(&a.0)))
+                .map_or(u32::MAX, |(i, _)| i as u32);
+            sh.tm_stream[t.tm as usize] = best;
+            set(t, best);
+        }
+        SetPipe => sh.tm_pipe_mode[t.tm as usize] = sa,
+        BoxTest => {
+            let c = |i: usize| f32::from_bits(t.cop2[i]);
+            let mut tmin = f32::NEG_INFINITY;
+            let mut tmax = f32::INFINITY;
+            for a in 0..3 {
+                let (o, inv) = (c(a), c(3 + a));
+                let t0 = (c(6 + a) - o) * inv;
+                let t1 = (c(9 + a) - o) * inv;
+                tmin = fops::fmax(tmin, fops::fmin(t0, t1));
+                tmax = fops::fmin(tmax, fops::fmax(t0, t1));
+            }
+            let entry = fops::fmax(tmin, 0.0);
+            let r = if tmax >= entry { entry } else { f32::INFINITY };
+            t.regs.set_f32_bits(rd, r.to_bits());
+        }
+        TriTest => {
+            let c = |i: usize| f32::from_bits(t.cop2[i]);
+            let (r, u, v) = tri_test(
+                [c(0), c(1), c(2)],
+                [c(3), c(4), c(5)],
+                [c(12), c(13), c(14)],
+                [c(15), c(16), c(17)],
+                [c(18), c(19), c(20)],
+            );
+            t.cop2[21] = u.to_bits();
+            t.cop2[22] = v.to_bits();
+            t.regs.set_f32_bits(rd, r.to_bits());
+        }
+    }
+    Ok(TraxFlow::Next)
+}
+
+fn stream_index(id: u32) -> Result<usize, Fault> {
+    if id < 4096 {
+        Ok(id as usize)
+    } else {
+        Err(Fault::BadIndex {
+            what: "stream",
+            index: id,
+        })
+    }
+}
+
+fn sub(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+fn cross(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+fn dot(a: [f32; 3], b: [f32; 3]) -> f32 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// Möller–Trumbore ray/triangle test: (distance or +inf, u, v).
+pub fn tri_test(
+    o: [f32; 3],
+    d: [f32; 3],
+    v0: [f32; 3],
+    v1: [f32; 3],
+    v2: [f32; 3],
+) -> (f32, f32, f32) {
+    let miss = (f32::INFINITY, 0.0, 0.0);
+    let e1 = sub(v1, v0);
+    let e2 = sub(v2, v0);
+    let p = cross(d, e2);
+    let det = dot(e1, p);
+    if det == 0.0 || det.is_nan() {
+        return miss;
+    }
+    let inv = 1.0 / det;
+    let s = sub(o, v0);
+    let u = dot(s, p) * inv;
+    if !(0.0..=1.0).contains(&u) {
+        return miss;
+    }
+    let q = cross(s, e1);
+    let v = dot(d, q) * inv;
+    if !(v >= 0.0 && u + v <= 1.0) {
+        return miss;
+    }
+    let dist = dot(e2, q) * inv;
+    if dist > 0.0 {
+        (dist, u, v)
+    } else {
+        miss
+    }
+}
+
+/// `fmt::Write` adapter over the output buffer.
+struct Out<'a>(&'a mut Vec<u8>);
+impl std::fmt::Write for Out<'_> {
+    fn write_str(&mut self, s: &str) -> std::fmt::Result {
+        self.0.extend_from_slice(s.as_bytes());
+        Ok(())
+    }
+}

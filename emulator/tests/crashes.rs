@@ -1,0 +1,119 @@
+//! One crash per kind: each report must name the fault and the right source line.
+
+mod common;
+use common::*;
+use trax_emulator::thread::Fault;
+use trax_emulator::Outcome;
+
+/// Builds and runs `src`; returns the fault and the report. `marker` is a comment on the
+/// line that must be reported; its line number is found in the source.
+fn crash(name: &str, src: &str, opt: &str) -> (Fault, String, u32) {
+    let line = src
+        .lines()
+        .position(|l| l.contains("// CRASH"))
+        .expect("marker") as u32
+        + 1;
+    let elf = build_c(name, src, opt);
+    let (r, _) = run_elf(&elf, 1, 1);
+    let report = r.report.clone().unwrap_or_default();
+    match r.summary.outcome {
+        Outcome::Crashed(c) => (c.fault, report, line),
+        o => panic!("{name}: expected a crash, got {o:?}"),
+    }
+}
+
+fn assert_line(name: &str, report: &str, line: u32) {
+    let needle = format!("{name}.c:{line}");
+    assert!(
+        report.contains(&needle),
+        "report should name {needle}:\n{report}"
+    );
+}
+
+#[test]
+fn null_dereference() {
+    let src = "#include \"trax.h\"\nint *volatile p = 0;\nint get(void) {\n  return *p; // CRASH\n}\nvoid trax_main(void) { trax_printi(get()); }\n";
+    let (f, report, line) = crash("null", src, "-O1");
+    assert!(
+        matches!(f, Fault::Memory { fault, .. } if fault.kind == trax_emulator::memory::MemFaultKind::Null),
+        "{f:?}"
+    );
+    assert!(report.contains("null pointer dereference"), "{report}");
+    assert_line("null", &report, line);
+    assert!(
+        report.contains("backtrace:") && report.contains("trax_main"),
+        "{report}"
+    );
+}
+
+#[test]
+fn misaligned_load() {
+    let src = "#include \"trax.h\"\nchar buf[16];\nint get(char *q) {\n  return *(volatile int *)(q + 1); // CRASH\n}\nvoid trax_main(void) { trax_printi(get(buf)); }\n";
+    let (f, report, line) = crash("misaligned", src, "-O0");
+    assert!(matches!(f, Fault::Memory { .. }), "{f:?}");
+    assert!(report.contains("misaligned access"), "{report}");
+    assert_line("misaligned", &report, line);
+}
+
+#[test]
+fn bad_address_store() {
+    let src = "#include \"trax.h\"\n__attribute__((noinline)) void put(int *q) {\n  *q = 5; // CRASH\n}\nvoid trax_main(void) { put((int *)0x40000000); }\n";
+    let (_, report, line) = crash("badaddr", src, "-O0");
+    assert!(
+        report.contains("bad address: 4-byte store at address 0x40000000"),
+        "{report}"
+    );
+    assert_line("badaddr", &report, line);
+}
+
+#[test]
+fn stack_overflow() {
+    let src = "#include \"trax.h\"\nint deep(volatile int n) {\n  volatile int pad[64];\n  pad[0] = n; // CRASH\n  return deep(n + 1) + pad[0];\n}\nvoid trax_main(void) { trax_printi(deep(0)); }\n";
+    let (_, report, line) = crash("overflow", src, "-O0");
+    assert!(report.contains("stack overflow"), "{report}");
+    assert_line("overflow", &report, line);
+}
+
+#[test]
+fn integer_divide_by_zero_trap() {
+    let src = "#include \"trax.h\"\nint div(int a, int b) {\n  return a / b; // CRASH\n}\nvoid trax_main(void) { volatile int z = 0; trax_printi(div(7, z)); }\n";
+    let (f, report, line) = crash("divzero", src, "-O1");
+    assert_eq!(f, Fault::Trap { code: 7 });
+    assert!(report.contains("integer divide by zero"), "{report}");
+    assert_line("divzero", &report, line);
+}
+
+#[test]
+fn reserved_instruction() {
+    let src = "#include \"trax.h\"\nvoid trax_main(void) {\n  __asm__ volatile(\".word 0x7000003f\"); // CRASH\n}\n";
+    let (f, report, line) = crash("reserved", src, "-O1");
+    assert_eq!(f, Fault::ReservedInstruction(0x7000_003F));
+    assert!(
+        report.contains("reserved instruction 0x7000003f"),
+        "{report}"
+    );
+    assert_line("reserved", &report, line);
+}
+
+#[test]
+fn abort_with_message() {
+    let src = "#include \"trax.h\"\nstatic const char msg[] = \"index 7 out of range for length 4\";\nvoid check(unsigned i) {\n  if (i >= 4) trax_abort(1, (unsigned)msg, sizeof msg - 1); // CRASH\n}\nvoid trax_main(void) { check(7); }\n";
+    let (f, report, line) = crash("abort", src, "-O1");
+    assert!(matches!(f, Fault::Abort { code: 1, .. }), "{f:?}");
+    assert!(
+        report.contains("index out of bounds: index 7 out of range for length 4"),
+        "{report}"
+    );
+    assert_line("abort", &report, line);
+}
+
+#[test]
+fn inline_chain_is_reported() {
+    let src = "#include \"trax.h\"\nint *volatile p = 0;\nstatic inline __attribute__((always_inline)) int inner(void) {\n  return *p; // CRASH\n}\nvoid trax_main(void) { trax_printi(inner() + 1); }\n";
+    let (_, report, line) = crash("inline", src, "-O2");
+    assert_line("inline", &report, line);
+    assert!(
+        report.contains("in inner, inlined into trax_main"),
+        "{report}"
+    );
+}

@@ -1,0 +1,275 @@
+//! Analytic tests of the cache hierarchy and the memory-system configuration.
+
+use trax_emulator::memsys::{
+    Access, AccessKind, Completion, DramConfig, MemRequest, MemSysConfig, MemSystem, Stall,
+};
+
+fn load(addr: u32, id: u64) -> MemRequest {
+    MemRequest {
+        addr,
+        kind: AccessKind::Read,
+        size: 4,
+        requester: 0,
+        id,
+    }
+}
+
+fn store(addr: u32) -> MemRequest {
+    MemRequest {
+        addr,
+        kind: AccessKind::Write,
+        size: 4,
+        requester: 0,
+        id: 0,
+    }
+}
+
+fn simple_cfg() -> MemSysConfig {
+    MemSysConfig {
+        dram: DramConfig::preset("simple").unwrap(),
+        ..MemSysConfig::default()
+    }
+}
+
+/// L1 1 cycle, L2 3 cycles, simple DRAM: 100 cycles + 64 B at 512 B/cycle (1 cycle).
+fn simple_system(tms: usize, per_l2: usize) -> MemSystem {
+    MemSystem::new(&simple_cfg(), tms, per_l2, 1000).unwrap()
+}
+
+fn drain(m: &mut MemSystem, now: u64) -> Vec<Completion> {
+    let mut out = Vec::new();
+    m.advance_to(now, &mut out);
+    out
+}
+
+#[test]
+fn l1_l2_dram_latencies() {
+    let mut m = simple_system(2, 2);
+    // Cold miss: DRAM 1 (transfer) + 100, then L2 3, then L1 1.
+    assert_eq!(m.access(0, &load(0x1000, 1), 0), Access::Pending);
+    // Same line: the simple DRAM's fill time is known at once, so this merges with it.
+    assert_eq!(m.access(0, &load(0x1004, 2), 0), Access::Ready(105));
+    assert_eq!(drain(&mut m, 1), vec![Completion { id: 1, cycle: 105 }]);
+    // Between now and the fill, another access merges with a known ready time.
+    assert_eq!(m.access(0, &load(0x1008, 3), 50), Access::Ready(105));
+    // After the fill: L1 hit.
+    assert_eq!(m.access(0, &load(0x1000, 4), 200), Access::Ready(201));
+    // The other TM of the L2 group: L1 miss, L2 hit = 3 + 1.
+    assert_eq!(m.access(1, &load(0x1010, 5), 300), Access::Ready(304));
+    // Stores are write-around: acknowledged after the L1 latency, no allocation.
+    assert_eq!(m.access(0, &store(0x9000), 400), Access::Ready(401));
+    assert_eq!(m.access(0, &load(0x9000, 6), 401), Access::Pending);
+    let s = m.stats();
+    assert_eq!(s.l1.accesses, 7);
+    assert_eq!(s.l1.hits, 1);
+    assert_eq!(s.l1.misses, 5);
+    assert_eq!(s.l1.merged, 2);
+    assert_eq!(s.l1.stores, 1);
+    assert_eq!(s.l2[0].hits, 1);
+    assert_eq!(s.l2[0].misses, 2);
+    assert_eq!(s.l2[0].stores, 1);
+    assert_eq!(s.dram.reads, 2);
+    assert_eq!(s.dram.writes, 1);
+    assert!((s.l1.hit_rate() - 1.0 / 6.0).abs() < 1e-12);
+    // Cacti defaults: 32 KB / 4 banks / 64 B L1 = 0.391508 mm², 0.165190 nJ.
+    assert_eq!(s.l1_cost.area_mm2, 0.391508);
+    assert!((s.l1_energy_nj - 0.165190 * 6.0).abs() < 1e-9);
+    assert!((s.l1_area_mm2 - 2.0 * 0.391508).abs() < 1e-12);
+}
+
+#[test]
+fn bank_conflicts_for_known_pattern() {
+    let mut m = simple_system(1, 1);
+    // Warm 4 lines.
+    for i in 0..4u32 {
+        m.access(0, &load(i * 64, 100 + u64::from(i)), u64::from(i));
+    }
+    drain(&mut m, 10);
+    let base = m.stats().l1.bank_conflicts;
+    assert_eq!(base, 0);
+    // Cycle 1000: 4 banks, word interleaved. Words 0..3 hit banks 0..3: no conflict.
+    for w in 0..4u32 {
+        assert!(matches!(
+            m.access(0, &load(w * 4, 0), 1000),
+            Access::Ready(1001)
+        ));
+    }
+    // Cycle 1001: stride 16 B -> every access in bank 0: 1 served, 7 conflicts.
+    let mut stalls = 0;
+    for k in 0..8u32 {
+        match m.access(0, &load(k * 16, 0), 1001) {
+            Access::Stall(Stall::L1Bank) => stalls += 1,
+            Access::Ready(_) => {}
+            other => panic!("unexpected {other:?}"),
+        }
+    }
+    assert_eq!(stalls, 7);
+    assert_eq!(m.stats().l1.bank_conflicts, 7);
+    // Cycle 1002: the same word 8 times: 7 conflicts without read_copy.
+    for _ in 0..8 {
+        m.access(0, &load(8, 0), 1002);
+    }
+    assert_eq!(m.stats().l1.bank_conflicts, 14);
+
+    // With read_copy, same-word accesses share the bank.
+    let mut cfg = simple_cfg();
+    cfg.l1.read_copy = true;
+    let mut m = MemSystem::new(&cfg, 1, 1, 1000).unwrap();
+    for _ in 0..8 {
+        m.access(0, &load(8, 0), 5);
+    }
+    assert_eq!(m.stats().l1.bank_conflicts, 0);
+}
+
+#[test]
+fn l2_bank_conflicts_between_tms() {
+    let mut m = simple_system(2, 2);
+    // Both TMs miss in L1 in the same cycle on words of the same L2 bank (16 banks, word
+    // interleaved: 0x0 and 0x40 are both bank 0).
+    assert_eq!(m.access(0, &load(0x0, 1), 0), Access::Pending);
+    assert_eq!(m.access(1, &load(0x40, 2), 0), Access::Stall(Stall::L2Bank));
+    assert_eq!(m.stats().l2[0].bank_conflicts, 1);
+    // The refused access changed nothing in L1 except the bank claim; it succeeds next cycle.
+    assert_eq!(m.access(1, &load(0x40, 2), 1), Access::Pending);
+}
+
+#[test]
+fn mshr_merge_and_limit_with_detailed_dram() {
+    let mut cfg = MemSysConfig::default(); // gddr5-thesis: read time known only when scheduled
+    cfg.l1.mshrs = 2;
+    let mut m = MemSystem::new(&cfg, 1, 1, 1000).unwrap();
+    // Different banks (word interleave: addr/4 % 4), different lines.
+    assert_eq!(m.access(0, &load(0, 1), 0), Access::Pending);
+    assert_eq!(m.access(0, &load(64 + 4, 2), 0), Access::Pending);
+    assert_eq!(
+        m.access(0, &load(128 + 8, 3), 0),
+        Access::Stall(Stall::L1Mshr)
+    );
+    // Same line as id 1 while its fill time is unknown: joins the MSHR (hit under miss).
+    assert_eq!(m.access(0, &load(8, 4), 1), Access::Pending);
+    assert!(drain(&mut m, 2).is_empty());
+    let mut done = drain(&mut m, 100);
+    done.sort_by_key(|c| c.id);
+    // ACT + tRCD + tCAS + burst = 58 DRAM cycles = 29 core cycles, then L2 3 + L1 1.
+    let ids: Vec<u64> = done.iter().map(|c| c.id).collect();
+    assert_eq!(ids, vec![1, 2, 4]);
+    assert_eq!(done[0].cycle, 33);
+    assert_eq!(done[2].cycle, 33);
+    assert_eq!(m.stats().l1.merged, 1);
+    assert_eq!(m.stats().l1.mshr_full, 1);
+    assert_eq!(m.access(0, &load(128 + 8, 3), 100), Access::Pending);
+}
+
+#[test]
+fn set_associative_l2_keeps_conflicting_lines() {
+    let run = |ways: u32| {
+        let mut cfg = simple_cfg();
+        cfg.l2.associativity = ways;
+        cfg.l1.capacity_bytes = 64; // one line: every other access misses L1
+        let mut m = MemSystem::new(&cfg, 1, 1, 1000).unwrap();
+        let stride = cfg.l2.capacity_bytes; // same direct-mapped set
+        let mut c = 0;
+        for round in 0..4 {
+            for k in 0..2u32 {
+                c += 1000;
+                m.access(0, &load(k * stride, round), c);
+                drain(&mut m, c + 1);
+            }
+        }
+        m.stats().l2[0].hits
+    };
+    assert_eq!(run(1), 0);
+    assert_eq!(run(2), 6);
+}
+
+#[test]
+fn detailed_dram_behind_caches_and_determinism() {
+    let run = || {
+        let cfg = MemSysConfig::default(); // gddr5-thesis
+        let mut m = MemSystem::new(&cfg, 4, 2, 1000).unwrap();
+        let mut x: u32 = 7;
+        let mut pending = 0u64;
+        let mut done = Vec::new();
+        let mut stalls = 0u64;
+        for c in 0..20_000u64 {
+            m.advance_to(c, &mut done);
+            for tm in 0..4 {
+                x = x.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+                let addr = (x >> 8) & 0x00ff_fffc;
+                let req = if x & 0xf == 0 {
+                    store(addr)
+                } else {
+                    load(addr, c * 4 + tm as u64)
+                };
+                match m.access(tm, &req, c) {
+                    Access::Pending => pending += 1,
+                    Access::Stall(_) => stalls += 1,
+                    Access::Ready(r) => assert!(r > c),
+                }
+            }
+        }
+        m.advance_to(1_000_000, &mut done);
+        assert_eq!(done.len() as u64, pending);
+        (done, stalls, format!("{:?}", m.stats()))
+    };
+    let a = run();
+    assert!(a.1 > 0);
+    assert_eq!(a, run());
+}
+
+#[test]
+fn toml_presets_overrides_and_errors() {
+    let cfg = MemSysConfig::from_toml_str(
+        r#"
+        [l1]
+        capacity_bytes = 65536
+        banks = 8
+        [dram]
+        preset = "ddr4-2400"
+        [dram.detailed]
+        channels = 4
+        [dram.detailed.timing]
+        tCAS = "15ns"
+        tRCD = 20
+        "#,
+    )
+    .unwrap();
+    assert_eq!(cfg.l1.capacity_bytes, 65536);
+    assert_eq!(cfg.l2, MemSysConfig::default().l2);
+    assert_eq!(cfg.dram.detailed.channels, 4);
+    assert_eq!(cfg.dram.detailed.clock_mhz, 1200); // from the preset
+    let t = cfg
+        .dram
+        .detailed
+        .timing
+        .resolve(cfg.dram.detailed.clock_mhz);
+    assert_eq!((t.t_cas, t.t_rcd, t.t_rp), (18, 20, 16));
+
+    for name in trax_emulator::memsys::DRAM_PRESETS {
+        let c = MemSysConfig::from_toml_str(&format!("[dram]\npreset = \"{name}\"\n")).unwrap();
+        assert_eq!(c.dram, DramConfig::preset(name).unwrap());
+    }
+
+    let err = |text: &str| MemSysConfig::from_toml_str(text).unwrap_err().to_string();
+    let e = err("[l1]\ncapacity = 4\n");
+    assert!(e.contains("capacity") && e.contains("[l1]"), "{e}");
+    let e = err("[dram]\npreset = \"gddr5-thesis\"\n[dram.detailed.timing]\ntXYZ = 3\n");
+    assert!(e.contains("tXYZ"), "{e}");
+    // Without a preset, partial tables override the default (gddr5-thesis).
+    let c = MemSysConfig::from_toml_str("[dram.detailed.timing]\ntCAS = 3\n").unwrap();
+    assert_eq!(
+        c.dram.detailed.timing.t_cas,
+        trax_emulator::memsys::TimeSpec::Cycles(3)
+    );
+    assert_eq!(c.dram.detailed.channels, 8);
+    let e = err("[dram]\npreset = \"gddr7\"\n");
+    assert!(e.contains("gddr7"), "{e}");
+    let e = err("[dram]\npreset = \"hbm2\"\n[dram.detailed.timing]\ntRP = \"14us\"\n");
+    assert!(e.contains("14us"), "{e}");
+    let e = err("[l2]\nbanks = 3\n");
+    assert!(e.contains("l2.banks"), "{e}");
+    let e = err("[cache]\n");
+    assert!(e.contains("cache"), "{e}");
+    let e = err("[l1]\nline_bytes = 32\n");
+    assert!(e.contains("line_bytes"), "{e}");
+}

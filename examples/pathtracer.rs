@@ -1,0 +1,116 @@
+//! Path tracer (Kajiya 1986): Lambertian materials, emissive triangles and point lights,
+//! next-event estimation at every vertex, cosine-weighted continuation, `max_depth`
+//! bounces and `spp` jittered samples per pixel (both from the scene header).
+//!
+//! Emission reaches the image either directly (camera rays) or through light sampling;
+//! a continuation ray that hits an emitter adds nothing, so no light is counted twice.
+//! Emitters emit from both faces. Point lights are isotropic with intensity `color`
+//! (falloff 1/d²).
+
+use trax::{Ray, Vec3};
+
+/// Direct light at `p` (unit normal `n`, diffuse albedo `albedo`) from one uniformly
+/// chosen emissive triangle and every point light, with shadow rays.
+fn direct_light(p: Vec3, n: Vec3, albedo: Vec3, eps: f32) -> Vec3 {
+    let brdf = albedo.scale(1.0 / trax::PI);
+    let origin = p + n.scale(eps);
+    let mut sum = Vec3::zero();
+    let emitters = trax::scene::emitter_count();
+    if emitters > 0 {
+        let mut k = (trax::rand() * emitters as f32) as u32;
+        if k >= emitters {
+            k = emitters - 1;
+        }
+        let tri_index = trax::scene::emitter(k);
+        let tri = trax::scene::triangle(tri_index);
+        let q = trax::sampling::triangle_point(&tri);
+        let to_light = q - origin;
+        let dist2 = to_light.length_squared();
+        let dist = dist2.sqrt();
+        let l = to_light.scale(1.0 / dist);
+        let cos_surf = n.dot(l);
+        let ln = tri.normal();
+        let cos_light = ln.dot(l).abs();
+        if cos_surf > 0.0 && cos_light > 0.0 {
+            // Stop just short of the light so its own triangle does not occlude.
+            if !trax::bvh::occluded(&Ray::new(origin, l), 0.0, dist * (1.0 - 1e-4)) {
+                let mat = trax::scene::triangle_material(tri_index);
+                // pdf (area) = 1 / (emitters * area); solid-angle conversion cos_light / d².
+                let g = cos_surf * cos_light / dist2 * tri.area() * emitters as f32;
+                sum += brdf * mat.emission.scale(g);
+            }
+        }
+    }
+    let lights = trax::scene::point_light_count();
+    for k in 0..lights {
+        let light = trax::scene::point_light(k);
+        let to_light = light.position - origin;
+        let dist2 = to_light.length_squared();
+        let dist = dist2.sqrt();
+        let l = to_light.scale(1.0 / dist);
+        let cos = n.dot(l);
+        if cos > 0.0 && !trax::bvh::occluded(&Ray::new(origin, l), 0.0, dist) {
+            sum += brdf * light.color.scale(cos / dist2);
+        }
+    }
+    sum
+}
+
+/// Radiance along a camera ray.
+fn radiance(camera_ray: Ray, max_depth: u32, eps: f32) -> Vec3 {
+    let mut ray = camera_ray;
+    let mut throughput = Vec3::splat(1.0);
+    let mut l = Vec3::zero();
+    let mut depth: u32 = 0;
+    loop {
+        let hit = trax::bvh::intersect(&ray, 0.0, trax::INFINITY);
+        if !hit.is_hit() {
+            l += throughput * trax::scene::background();
+            break;
+        }
+        let mat = trax::scene::triangle_material(hit.tri);
+        if depth == 0 {
+            l += mat.emission;
+        }
+        let mut n = trax::scene::triangle(hit.tri).normal();
+        if n.dot(ray.dir) > 0.0 {
+            n = -n;
+        }
+        let p = ray.at(hit.t);
+        l += throughput * direct_light(p, n, mat.diffuse, eps);
+        depth += 1;
+        if depth >= max_depth || mat.diffuse.is_black() {
+            break;
+        }
+        // Cosine sampling: brdf * cos / pdf = albedo.
+        throughput *= mat.diffuse;
+        ray = Ray::new(p + n.scale(eps), trax::sampling::cosine_hemisphere(n));
+    }
+    l
+}
+
+fn trax_main() {
+    let cam = trax::Camera::load();
+    let w = trax::scene::width();
+    let n = w * trax::scene::height();
+    let eps = trax::scene::epsilon();
+    let max_depth = trax::scene::max_depth();
+    let mut spp = trax::scene::spp();
+    if spp == 0 {
+        spp = 1;
+    }
+    let inv_spp = 1.0 / spp as f32;
+    // Static interleaved pixel assignment (not `atomic_inc`): each thread's random
+    // stream then meets the same pixels in the same order on every run, so the image is
+    // reproducible and identical between the emulator and `trax native`.
+    let stride = trax::num_threads();
+    let mut i = trax::global_id();
+    while i < n {
+        let mut c = Vec3::zero();
+        for _ in 0..spp {
+            c += radiance(cam.jittered_ray(i % w, i / w), max_depth, eps);
+        }
+        trax::scene::set_pixel_index(i, c.scale(inv_spp));
+        i += stride;
+    }
+}

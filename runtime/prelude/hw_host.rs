@@ -1,0 +1,712 @@
+//! Host side of the machine interface (compiled by rustc only, for `trax native` and the
+//! runtime's tests): kernel threads are host threads, ids live in thread-locals, global
+//! registers are atomics, and simulated memory is a host copy of a memory image file
+//! (format documented in the runtime's `host.rs`), accessed word by word.
+
+use std::cell::Cell;
+use std::sync::atomic::{AtomicU32, AtomicU64, Ordering};
+use std::sync::{Arc, Condvar, Mutex};
+use std::time::Instant;
+
+#[path = "../src/fops.rs"]
+mod fops;
+#[path = "../src/pipes.rs"]
+mod pipes;
+#[path = "../src/rng.rs"]
+mod rng;
+
+use super::layout;
+
+/// Number of chip-wide global registers on the host.
+pub const NUM_GLOBAL_REGS: u32 = 256;
+/// Stack size of each kernel thread on the host.
+const KERNEL_STACK_BYTES: usize = 16 << 20;
+/// Magic of a memory image file.
+const IMAGE_MAGIC: &[u8; 8] = b"TRAXIMG1";
+
+/// Largest address span (lowest to highest segment byte) the host runner maps.
+const MAX_SPAN_BYTES: u64 = 1 << 30;
+
+struct Barriers {
+    /// Threads that have not returned from `trax_main`.
+    live: u32,
+    /// Per register: threads waiting, and a generation bumped at each release.
+    arrived: Vec<u32>,
+    generation: Vec<u64>,
+}
+
+/// One simulated chip: memory, global registers and barrier state.
+///
+/// Memory is one dense word array covering every segment, from the lowest segment address
+/// to the end of the highest; gaps between segments read as zero (the emulator, not the
+/// host, is the exact reference for bad accesses inside that span).
+struct Machine {
+    /// Address of `mem[0]`.
+    base: u32,
+    mem: Vec<AtomicU32>,
+    /// The image's segments as (address, byte length), for writing the result back.
+    segments: Vec<(u32, u32)>,
+    globals: Vec<AtomicU32>,
+    barriers: Mutex<Barriers>,
+    barrier_cv: Condvar,
+    num_tms: u32,
+    threads_per_tm: u32,
+    seed: u32,
+    start: Instant,
+    /// Rays counted by threads that have finished (`count_ray`).
+    rays: AtomicU64,
+}
+
+#[derive(Clone, Copy)]
+struct Ids {
+    tid: u32,
+    tmid: u32,
+    gid: u32,
+}
+
+thread_local! {
+    /// The machine of this kernel thread (null outside kernel threads); see
+    /// [`with_machine`] for why it stays valid.
+    static MACHINE: Cell<*const Machine> = const { Cell::new(std::ptr::null()) };
+    static IDS: Cell<Ids> = const { Cell::new(Ids { tid: 0, tmid: 0, gid: 0 }) };
+    static RNG: Cell<Option<rng::Rng>> = const { Cell::new(None) };
+    /// Rays counted by this thread (added to the machine's total when it finishes).
+    static RAYS: Cell<u64> = const { Cell::new(0) };
+    /// Barycentric outputs of the last triangle-pipeline test (cop2 21 and 22).
+    static TRI_UV: Cell<[f32; 2]> = const { Cell::new([0.0; 2]) };
+}
+
+fn with_machine<R>(f: impl FnOnce(&Machine) -> R) -> R {
+    let p = MACHINE.with(|m| m.get());
+    if p.is_null() {
+        panic!("trax: machine operation called outside a kernel thread");
+    }
+    // SAFETY: `p` is only non-null while this thread runs the kernel inside `run_image`,
+    // where it points into an `Arc<Machine>` owned by the thread's `LiveGuard`; the guard
+    // nulls the pointer before it releases the `Arc`. `Machine` is `Sync` (atomics and
+    // a mutex), so a shared reference on this thread is sound.
+    f(unsafe { &*p })
+}
+
+fn ids() -> Ids {
+    IDS.with(|c| c.get())
+}
+
+impl Machine {
+    fn word(&self, addr: u32, what: &str) -> &AtomicU32 {
+        if !addr.is_multiple_of(4) {
+            panic!("trax: misaligned {what} at address {addr:#010x}");
+        }
+        if let Some(w) = self.mem.get((addr.wrapping_sub(self.base) / 4) as usize) {
+            if addr >= self.base {
+                return w;
+            }
+        }
+        if addr < layout::SCENE_HEADER_ADDR {
+            panic!("trax: null pointer {what} at address {addr:#010x}");
+        }
+        panic!("trax: {what} at unmapped address {addr:#010x}");
+    }
+
+    fn global(&self, reg: u32) -> &AtomicU32 {
+        match self.globals.get(reg as usize) {
+            Some(g) => g,
+            None => panic!("trax: global register {reg} out of range (0..{NUM_GLOBAL_REGS})"),
+        }
+    }
+
+    fn num_threads(&self) -> u32 {
+        self.num_tms * self.threads_per_tm
+    }
+
+    /// Releases every barrier that all live threads have reached.
+    fn release_complete_barriers(&self, b: &mut Barriers) {
+        let mut any = false;
+        for r in 0..b.arrived.len() {
+            if b.arrived[r] > 0 && b.arrived[r] >= b.live {
+                b.arrived[r] = 0;
+                b.generation[r] += 1;
+                any = true;
+            }
+        }
+        if any {
+            self.barrier_cv.notify_all();
+        }
+    }
+}
+
+// ---- Thread identity and time ----
+
+pub fn thread_id() -> u32 {
+    ids().tid
+}
+
+pub fn tm_id() -> u32 {
+    ids().tmid
+}
+
+pub fn global_id() -> u32 {
+    ids().gid
+}
+
+pub fn num_threads() -> u32 {
+    with_machine(|m| m.num_threads())
+}
+
+pub fn num_tms() -> u32 {
+    with_machine(|m| m.num_tms)
+}
+
+/// Host clock: low 32 bits of nanoseconds since the run started (not deterministic).
+pub fn clock() -> u32 {
+    with_machine(|m| m.start.elapsed().as_nanos() as u32)
+}
+
+pub fn rand() -> f32 {
+    RNG.with(|c| {
+        let mut r = match c.get() {
+            Some(r) => r,
+            None => with_machine(|m| rng::Rng::new(m.seed, ids().gid)),
+        };
+        let x = r.next_f32();
+        c.set(Some(r));
+        x
+    })
+}
+
+// ---- Global registers ----
+
+pub fn atomic_inc(reg: u32) -> u32 {
+    with_machine(|m| m.global(reg).fetch_add(1, Ordering::SeqCst))
+}
+
+pub fn atomic_dec(reg: u32) -> u32 {
+    with_machine(|m| m.global(reg).fetch_sub(1, Ordering::SeqCst))
+}
+
+pub fn atomic_add(reg: u32, v: u32) -> u32 {
+    with_machine(|m| m.global(reg).fetch_add(v, Ordering::SeqCst))
+}
+
+/// Reads a global register. Yields the host thread, so spin loops on it stay cheap.
+pub fn global_read(reg: u32) -> u32 {
+    let v = with_machine(|m| m.global(reg).load(Ordering::SeqCst));
+    std::thread::yield_now();
+    v
+}
+
+pub fn global_write(reg: u32, v: u32) {
+    with_machine(|m| m.global(reg).store(v, Ordering::SeqCst))
+}
+
+pub fn inc_reset(reg: u32) -> u32 {
+    with_machine(|m| {
+        let n = m.num_threads();
+        let g = m.global(reg);
+        let mut old = g.load(Ordering::SeqCst);
+        loop {
+            let new = if old.wrapping_add(1) >= n { 0 } else { old + 1 };
+            match g.compare_exchange(old, new, Ordering::SeqCst, Ordering::SeqCst) {
+                Ok(v) => return v,
+                Err(v) => old = v,
+            }
+        }
+    })
+}
+
+pub fn barrier(reg: u32) {
+    with_machine(|m| {
+        m.global(reg);
+        let r = reg as usize;
+        let mut b = m.barriers.lock().unwrap_or_else(|e| e.into_inner());
+        let gen = b.generation[r];
+        b.arrived[r] += 1;
+        m.release_complete_barriers(&mut b);
+        while b.generation[r] == gen {
+            b = m.barrier_cv.wait(b).unwrap_or_else(|e| e.into_inner());
+        }
+    })
+}
+
+pub fn sem_acquire(reg: u32) {
+    loop {
+        let ok = with_machine(|m| {
+            let g = m.global(reg);
+            let v = g.load(Ordering::SeqCst);
+            v > 0
+                && g.compare_exchange(v, v - 1, Ordering::SeqCst, Ordering::SeqCst)
+                    .is_ok()
+        });
+        if ok {
+            return;
+        }
+        std::thread::yield_now();
+    }
+}
+
+pub fn sem_release(reg: u32) {
+    with_machine(|m| m.global(reg).fetch_add(1, Ordering::SeqCst));
+}
+
+// ---- Floating point: the exact TRaX semantics, shared with the emulator ----
+
+pub fn fmin(a: f32, b: f32) -> f32 {
+    fops::fmin(a, b)
+}
+
+pub fn fmax(a: f32, b: f32) -> f32 {
+    fops::fmax(a, b)
+}
+
+pub fn invsqrt(x: f32) -> f32 {
+    fops::invsqrt(x)
+}
+
+// ---- Fused pipelines: the exact TRaX semantics, shared with the emulator ----
+
+pub fn pipe_box_test(o: [f32; 3], inv: [f32; 3], lo: [f32; 3], hi: [f32; 3]) -> f32 {
+    pipes::box_test(o, inv, lo, hi)
+}
+
+pub fn pipe_tri_test(o: [f32; 3], d: [f32; 3], a: [f32; 3], b: [f32; 3], c: [f32; 3]) -> f32 {
+    let (t, u, v) = pipes::tri_test(o, d, a, b, c);
+    TRI_UV.with(|uv| uv.set([u, v]));
+    t
+}
+
+pub fn pipe_tri_u() -> f32 {
+    TRI_UV.with(|uv| uv.get()[0])
+}
+
+pub fn pipe_tri_v() -> f32 {
+    TRI_UV.with(|uv| uv.get()[1])
+}
+
+/// Unit configuration has no effect on the host.
+pub fn set_pipe_general() {}
+pub fn set_pipe_box() {}
+pub fn set_pipe_tri() {}
+
+// ---- Statistics ----
+
+/// Counts one ray (per thread; summed when the thread finishes).
+pub fn count_ray() {
+    RAYS.with(|r| r.set(r.get() + 1));
+}
+
+// ---- Simulated memory ----
+
+pub fn load_u32(addr: u32) -> u32 {
+    with_machine(|m| m.word(addr, "load").load(Ordering::Relaxed))
+}
+
+pub fn load_f32(addr: u32) -> f32 {
+    f32::from_bits(load_u32(addr))
+}
+
+pub fn store_u32(addr: u32, v: u32) {
+    with_machine(|m| m.word(addr, "store").store(v, Ordering::Relaxed))
+}
+
+pub fn store_f32(addr: u32, v: f32) {
+    store_u32(addr, v.to_bits())
+}
+
+// ---- Scene header fields ----
+
+pub fn hdr_magic() -> u32 {
+    layout::SCENE_HEADER_ADDR + layout::HDR_MAGIC
+}
+pub fn hdr_version() -> u32 {
+    layout::SCENE_HEADER_ADDR + layout::HDR_VERSION
+}
+pub fn hdr_width() -> u32 {
+    layout::SCENE_HEADER_ADDR + layout::HDR_WIDTH
+}
+pub fn hdr_height() -> u32 {
+    layout::SCENE_HEADER_ADDR + layout::HDR_HEIGHT
+}
+pub fn hdr_inv_width() -> u32 {
+    layout::SCENE_HEADER_ADDR + layout::HDR_INV_WIDTH
+}
+pub fn hdr_inv_height() -> u32 {
+    layout::SCENE_HEADER_ADDR + layout::HDR_INV_HEIGHT
+}
+pub fn hdr_spp() -> u32 {
+    layout::SCENE_HEADER_ADDR + layout::HDR_SPP
+}
+pub fn hdr_max_depth() -> u32 {
+    layout::SCENE_HEADER_ADDR + layout::HDR_MAX_DEPTH
+}
+pub fn hdr_epsilon() -> u32 {
+    layout::SCENE_HEADER_ADDR + layout::HDR_EPSILON
+}
+pub fn hdr_seed() -> u32 {
+    layout::SCENE_HEADER_ADDR + layout::HDR_SEED
+}
+pub fn hdr_background() -> u32 {
+    layout::SCENE_HEADER_ADDR + layout::HDR_BACKGROUND
+}
+pub fn hdr_camera() -> u32 {
+    layout::SCENE_HEADER_ADDR + layout::HDR_CAMERA
+}
+pub fn hdr_framebuffer() -> u32 {
+    layout::SCENE_HEADER_ADDR + layout::HDR_FRAMEBUFFER
+}
+pub fn hdr_bvh_nodes() -> u32 {
+    layout::SCENE_HEADER_ADDR + layout::HDR_BVH_NODES
+}
+pub fn hdr_triangles() -> u32 {
+    layout::SCENE_HEADER_ADDR + layout::HDR_TRIANGLES
+}
+pub fn hdr_normals() -> u32 {
+    layout::SCENE_HEADER_ADDR + layout::HDR_NORMALS
+}
+pub fn hdr_texcoords() -> u32 {
+    layout::SCENE_HEADER_ADDR + layout::HDR_TEXCOORDS
+}
+pub fn hdr_material_ids() -> u32 {
+    layout::SCENE_HEADER_ADDR + layout::HDR_MATERIAL_IDS
+}
+pub fn hdr_materials() -> u32 {
+    layout::SCENE_HEADER_ADDR + layout::HDR_MATERIALS
+}
+pub fn hdr_emitters() -> u32 {
+    layout::SCENE_HEADER_ADDR + layout::HDR_EMITTERS
+}
+pub fn hdr_point_lights() -> u32 {
+    layout::SCENE_HEADER_ADDR + layout::HDR_POINT_LIGHTS
+}
+pub fn hdr_bvh_parents() -> u32 {
+    layout::SCENE_HEADER_ADDR + layout::HDR_BVH_PARENTS
+}
+pub fn hdr_treelet_ids() -> u32 {
+    layout::SCENE_HEADER_ADDR + layout::HDR_TREELET_IDS
+}
+
+// ---- The host runner ----
+
+/// A memory image: `(address, bytes)` segments.
+pub type Image = Vec<(u32, Vec<u8>)>;
+
+/// Parses a memory image file's bytes (format: the runtime's `host.rs`).
+pub fn parse_image(data: &[u8]) -> Result<Image, String> {
+    let mut pos = 0usize;
+    let mut take = |n: usize, what: &str| -> Result<&[u8], String> {
+        match pos.checked_add(n).filter(|&e| e <= data.len()) {
+            Some(end) => {
+                let s = &data[pos..end];
+                pos = end;
+                Ok(s)
+            }
+            None => Err(format!(
+                "memory image truncated at byte {pos} (reading {what})"
+            )),
+        }
+    };
+    if take(8, "magic")? != IMAGE_MAGIC {
+        return Err("not a trax memory image (bad magic)".to_string());
+    }
+    let word = |b: &[u8]| u32::from_le_bytes([b[0], b[1], b[2], b[3]]);
+    let count = word(take(4, "segment count")?);
+    let mut out = Vec::new();
+    for i in 0..count {
+        let addr = word(take(4, "segment address")?);
+        let len = word(take(4, "segment length")?) as usize;
+        if !addr.is_multiple_of(4) || !len.is_multiple_of(4) {
+            return Err(format!("segment {i} at {addr:#010x} is not word-aligned"));
+        }
+        out.push((addr, take(len, "segment bytes")?.to_vec()));
+    }
+    Ok(out)
+}
+
+/// Serialises a memory image.
+pub fn image_bytes(image: &Image) -> Vec<u8> {
+    let mut out = IMAGE_MAGIC.to_vec();
+    out.extend_from_slice(&(image.len() as u32).to_le_bytes());
+    for (addr, bytes) in image {
+        out.extend_from_slice(&addr.to_le_bytes());
+        out.extend_from_slice(&(bytes.len() as u32).to_le_bytes());
+        out.extend_from_slice(bytes);
+    }
+    out
+}
+
+fn build_machine(image: &Image, num_tms: u32, threads_per_tm: u32) -> Result<Machine, String> {
+    let mut segments: Vec<(u32, u32)> = image.iter().map(|(a, b)| (*a, b.len() as u32)).collect();
+    segments.sort();
+    for w in segments.windows(2) {
+        if w[0].0 as u64 + w[0].1 as u64 > w[1].0 as u64 {
+            return Err(format!("memory image segments overlap at {:#010x}", w[1].0));
+        }
+    }
+    let base = segments
+        .first()
+        .map(|s| s.0)
+        .unwrap_or(layout::SCENE_HEADER_ADDR);
+    let end = segments
+        .iter()
+        .map(|s| s.0 as u64 + s.1 as u64)
+        .max()
+        .unwrap_or(base as u64);
+    if end - base as u64 > MAX_SPAN_BYTES {
+        return Err(format!(
+            "memory image spans {:#x} bytes ({:#010x}..{end:#x}); the host runner maps at most {MAX_SPAN_BYTES:#x}",
+            end - base as u64,
+            base
+        ));
+    }
+    let mut mem: Vec<AtomicU32> = Vec::with_capacity(((end - base as u64) / 4) as usize);
+    mem.resize_with(((end - base as u64) / 4) as usize, || AtomicU32::new(0));
+    for (addr, bytes) in image {
+        let first = ((addr - base) / 4) as usize;
+        for (k, c) in bytes.chunks_exact(4).enumerate() {
+            mem[first + k] = AtomicU32::new(u32::from_le_bytes([c[0], c[1], c[2], c[3]]));
+        }
+    }
+    let threads = num_tms
+        .checked_mul(threads_per_tm)
+        .filter(|&n| n > 0 && n <= 4096)
+        .ok_or_else(|| {
+            format!("bad thread count {num_tms} TMs x {threads_per_tm} threads (1..=4096 in all)")
+        })?;
+    let mut m = Machine {
+        base,
+        mem,
+        segments,
+        globals: (0..NUM_GLOBAL_REGS).map(|_| AtomicU32::new(0)).collect(),
+        barriers: Mutex::new(Barriers {
+            live: threads,
+            arrived: vec![0; NUM_GLOBAL_REGS as usize],
+            generation: vec![0; NUM_GLOBAL_REGS as usize],
+        }),
+        barrier_cv: Condvar::new(),
+        num_tms,
+        threads_per_tm,
+        seed: 0,
+        start: Instant::now(),
+        rays: AtomicU64::new(0),
+    };
+    // The random streams' seed comes from the header when the image has one.
+    let seed_addr = layout::SCENE_HEADER_ADDR + layout::HDR_SEED;
+    let has_seed = m
+        .segments
+        .iter()
+        .any(|&(a, len)| a <= seed_addr && seed_addr - a < len);
+    if has_seed {
+        m.seed = m.word(seed_addr, "load").load(Ordering::Relaxed);
+    }
+    Ok(m)
+}
+
+/// Why a host run failed.
+#[derive(Debug)]
+pub enum RunError {
+    /// The image or configuration is unusable.
+    Setup(String),
+    /// Kernel threads panicked: their global ids.
+    Panicked(Vec<u32>),
+}
+
+impl std::fmt::Display for RunError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            RunError::Setup(s) => write!(f, "{s}"),
+            RunError::Panicked(ids) => write!(f, "kernel panicked in thread(s) {ids:?}"),
+        }
+    }
+}
+
+/// Figures of a host run.
+#[derive(Clone, Copy, Debug)]
+pub struct RunStats {
+    /// Rays counted with `count_ray` by all threads.
+    pub rays: u64,
+    /// Wall-clock seconds of the kernel threads.
+    pub seconds: f64,
+}
+
+/// Runs `kernel` on `num_tms × threads_per_tm` host threads over `image` and returns the
+/// final memory as an image (same segments, current contents).
+pub fn run_image(
+    image: &Image,
+    num_tms: u32,
+    threads_per_tm: u32,
+    kernel: fn(),
+) -> Result<Image, RunError> {
+    run_image_stats(image, num_tms, threads_per_tm, kernel).map(|(img, _)| img)
+}
+
+/// [`run_image`], also returning the run's figures.
+pub fn run_image_stats(
+    image: &Image,
+    num_tms: u32,
+    threads_per_tm: u32,
+    kernel: fn(),
+) -> Result<(Image, RunStats), RunError> {
+    let machine = Arc::new(build_machine(image, num_tms, threads_per_tm).map_err(RunError::Setup)?);
+    let mut failed = Vec::new();
+    std::thread::scope(|scope| {
+        let mut handles = Vec::new();
+        for gid in 0..machine.num_threads() {
+            let m = Arc::clone(&machine);
+            let builder = std::thread::Builder::new()
+                .name(format!(
+                    "trax-tm{}-t{}",
+                    gid / threads_per_tm,
+                    gid % threads_per_tm
+                ))
+                .stack_size(KERNEL_STACK_BYTES);
+            let h = builder.spawn_scoped(scope, move || {
+                MACHINE.with(|c| c.set(Arc::as_ptr(&m)));
+                let _live = LiveGuard(m);
+                IDS.with(|c| {
+                    c.set(Ids {
+                        tid: gid % threads_per_tm,
+                        tmid: gid / threads_per_tm,
+                        gid,
+                    })
+                });
+                RNG.with(|c| c.set(None));
+                kernel();
+            });
+            match h {
+                Ok(h) => handles.push((gid, h)),
+                Err(e) => {
+                    eprintln!("trax: cannot start kernel thread {gid}: {e}");
+                    failed.push(gid);
+                    // The thread never ran: it is not live.
+                    let mut b = machine.barriers.lock().unwrap_or_else(|e| e.into_inner());
+                    b.live -= 1;
+                    machine.release_complete_barriers(&mut b);
+                }
+            }
+        }
+        for (gid, h) in handles {
+            if h.join().is_err() {
+                failed.push(gid);
+            }
+        }
+    });
+    if !failed.is_empty() {
+        failed.sort();
+        return Err(RunError::Panicked(failed));
+    }
+    let stats = RunStats {
+        rays: machine.rays.load(Ordering::Relaxed),
+        seconds: machine.start.elapsed().as_secs_f64(),
+    };
+    let memory = machine
+        .segments
+        .iter()
+        .map(|&(addr, len)| {
+            let first = ((addr - machine.base) / 4) as usize;
+            let words = &machine.mem[first..first + (len / 4) as usize];
+            let bytes = words
+                .iter()
+                .flat_map(|w| w.load(Ordering::Relaxed).to_le_bytes())
+                .collect();
+            (addr, bytes)
+        })
+        .collect();
+    Ok((memory, stats))
+}
+
+/// Marks its thread as finished (even on panic) so barriers stop waiting for it.
+struct LiveGuard(Arc<Machine>);
+
+impl Drop for LiveGuard {
+    fn drop(&mut self) {
+        MACHINE.with(|c| c.set(std::ptr::null()));
+        let m = &self.0;
+        m.rays
+            .fetch_add(RAYS.with(|r| r.replace(0)), Ordering::Relaxed);
+        let mut b = m.barriers.lock().unwrap_or_else(|e| e.into_inner());
+        b.live -= 1;
+        m.release_complete_barriers(&mut b);
+    }
+}
+
+/// Entry point of a natively built kernel: `PROGRAM IMAGE_IN FRAMEBUFFER_OUT TMS THREADS`.
+///
+/// Runs the kernel over the memory image and writes the framebuffer (header field
+/// `framebuffer`, `count × 12` bytes) as a one-segment memory image. Exits with status 1
+/// (after the panic message) if any kernel thread panics, 2 on a usage or I/O error.
+pub fn host_main(kernel: fn()) {
+    let args: Vec<String> = std::env::args().collect();
+    if args.len() != 5 {
+        eprintln!("usage: {} IMAGE_IN FRAMEBUFFER_OUT TMS THREADS", args[0]);
+        std::process::exit(2);
+    }
+    let fail = |msg: String| -> ! {
+        eprintln!("trax native: {msg}");
+        std::process::exit(2)
+    };
+    let data = std::fs::read(&args[1]).unwrap_or_else(|e| fail(format!("{}: {e}", args[1])));
+    let image = parse_image(&data).unwrap_or_else(|e| fail(format!("{}: {e}", args[1])));
+    let tms: u32 = args[3]
+        .parse()
+        .unwrap_or_else(|_| fail(format!("bad TMS {:?}", args[3])));
+    let threads: u32 = args[4]
+        .parse()
+        .unwrap_or_else(|_| fail(format!("bad THREADS {:?}", args[4])));
+    // A panicking kernel thread ends the whole program, as on the simulated machine
+    // (other threads may be waiting on it forever).
+    let default_hook = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        default_hook(info);
+        std::process::exit(1);
+    }));
+    let out = match run_image_stats(&image, tms, threads, kernel) {
+        Ok((out, stats)) => {
+            let mut line = format!(
+                "trax native: {} threads, {:.3} s",
+                tms * threads,
+                stats.seconds
+            );
+            if stats.rays > 0 {
+                line += &format!(
+                    ", {} rays ({:.2} M rays/s)",
+                    stats.rays,
+                    stats.rays as f64 / stats.seconds.max(1e-9) / 1e6
+                );
+            }
+            eprintln!("{line}");
+            out
+        }
+        Err(RunError::Setup(e)) => fail(e),
+        Err(e) => {
+            eprintln!("trax native: {e}");
+            std::process::exit(1);
+        }
+    };
+    let fb = framebuffer_segment(&out);
+    if let Err(e) = std::fs::write(&args[2], image_bytes(&fb)) {
+        fail(format!("{}: {e}", args[2]));
+    }
+}
+
+/// The framebuffer region of a memory image, per its scene header (empty if none).
+pub fn framebuffer_segment(image: &Image) -> Image {
+    let read = |addr: u32, len: u32| -> Option<Vec<u8>> {
+        image.iter().find_map(|(a, b)| {
+            let off = addr.checked_sub(*a)? as usize;
+            b.get(off..off.checked_add(len as usize)?)
+                .map(|s| s.to_vec())
+        })
+    };
+    let field = layout::SCENE_HEADER_ADDR + layout::HDR_FRAMEBUFFER;
+    let Some(c) = read(field, 8) else {
+        return Vec::new();
+    };
+    let addr = u32::from_le_bytes([c[0], c[1], c[2], c[3]]);
+    let count = u32::from_le_bytes([c[4], c[5], c[6], c[7]]);
+    match count
+        .checked_mul(layout::PIXEL_SIZE)
+        .and_then(|len| read(addr, len))
+    {
+        Some(bytes) if count > 0 => vec![(addr, bytes)],
+        _ => Vec::new(),
+    }
+}

@@ -1,0 +1,197 @@
+//! `trax`: the kernel prelude, written in TRaX-Rust.
+//!
+//! The same source is compiled by the trax compiler for the TRaX machine (`hw_trax.rs`:
+//! every machine operation is one extension instruction) and by rustc for the host
+//! (`hw_host.rs`: threads, atomics and a host copy of simulated memory), so a kernel
+//! gives the same results on both. Everything outside `hw_*.rs` and `simd.rs` stays
+//! within the TRaX-Rust subset.
+//!
+//! Map:
+//! - this file: thread ids, clock, `rand`, global registers (atomics, barriers,
+//!   semaphores), `min`/`max`/`invsqrt`, `count_ray`, raw simulated-memory access;
+//! - [`math`]: `Vec3` (points, directions, linear RGB) with operators;
+//! - [`scene`]: header fields, triangles, normals, texture coordinates, materials,
+//!   emitters, point lights, BVH nodes, framebuffer writes;
+//! - [`camera`]: primary rays (`abi::Camera` semantics, row 0 at the top);
+//! - [`ray`], [`bvh`]: rays, hit records, watertight triangle test, robust slab test,
+//!   closest-hit and any-hit traversal;
+//! - [`sampling`]: cosine-weighted hemisphere, disk, sphere and triangle sampling;
+//! - [`pipe`]: the fused box/triangle intersection pipelines;
+//! - `simd` (host file; compiler builtin on TRaX): `f32x4`, `i32x4`;
+//! - [`layout`]: byte layouts of the scene data;
+//! - `host` (host only): the runner used by `trax native` and tests.
+
+#[cfg(target_arch = "mips")]
+#[path = "hw_trax.rs"]
+mod hw;
+#[cfg(not(target_arch = "mips"))]
+#[path = "hw_host.rs"]
+mod hw;
+
+#[cfg(not(target_arch = "mips"))]
+pub mod simd;
+
+pub mod bvh;
+pub mod camera;
+pub mod layout;
+pub mod math;
+pub mod pipe;
+pub mod ray;
+pub mod sampling;
+pub mod scene;
+
+pub use camera::Camera;
+pub use math::Vec3;
+pub use ray::{Hit, Ray};
+pub use scene::{set_pixel, BvhNode, Material, PointLight, Triangle};
+
+/// Host runner API (host only): run a kernel over a memory image on host threads.
+#[cfg(not(target_arch = "mips"))]
+pub mod host {
+    pub use super::hw::{
+        framebuffer_segment, host_main, image_bytes, parse_image, run_image, run_image_stats,
+        Image, RunError, RunStats, NUM_GLOBAL_REGS,
+    };
+}
+
+/// Positive infinity.
+pub const INFINITY: f32 = f32::INFINITY;
+/// Pi.
+pub const PI: f32 = std::f32::consts::PI;
+
+// ---- Thread identity and time ----
+
+/// Chip-wide unique index of this hardware thread (`tm_id * threads_per_tm + thread_id`).
+pub fn global_id() -> u32 {
+    hw::global_id()
+}
+
+/// Total number of hardware threads.
+pub fn num_threads() -> u32 {
+    hw::num_threads()
+}
+
+/// Index of this thread within its TM.
+pub fn thread_id() -> u32 {
+    hw::thread_id()
+}
+
+/// Index of this thread's TM.
+pub fn tm_id() -> u32 {
+    hw::tm_id()
+}
+
+/// Number of TMs.
+pub fn num_tms() -> u32 {
+    hw::num_tms()
+}
+
+/// Low 32 bits of the cycle counter (on the host: nanoseconds since start).
+pub fn clock() -> u32 {
+    hw::clock()
+}
+
+/// Next per-thread deterministic random number in `[0, 1)`.
+pub fn rand() -> f32 {
+    hw::rand()
+}
+
+// ---- Global registers, barriers and semaphores ----
+
+/// Atomically increments global register `reg`; returns the old value.
+pub fn atomic_inc(reg: u32) -> u32 {
+    hw::atomic_inc(reg)
+}
+
+/// Atomically decrements global register `reg`; returns the old value.
+pub fn atomic_dec(reg: u32) -> u32 {
+    hw::atomic_dec(reg)
+}
+
+/// Atomically adds `v` to global register `reg` (wrapping); returns the old value.
+pub fn atomic_add(reg: u32, v: u32) -> u32 {
+    hw::atomic_add(reg, v)
+}
+
+/// Reads global register `reg`.
+pub fn global_read(reg: u32) -> u32 {
+    hw::global_read(reg)
+}
+
+/// Writes global register `reg`.
+pub fn global_write(reg: u32, v: u32) {
+    hw::global_write(reg, v)
+}
+
+/// Atomically increments `reg`, wrapping to 0 when it reaches the thread count; returns
+/// the old value.
+pub fn inc_reset(reg: u32) -> u32 {
+    hw::inc_reset(reg)
+}
+
+/// Waits until every live thread has reached barrier `reg`.
+pub fn barrier(reg: u32) {
+    hw::barrier(reg)
+}
+
+/// Waits until semaphore register `reg` is positive, then decrements it.
+pub fn sem_acquire(reg: u32) {
+    hw::sem_acquire(reg)
+}
+
+/// Increments semaphore register `reg`.
+pub fn sem_release(reg: u32) {
+    hw::sem_release(reg)
+}
+
+// ---- Floating point ----
+
+/// IEEE minNum of `a` and `b` (`trax.fmin`; a NaN operand is ignored).
+pub fn min(a: f32, b: f32) -> f32 {
+    hw::fmin(a, b)
+}
+
+/// IEEE maxNum of `a` and `b` (`trax.fmax`).
+pub fn max(a: f32, b: f32) -> f32 {
+    hw::fmax(a, b)
+}
+
+/// `1 / sqrt(x)` (`trax.invsqrt`).
+pub fn invsqrt(x: f32) -> f32 {
+    hw::invsqrt(x)
+}
+
+/// `x` clamped to `[lo, hi]`.
+pub fn clamp(x: f32, lo: f32, hi: f32) -> f32 {
+    math::clampf(x, lo, hi)
+}
+
+// ---- Statistics ----
+
+/// Counts one ray cast (statistics counter 0, `trax.stat 0`); the BVH traversal in
+/// [`bvh`] calls it once per ray.
+pub fn count_ray() {
+    hw::count_ray()
+}
+
+// ---- Raw simulated memory ----
+
+/// Loads the word at simulated address `addr` (4-byte aligned).
+pub fn load_u32(addr: u32) -> u32 {
+    hw::load_u32(addr)
+}
+
+/// Loads the f32 at simulated address `addr`.
+pub fn load_f32(addr: u32) -> f32 {
+    hw::load_f32(addr)
+}
+
+/// Stores a word at simulated address `addr`.
+pub fn store_u32(addr: u32, v: u32) {
+    hw::store_u32(addr, v)
+}
+
+/// Stores an f32 at simulated address `addr`.
+pub fn store_f32(addr: u32, v: f32) {
+    hw::store_f32(addr, v)
+}

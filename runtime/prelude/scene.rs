@@ -1,0 +1,323 @@
+//! Scene access: header fields, triangles, materials, lights, BVH nodes and the
+//! framebuffer, read from simulated memory (layouts in `layout.rs`).
+
+use super::hw;
+use super::layout;
+use super::math::Vec3;
+
+/// Reads a `Vec3` stored as three consecutive f32 at `addr`.
+pub fn load_vec3(addr: u32) -> Vec3 {
+    Vec3::new(
+        hw::load_f32(addr),
+        hw::load_f32(addr + 4),
+        hw::load_f32(addr + 8),
+    )
+}
+
+/// Writes a `Vec3` as three consecutive f32 at `addr`.
+pub fn store_vec3(addr: u32, v: Vec3) {
+    hw::store_f32(addr, v.x);
+    hw::store_f32(addr + 4, v.y);
+    hw::store_f32(addr + 8, v.z);
+}
+
+// ---- Header scalars ----
+
+/// Image width in pixels.
+pub fn width() -> u32 {
+    hw::load_u32(hw::hdr_width())
+}
+
+/// Image height in pixels.
+pub fn height() -> u32 {
+    hw::load_u32(hw::hdr_height())
+}
+
+/// `1 / width`.
+pub fn inv_width() -> f32 {
+    hw::load_f32(hw::hdr_inv_width())
+}
+
+/// `1 / height`.
+pub fn inv_height() -> f32 {
+    hw::load_f32(hw::hdr_inv_height())
+}
+
+/// Samples per pixel.
+pub fn spp() -> u32 {
+    hw::load_u32(hw::hdr_spp())
+}
+
+/// Maximum path depth.
+pub fn max_depth() -> u32 {
+    hw::load_u32(hw::hdr_max_depth())
+}
+
+/// Ray offset epsilon.
+pub fn epsilon() -> f32 {
+    hw::load_f32(hw::hdr_epsilon())
+}
+
+/// Seed of the random streams.
+pub fn seed() -> u32 {
+    hw::load_u32(hw::hdr_seed())
+}
+
+/// Background colour.
+pub fn background() -> Vec3 {
+    load_vec3(hw::hdr_background())
+}
+
+/// True if the header carries the expected magic and version.
+pub fn header_is_valid() -> bool {
+    hw::load_u32(hw::hdr_magic()) == 0x5841_5254 && hw::load_u32(hw::hdr_version()) == 1
+}
+
+/// Address of the camera.
+pub fn camera_addr() -> u32 {
+    hw::load_u32(hw::hdr_camera())
+}
+
+// ---- Framebuffer ----
+
+/// Address of pixel `(x, y)`; row 0 is the top of the image.
+pub fn pixel_addr(x: u32, y: u32) -> u32 {
+    let fb = hw::load_u32(hw::hdr_framebuffer() + layout::COMPONENT_ADDR);
+    fb + (y * width() + x) * layout::PIXEL_SIZE
+}
+
+/// Writes pixel `(x, y)` (linear RGB; row 0 is the top of the image).
+pub fn set_pixel(x: u32, y: u32, c: Vec3) {
+    store_vec3(pixel_addr(x, y), c);
+}
+
+/// Writes pixel number `i` (`y * width + x`).
+pub fn set_pixel_index(i: u32, c: Vec3) {
+    let fb = hw::load_u32(hw::hdr_framebuffer() + layout::COMPONENT_ADDR);
+    store_vec3(fb + i * layout::PIXEL_SIZE, c);
+}
+
+/// Reads pixel `(x, y)`.
+pub fn get_pixel(x: u32, y: u32) -> Vec3 {
+    load_vec3(pixel_addr(x, y))
+}
+
+// ---- Triangles ----
+
+/// A triangle's three vertices.
+#[derive(Clone, Copy)]
+pub struct Triangle {
+    pub v0: Vec3,
+    pub v1: Vec3,
+    pub v2: Vec3,
+}
+
+impl Triangle {
+    /// Unnormalised geometric normal `(v1 - v0) × (v2 - v0)`.
+    pub fn normal_unnormalized(&self) -> Vec3 {
+        (self.v1 - self.v0).cross(self.v2 - self.v0)
+    }
+
+    /// Unit geometric normal.
+    pub fn normal(&self) -> Vec3 {
+        self.normal_unnormalized().normalize()
+    }
+
+    /// Area.
+    pub fn area(&self) -> f32 {
+        0.5 * self.normal_unnormalized().length()
+    }
+
+    /// The point with barycentric coordinates `(1 - u - v, u, v)`.
+    pub fn point(&self, u: f32, v: f32) -> Vec3 {
+        self.v0.scale(1.0 - u - v) + self.v1.scale(u) + self.v2.scale(v)
+    }
+}
+
+/// Number of triangles.
+pub fn triangle_count() -> u32 {
+    hw::load_u32(hw::hdr_triangles() + layout::COMPONENT_COUNT)
+}
+
+/// Triangle `i`.
+pub fn triangle(i: u32) -> Triangle {
+    let a = hw::load_u32(hw::hdr_triangles() + layout::COMPONENT_ADDR) + i * layout::TRIANGLE_SIZE;
+    Triangle {
+        v0: load_vec3(a),
+        v1: load_vec3(a + 12),
+        v2: load_vec3(a + 24),
+    }
+}
+
+/// Number of triangles with per-vertex normals (0 if the scene has none).
+pub fn normals_count() -> u32 {
+    hw::load_u32(hw::hdr_normals() + layout::COMPONENT_COUNT)
+}
+
+/// Interpolated shading normal of triangle `i` at barycentrics `(u, v)`, normalised.
+pub fn shading_normal(i: u32, u: f32, v: f32) -> Vec3 {
+    let a = hw::load_u32(hw::hdr_normals() + layout::COMPONENT_ADDR) + i * layout::NORMALS_SIZE;
+    let n0 = load_vec3(a);
+    let n1 = load_vec3(a + 12);
+    let n2 = load_vec3(a + 24);
+    (n0.scale(1.0 - u - v) + n1.scale(u) + n2.scale(v)).normalize()
+}
+
+// ---- Materials ----
+
+/// A material.
+#[derive(Clone, Copy)]
+pub struct Material {
+    pub diffuse: Vec3,
+    pub specular: Vec3,
+    pub emission: Vec3,
+    pub shininess: f32,
+    pub flags: u32,
+}
+
+/// Material index of triangle `i` (0 if the scene has no material ids).
+pub fn material_id(i: u32) -> u32 {
+    let c = hw::hdr_material_ids();
+    if hw::load_u32(c + layout::COMPONENT_COUNT) == 0 {
+        return 0;
+    }
+    hw::load_u32(hw::load_u32(c + layout::COMPONENT_ADDR) + i * 4)
+}
+
+/// Number of materials.
+pub fn material_count() -> u32 {
+    hw::load_u32(hw::hdr_materials() + layout::COMPONENT_COUNT)
+}
+
+/// Material `m`; a grey diffuse default if the scene has no materials.
+pub fn material(m: u32) -> Material {
+    let c = hw::hdr_materials();
+    if hw::load_u32(c + layout::COMPONENT_COUNT) == 0 {
+        return Material {
+            diffuse: Vec3::splat(0.7),
+            specular: Vec3::zero(),
+            emission: Vec3::zero(),
+            shininess: 0.0,
+            flags: 0,
+        };
+    }
+    let a = hw::load_u32(c + layout::COMPONENT_ADDR) + m * layout::MATERIAL_SIZE;
+    Material {
+        diffuse: load_vec3(a + layout::MAT_DIFFUSE),
+        specular: load_vec3(a + layout::MAT_SPECULAR),
+        emission: load_vec3(a + layout::MAT_EMISSION),
+        shininess: hw::load_f32(a + layout::MAT_SHININESS),
+        flags: hw::load_u32(a + layout::MAT_FLAGS),
+    }
+}
+
+/// Material of triangle `i`.
+pub fn triangle_material(i: u32) -> Material {
+    material(material_id(i))
+}
+
+// ---- Lights ----
+
+/// Number of emissive triangles.
+pub fn emitter_count() -> u32 {
+    hw::load_u32(hw::hdr_emitters() + layout::COMPONENT_COUNT)
+}
+
+/// Triangle index of emitter `k`.
+pub fn emitter(k: u32) -> u32 {
+    hw::load_u32(hw::load_u32(hw::hdr_emitters() + layout::COMPONENT_ADDR) + k * 4)
+}
+
+/// A point light.
+#[derive(Clone, Copy)]
+pub struct PointLight {
+    pub position: Vec3,
+    pub color: Vec3,
+}
+
+/// Number of point lights.
+pub fn point_light_count() -> u32 {
+    hw::load_u32(hw::hdr_point_lights() + layout::COMPONENT_COUNT)
+}
+
+/// Point light `k`.
+pub fn point_light(k: u32) -> PointLight {
+    let a = hw::load_u32(hw::hdr_point_lights() + layout::COMPONENT_ADDR)
+        + k * layout::POINT_LIGHT_SIZE;
+    PointLight {
+        position: load_vec3(a + layout::LIGHT_POSITION),
+        color: load_vec3(a + layout::LIGHT_COLOR),
+    }
+}
+
+// ---- BVH ----
+
+/// A BVH node. Interior: `b == 0`, children `a` and `a + 1`. Leaf: triangles
+/// `a .. a + b`.
+#[derive(Clone, Copy)]
+pub struct BvhNode {
+    pub min: Vec3,
+    pub max: Vec3,
+    pub a: u32,
+    pub b: u32,
+}
+
+impl BvhNode {
+    /// True for a leaf.
+    pub fn is_leaf(&self) -> bool {
+        self.b != 0
+    }
+}
+
+/// Number of BVH nodes.
+pub fn bvh_node_count() -> u32 {
+    hw::load_u32(hw::hdr_bvh_nodes() + layout::COMPONENT_COUNT)
+}
+
+/// Address of BVH node 0 (0 if the scene has no BVH).
+pub fn bvh_base() -> u32 {
+    hw::load_u32(hw::hdr_bvh_nodes() + layout::COMPONENT_ADDR)
+}
+
+/// BVH node `i` of the tree at `base` (see [`bvh_base`]).
+pub fn bvh_node_at(base: u32, i: u32) -> BvhNode {
+    let a = base + i * layout::BVH_NODE_SIZE;
+    BvhNode {
+        min: load_vec3(a + layout::BVH_MIN),
+        max: load_vec3(a + layout::BVH_MAX),
+        a: hw::load_u32(a + layout::BVH_A),
+        b: hw::load_u32(a + layout::BVH_B),
+    }
+}
+
+/// BVH node `i`.
+pub fn bvh_node(i: u32) -> BvhNode {
+    bvh_node_at(bvh_base(), i)
+}
+
+/// Parent node index of BVH node `i` (`0xFFFFFFFF` for the root).
+pub fn bvh_parent(i: u32) -> u32 {
+    hw::load_u32(hw::load_u32(hw::hdr_bvh_parents() + layout::COMPONENT_ADDR) + i * 4)
+}
+
+/// Treelet id of BVH node `i`.
+pub fn treelet_id(i: u32) -> u32 {
+    hw::load_u32(hw::load_u32(hw::hdr_treelet_ids() + layout::COMPONENT_ADDR) + i * 4)
+}
+
+// ---- Texture coordinates ----
+
+/// Number of triangles with texture coordinates (0 if the scene has none).
+pub fn texcoords_count() -> u32 {
+    hw::load_u32(hw::hdr_texcoords() + layout::COMPONENT_COUNT)
+}
+
+/// Interpolated texture coordinates of triangle `i` at barycentrics `(u, v)`, as
+/// `(s, t, 0)`.
+pub fn texcoord(i: u32, u: f32, v: f32) -> Vec3 {
+    let a = hw::load_u32(hw::hdr_texcoords() + layout::COMPONENT_ADDR) + i * layout::TEXCOORDS_SIZE;
+    let w = 1.0 - u - v;
+    let s = hw::load_f32(a) * w + hw::load_f32(a + 8) * u + hw::load_f32(a + 16) * v;
+    let t = hw::load_f32(a + 4) * w + hw::load_f32(a + 12) * u + hw::load_f32(a + 20) * v;
+    Vec3::new(s, t, 0.0)
+}

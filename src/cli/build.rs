@@ -1,0 +1,85 @@
+//! `trax build`: compile a TRaX-Rust kernel and link it with the runtime start-up code into a
+//! MIPS32r6 executable (or stop at an object, assembly or LLVM IR).
+
+use clap::{Args, ValueEnum};
+use std::path::PathBuf;
+use std::process::ExitCode;
+use trax_assembler::link::{link, Input, LinkOptions};
+use trax_compiler::{compile_file, CompileError, CompileOptions, Emit, Prelude};
+
+/// Output kind of `trax build`.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum EmitKind {
+    /// Linked ELF executable (start-up code + kernel), ready for `trax run`.
+    Exe,
+    /// ELF relocatable object.
+    Obj,
+    /// MIPS assembly text.
+    Asm,
+    /// LLVM IR text (after optimisation).
+    LlvmIr,
+}
+
+/// Arguments of `trax build`.
+#[derive(Args, Debug)]
+pub struct BuildArgs {
+    /// Kernel root file (`mod` files are found next to it).
+    pub kernel: PathBuf,
+    /// Output file.
+    #[arg(short = 'o', long = "output")]
+    pub output: PathBuf,
+    /// Optimisation level 0-3 (`-O0` .. `-O3`); inlining from -O2.
+    #[arg(short = 'O', default_value_t = 2, value_parser = clap::value_parser!(u8).range(0..=3))]
+    pub opt_level: u8,
+    /// What to emit.
+    #[arg(long, value_enum, default_value_t = EmitKind::Exe)]
+    pub emit: EmitKind,
+}
+
+/// Runs `trax build`.
+pub fn run(a: BuildArgs) -> ExitCode {
+    let opts = CompileOptions {
+        opt_level: a.opt_level,
+        emit: match a.emit {
+            EmitKind::Exe | EmitKind::Obj => Emit::Obj,
+            EmitKind::Asm => Emit::Asm,
+            EmitKind::LlvmIr => Emit::LlvmIr,
+        },
+        prelude: Some(Prelude::runtime()),
+    };
+    let result = compile_file(&a.kernel, &opts).map(|out| out.bytes);
+    let result = match (result, a.emit) {
+        (Ok(obj), EmitKind::Exe) => {
+            let input = Input {
+                name: a.kernel.display().to_string(),
+                bytes: obj,
+            };
+            match link(&[input], &LinkOptions::default()) {
+                Ok(linked) => Ok(linked.elf),
+                Err(e) => {
+                    eprintln!("error: linking {}: {e}", a.kernel.display());
+                    return ExitCode::from(1);
+                }
+            }
+        }
+        (r, _) => r,
+    };
+    match result {
+        Ok(bytes) => match std::fs::write(&a.output, &bytes) {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(e) => {
+                eprintln!("error: cannot write {}: {e}", a.output.display());
+                ExitCode::from(1)
+            }
+        },
+        Err(e) => {
+            match &e {
+                CompileError::Diagnostics(_) => eprint!("{e}"),
+                CompileError::Internal(_) => eprintln!(
+                    "error: {e}\nnote: this is a bug in the trax compiler; please report it"
+                ),
+            }
+            ExitCode::from(e.exit_code())
+        }
+    }
+}

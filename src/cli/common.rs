@@ -1,0 +1,69 @@
+//! Flag groups shared by the subcommands that run kernels (`trax run`, `trax native`).
+
+use std::path::PathBuf;
+
+use clap::Args;
+use trax_assembler::image::RenderOptions;
+use trax_assembler::scene::LoadOptions;
+
+/// Scene and image parameters.
+#[derive(Args, Debug, Clone)]
+pub struct RenderArgs {
+    /// Scene: `cornell` (embedded default), `procedural:N` (about N triangles), or an
+    /// .obj/.objl file.
+    #[arg(long, default_value = "cornell")]
+    pub scene: String,
+    /// Camera file (simtrax .view); default: beside the scene file, or framing the scene.
+    #[arg(long)]
+    pub view: Option<PathBuf>,
+    /// Light file (simtrax .light); default: beside the scene file.
+    #[arg(long)]
+    pub light: Option<PathBuf>,
+    /// Image width in pixels.
+    #[arg(long, default_value_t = 128)]
+    pub width: u32,
+    /// Image height in pixels.
+    #[arg(long, default_value_t = 128)]
+    pub height: u32,
+    /// Samples per pixel (header field `spp`).
+    #[arg(long, default_value_t = 1)]
+    pub spp: u32,
+    /// Maximum path depth (header field `max_depth`).
+    #[arg(long, default_value_t = 4)]
+    pub depth: u32,
+    /// Seed of the per-thread random streams.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u32,
+}
+
+impl RenderArgs {
+    /// Scene loader options.
+    pub fn load_options(&self) -> LoadOptions {
+        LoadOptions {
+            view: self.view.clone(),
+            light: self.light.clone(),
+        }
+    }
+
+    /// Header parameters for the image builder.
+    pub fn render_options(&self) -> RenderOptions {
+        RenderOptions {
+            width: self.width,
+            height: self.height,
+            spp: self.spp,
+            max_depth: self.depth,
+            seed: self.seed,
+            ..RenderOptions::default()
+        }
+    }
+
+    /// Rejects zero-sized images.
+    pub fn validate(&self) -> Result<(), String> {
+        for (flag, v) in [("width", self.width), ("height", self.height)] {
+            if v == 0 {
+                return Err(format!("--{flag} must be at least 1"));
+            }
+        }
+        Ok(())
+    }
+}

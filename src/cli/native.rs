@@ -1,0 +1,485 @@
+//! `trax native`: builds a kernel with rustc against the host implementation of the
+//! prelude (crate `trax`, `runtime/prelude/`) and runs it on host threads — a fast
+//! functional reference for the emulator.
+//!
+//! Steps: (1) the prelude is written out from `trax_runtime::prelude::FILES` and built as
+//! an rlib named `trax`; (2) the kernel is compiled from stdin with the current directory
+//! set to the kernel's directory (so `mod x;` files resolve), with
+//! `fn main() { trax::host::host_main(trax_main) }` appended; (3) a memory image (format:
+//! `trax_runtime::host`) is written, the program runs over it and writes the framebuffer
+//! back; (4) the framebuffer becomes a PNG. Builds are cached in `$TRAX_CACHE_DIR` (default
+//! `<temp>/trax-cache`) keyed by a hash of the sources and the rustc version. Diagnostics
+//! and panic locations name the kernel file (rustc calls stdin `<anon>`; we rewrite it).
+
+use std::ffi::OsString;
+use std::io::{BufRead, BufReader, Write};
+use std::path::{Path, PathBuf};
+use std::process::{Command, ExitCode, Stdio};
+
+use clap::Args;
+
+use super::common::RenderArgs;
+use trax_assembler::image::build_image_from_symbols;
+use trax_assembler::scene::load_scene;
+use trax_runtime::host::{framebuffer_rgb8, ImageError, MemoryImage, Segment};
+use trax_runtime::prelude::{self, Fnv1a};
+
+/// Arguments of `trax native`.
+#[derive(Args, Debug)]
+pub struct NativeArgs {
+    /// The kernel source (`fn trax_main()`).
+    pub kernel: PathBuf,
+    /// Scene and image parameters.
+    #[command(flatten)]
+    pub render: RenderArgs,
+    /// Thread multiprocessors.
+    #[arg(long, default_value_t = 1)]
+    pub tms: u32,
+    /// Threads per TM.
+    #[arg(long, default_value_t = 32)]
+    pub threads: u32,
+    /// Write the framebuffer as PNG (clamped, top row first).
+    #[arg(short = 'o', long = "output")]
+    pub output: Option<PathBuf>,
+    /// Also write the raw framebuffer: `width*height` pixels of 3 little-endian f32.
+    #[arg(long)]
+    pub raw_framebuffer: Option<PathBuf>,
+}
+
+/// What went wrong in `trax native`.
+#[derive(Debug, thiserror::Error)]
+pub enum NativeError {
+    #[error("{path}: {source}")]
+    Io {
+        path: String,
+        source: std::io::Error,
+    },
+    #[error("cannot run `{rustc}` (set RUSTC or install Rust): {source}")]
+    NoRustc {
+        rustc: String,
+        source: std::io::Error,
+    },
+    #[error("building the trax prelude with rustc failed:\n{0}")]
+    PreludeBuild(String),
+    #[error("{kernel}: no `fn trax_main()` (the kernel entry point) found")]
+    NoEntry { kernel: String },
+    #[error("{kernel}: compilation failed")]
+    KernelBuild { kernel: String },
+    #[error("{0}")]
+    Scene(#[from] trax_assembler::scene::SceneError),
+    #[error("{0}")]
+    SceneImage(#[from] trax_assembler::image::ImageError),
+    #[error("{0}")]
+    Image(#[from] ImageError),
+    #[error("--{flag} must be at least 1")]
+    BadFlag { flag: &'static str },
+    #[error("--tms × --threads = {0} is more than the host runner supports (4096)")]
+    TooManyThreads(u64),
+    #[error("{kernel}: the kernel crashed (exit status {status})")]
+    Crashed { kernel: String, status: i32 },
+    #[error("{path}: cannot write PNG: {message}")]
+    Png { path: String, message: String },
+}
+
+fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> NativeError + '_ {
+    move |source| NativeError::Io {
+        path: path.display().to_string(),
+        source,
+    }
+}
+
+/// Runs `trax native`.
+pub fn run(a: NativeArgs) -> ExitCode {
+    match native(&a) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn native(a: &NativeArgs) -> Result<(), NativeError> {
+    for (flag, v) in [
+        ("width", a.render.width),
+        ("height", a.render.height),
+        ("tms", a.tms),
+        ("threads", a.threads),
+    ] {
+        if v == 0 {
+            return Err(NativeError::BadFlag { flag });
+        }
+    }
+    let total = a.tms as u64 * a.threads as u64;
+    if total > 4096 {
+        return Err(NativeError::TooManyThreads(total));
+    }
+    for out in a.output.iter().chain(&a.raw_framebuffer) {
+        check_writable(out)?;
+    }
+    let image = memory_image(a)?;
+    let cache = cache_dir();
+    let rustc = Rustc::find()?;
+    let rlib = build_prelude(&rustc, &cache)?;
+    let exe = build_kernel(&rustc, &a.kernel, &rlib, &cache)?;
+    let fb = run_kernel(&exe, &a.kernel, &image, a.tms, a.threads, &cache)?;
+    let bytes = fb
+        .segments
+        .first()
+        .map(|s| s.bytes.as_slice())
+        .unwrap_or(&[]);
+    if let Some(out) = &a.output {
+        let (w, h) = (a.render.width, a.render.height);
+        write_png(out, w, h, &framebuffer_rgb8(bytes, w, h))?;
+    }
+    if let Some(raw) = &a.raw_framebuffer {
+        std::fs::write(raw, bytes).map_err(io_err(raw))?;
+    }
+    Ok(())
+}
+
+/// Fails early (before building and running) if `out` cannot be created.
+fn check_writable(out: &Path) -> Result<(), NativeError> {
+    let dir = out.parent().filter(|p| !p.as_os_str().is_empty());
+    if let Some(d) = dir {
+        if !d.is_dir() {
+            return Err(NativeError::Io {
+                path: out.display().to_string(),
+                source: std::io::Error::new(
+                    std::io::ErrorKind::NotFound,
+                    "the output directory does not exist",
+                ),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The initial memory: the scene image with every component the host prelude may read.
+fn memory_image(a: &NativeArgs) -> Result<MemoryImage, NativeError> {
+    let scene = load_scene(&a.render.scene, &a.render.load_options())?;
+    for w in &scene.warnings {
+        eprintln!("warning: {w}");
+    }
+    let opts = a.render.render_options();
+    // The host prelude may read any component; treelets are not needed natively.
+    let referenced = [
+        "bvh_nodes",
+        "triangles",
+        "normals",
+        "texcoords",
+        "material_ids",
+        "materials",
+        "emitters",
+        "point_lights",
+    ];
+    let img = build_image_from_symbols(
+        Vec::new(),
+        trax_runtime::abi::TEXT_BASE,
+        &referenced,
+        &scene,
+        &opts,
+    )?;
+    let segments = img
+        .segments
+        .into_iter()
+        .map(|s| {
+            let mut bytes = s.data;
+            bytes.resize((s.size as usize).next_multiple_of(4), 0);
+            Segment {
+                addr: s.addr,
+                bytes,
+            }
+        })
+        .collect();
+    let image = MemoryImage { segments };
+    image.validate()?;
+    Ok(image)
+}
+
+/// The build cache directory.
+fn cache_dir() -> PathBuf {
+    match std::env::var_os("TRAX_CACHE_DIR") {
+        Some(d) if !d.is_empty() => PathBuf::from(d),
+        _ => std::env::temp_dir().join("trax-cache"),
+    }
+}
+
+/// The rustc to use and its version (part of every cache key).
+struct Rustc {
+    program: OsString,
+    version: String,
+}
+
+impl Rustc {
+    fn find() -> Result<Rustc, NativeError> {
+        let program = std::env::var_os("RUSTC").unwrap_or_else(|| "rustc".into());
+        let out = Command::new(&program)
+            .arg("-vV")
+            .output()
+            .map_err(|source| NativeError::NoRustc {
+                rustc: program.to_string_lossy().into_owned(),
+                source,
+            })?;
+        Ok(Rustc {
+            program,
+            version: String::from_utf8_lossy(&out.stdout).into_owned(),
+        })
+    }
+
+    fn command(&self) -> Command {
+        let mut c = Command::new(&self.program);
+        c.args([
+            "--edition",
+            "2021",
+            "-C",
+            "opt-level=2",
+            "-C",
+            "overflow-checks=off",
+            "-C",
+            "debug-assertions=off",
+        ]);
+        c
+    }
+}
+
+/// A fresh, unique scratch directory inside `parent`.
+fn scratch_dir(parent: &Path, tag: &str) -> Result<PathBuf, NativeError> {
+    let nanos = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map(|d| d.as_nanos())
+        .unwrap_or(0);
+    let d = parent.join(format!(".{tag}-{}-{nanos}", std::process::id()));
+    std::fs::create_dir_all(&d).map_err(io_err(&d))?;
+    Ok(d)
+}
+
+/// Moves a finished build from `tmp` to `fin` atomically; if another process won the
+/// race, keeps theirs.
+fn publish(tmp: &Path, fin: &Path) -> Result<(), NativeError> {
+    match std::fs::rename(tmp, fin) {
+        Ok(()) => Ok(()),
+        Err(_) if fin.exists() => {
+            let _ = std::fs::remove_dir_all(tmp);
+            Ok(())
+        }
+        Err(e) => Err(io_err(fin)(e)),
+    }
+}
+
+/// Builds (or finds in the cache) the host prelude rlib; returns its path.
+fn build_prelude(rustc: &Rustc, cache: &Path) -> Result<PathBuf, NativeError> {
+    let mut h = Fnv1a::new();
+    h.write(&prelude::content_hash().to_le_bytes());
+    h.write(rustc.version.as_bytes());
+    let dir = cache.join(format!("prelude-{:016x}", h.finish()));
+    let rlib = dir.join("libtrax.rlib");
+    if rlib.is_file() {
+        return Ok(rlib);
+    }
+    std::fs::create_dir_all(cache).map_err(io_err(cache))?;
+    let tmp = scratch_dir(cache, "prelude")?;
+    for (p, src) in prelude::FILES {
+        let path = tmp.join("prelude").join(p);
+        if let Some(parent) = path.parent() {
+            std::fs::create_dir_all(parent).map_err(io_err(parent))?;
+        }
+        std::fs::write(&path, src).map_err(io_err(&path))?;
+    }
+    let out = rustc
+        .command()
+        .args([
+            "--crate-type",
+            "rlib",
+            "--crate-name",
+            "trax",
+            "--cap-lints",
+            "allow",
+        ])
+        .arg(tmp.join("prelude").join(prelude::ROOT))
+        .arg("-o")
+        .arg(tmp.join("libtrax.rlib"))
+        .output()
+        .map_err(|source| NativeError::NoRustc {
+            rustc: rustc.program.to_string_lossy().into_owned(),
+            source,
+        })?;
+    if !out.status.success() {
+        let _ = std::fs::remove_dir_all(&tmp);
+        return Err(NativeError::PreludeBuild(
+            String::from_utf8_lossy(&out.stderr).into_owned(),
+        ));
+    }
+    publish(&tmp, &dir)?;
+    Ok(rlib)
+}
+
+/// Hashes the kernel and every `.rs` file under its directory (its `mod` files).
+fn kernel_hash(kernel: &Path, src: &str) -> Result<u64, NativeError> {
+    let mut h = Fnv1a::new();
+    h.write(src.as_bytes());
+    let dir = kernel_dir(kernel);
+    let mut files = Vec::new();
+    collect_rs(&dir, 0, &mut files);
+    files.sort();
+    for f in files {
+        if let Ok(bytes) = std::fs::read(&f) {
+            h.write(f.to_string_lossy().as_bytes());
+            h.write(&bytes);
+        }
+    }
+    Ok(h.finish())
+}
+
+fn collect_rs(dir: &Path, depth: u32, out: &mut Vec<PathBuf>) {
+    let Ok(rd) = std::fs::read_dir(dir) else {
+        return;
+    };
+    for e in rd.flatten() {
+        let p = e.path();
+        if p.is_dir() && depth < 3 {
+            collect_rs(&p, depth + 1, out);
+        } else if p.extension().is_some_and(|x| x == "rs") {
+            out.push(p);
+        }
+    }
+}
+
+fn kernel_dir(kernel: &Path) -> PathBuf {
+    match kernel.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    }
+}
+
+/// The text appended to a kernel to make it a host program.
+const MAIN_SHIM: &str = "\nfn main() {\n    trax::host::host_main(trax_main)\n}\n";
+
+/// Builds (or finds in the cache) the kernel executable; returns its path.
+fn build_kernel(
+    rustc: &Rustc,
+    kernel: &Path,
+    rlib: &Path,
+    cache: &Path,
+) -> Result<PathBuf, NativeError> {
+    let src = std::fs::read_to_string(kernel).map_err(io_err(kernel))?;
+    if !src.contains("fn trax_main") {
+        return Err(NativeError::NoEntry {
+            kernel: kernel.display().to_string(),
+        });
+    }
+    let mut h = Fnv1a::new();
+    h.write(&kernel_hash(kernel, &src)?.to_le_bytes());
+    h.write(rlib.to_string_lossy().as_bytes());
+    h.write(rustc.version.as_bytes());
+    let dir = cache.join(format!("kernel-{:016x}", h.finish()));
+    let exe = dir.join("kernel");
+    if exe.is_file() {
+        return Ok(exe);
+    }
+    let tmp = scratch_dir(cache, "kernel")?;
+    let mut child = rustc
+        .command()
+        .args(["--crate-type", "bin", "--crate-name", "trax_kernel", "-"])
+        .arg("--extern")
+        .arg(format!("trax={}", rlib.display()))
+        .arg("-o")
+        .arg(tmp.join("kernel"))
+        .current_dir(kernel_dir(kernel))
+        .stdin(Stdio::piped())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .map_err(|source| NativeError::NoRustc {
+            rustc: rustc.program.to_string_lossy().into_owned(),
+            source,
+        })?;
+    let full = format!("{src}{MAIN_SHIM}");
+    if let Some(mut stdin) = child.stdin.take() {
+        // A write error shows up as a compile failure below.
+        let _ = stdin.write_all(full.as_bytes());
+    }
+    let out = child.wait_with_output().map_err(io_err(kernel))?;
+    let diag = String::from_utf8_lossy(&out.stderr);
+    let shown = kernel.display().to_string();
+    if !diag.is_empty() {
+        eprint!("{}", diag.replace("<anon>", &shown));
+    }
+    if !out.status.success() {
+        let _ = std::fs::remove_dir_all(&tmp);
+        return Err(NativeError::KernelBuild { kernel: shown });
+    }
+    publish(&tmp, &dir)?;
+    Ok(exe)
+}
+
+/// Runs the kernel program over `image`; returns the final framebuffer (one segment, or
+/// none if the image has no framebuffer).
+fn run_kernel(
+    exe: &Path,
+    kernel: &Path,
+    image: &MemoryImage,
+    tms: u32,
+    threads: u32,
+    cache: &Path,
+) -> Result<MemoryImage, NativeError> {
+    let tmp = scratch_dir(cache, "run")?;
+    let result = run_in(exe, kernel, image, tms, threads, &tmp);
+    let _ = std::fs::remove_dir_all(&tmp);
+    result
+}
+
+fn run_in(
+    exe: &Path,
+    kernel: &Path,
+    image: &MemoryImage,
+    tms: u32,
+    threads: u32,
+    tmp: &Path,
+) -> Result<MemoryImage, NativeError> {
+    let input = tmp.join("image.bin");
+    let output = tmp.join("framebuffer.bin");
+    image.write(&input)?;
+    let mut child = Command::new(exe)
+        .arg(&input)
+        .arg(&output)
+        .arg(tms.to_string())
+        .arg(threads.to_string())
+        .stdin(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .map_err(io_err(exe))?;
+    // Forward the kernel's stderr, naming the kernel file in panic locations.
+    let shown = kernel.display().to_string();
+    if let Some(err) = child.stderr.take() {
+        let stderr = std::io::stderr();
+        for line in BufReader::new(err).lines() {
+            let Ok(line) = line else { break };
+            let _ = writeln!(stderr.lock(), "{}", line.replace("<anon>", &shown));
+        }
+    }
+    let status = child.wait().map_err(io_err(exe))?;
+    if !status.success() {
+        return Err(NativeError::Crashed {
+            kernel: shown,
+            status: status.code().unwrap_or(-1),
+        });
+    }
+    Ok(MemoryImage::read(&output)?)
+}
+
+/// Writes 8-bit RGB pixels (`width*height*3` bytes, top row first) as a PNG file.
+pub fn write_png(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Result<(), NativeError> {
+    let png_err = |e: png::EncodingError| NativeError::Png {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    };
+    let file = std::fs::File::create(path).map_err(io_err(path))?;
+    let mut enc = png::Encoder::new(std::io::BufWriter::new(file), width, height);
+    enc.set_color(png::ColorType::Rgb);
+    enc.set_depth(png::BitDepth::Eight);
+    let mut w = enc.write_header().map_err(png_err)?;
+    w.write_image_data(rgb).map_err(png_err)?;
+    w.finish().map_err(png_err)?;
+    Ok(())
+}

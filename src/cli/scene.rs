@@ -1,0 +1,222 @@
+//! `trax scene`: inspect scenes (triangles, materials, bounds, BVH, treelets, memory bytes).
+
+use std::fmt::Write as _;
+use std::io::Write as _;
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+use clap::{Args, Subcommand};
+use trax_assembler::bvh::{Bvh, BvhOptions, TreeletOptions};
+use trax_assembler::image::{build_image_from_symbols, RenderOptions, OPTIONAL_COMPONENTS};
+use trax_assembler::scene::{load_scene, LoadOptions};
+use trax_runtime::abi;
+
+/// Arguments of `trax scene`.
+#[derive(Args, Debug)]
+pub struct SceneArgs {
+    #[command(subcommand)]
+    command: SceneCommand,
+}
+
+#[derive(Subcommand, Debug)]
+enum SceneCommand {
+    /// Print triangles, materials, bounds, BVH figures, treelets and bytes per component.
+    Info(InfoArgs),
+}
+
+#[derive(Args, Debug)]
+struct InfoArgs {
+    /// `cornell`, `procedural:N`, or a path to an .obj/.objl file.
+    scene: String,
+    /// Camera file (simtrax .view); default: one beside the scene file.
+    #[arg(long)]
+    view: Option<PathBuf>,
+    /// Light file (simtrax .light); default: one beside the scene file.
+    #[arg(long)]
+    light: Option<PathBuf>,
+    /// Largest BVH leaf (triangles).
+    #[arg(long, default_value_t = BvhOptions::default().max_leaf)]
+    max_leaf: u32,
+    /// SAH bins per axis.
+    #[arg(long, default_value_t = BvhOptions::default().bins)]
+    bins: u32,
+    /// Treelet budget in bytes (0 = no treelets).
+    #[arg(long, default_value_t = TreeletOptions::default().budget_bytes)]
+    treelet_bytes: u32,
+    /// Align each treelet to this many bytes, e.g. a DRAM row (0 = packed).
+    #[arg(long, default_value_t = 0)]
+    treelet_align: u32,
+    /// Image width (for the framebuffer size).
+    #[arg(long, default_value_t = RenderOptions::default().width)]
+    width: u32,
+    /// Image height (for the framebuffer size).
+    #[arg(long, default_value_t = RenderOptions::default().height)]
+    height: u32,
+}
+
+/// Runs `trax scene`.
+pub fn run(args: SceneArgs) -> ExitCode {
+    match args.command {
+        SceneCommand::Info(a) => match info(&a) {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(e) => {
+                let _ = writeln!(std::io::stderr(), "error: {e}");
+                ExitCode::FAILURE
+            }
+        },
+    }
+}
+
+fn info(a: &InfoArgs) -> Result<(), Box<dyn std::error::Error>> {
+    // Output is gathered and written at the end, so a closed pipe (`| head`) is not an error.
+    let mut out = String::new();
+    macro_rules! outln {
+        ($($t:tt)*) => {{
+            let _ = writeln!(out, $($t)*);
+        }};
+    }
+    let t0 = Instant::now();
+    let scene = load_scene(
+        &a.scene,
+        &LoadOptions {
+            view: a.view.clone(),
+            light: a.light.clone(),
+        },
+    )?;
+    let load_time = t0.elapsed();
+    for w in &scene.warnings {
+        let _ = writeln!(std::io::stderr(), "warning: {w}");
+    }
+    let treelets = (a.treelet_bytes > 0).then_some(TreeletOptions {
+        budget_bytes: a.treelet_bytes,
+        align_bytes: a.treelet_align,
+    });
+    let bvh_opts = BvhOptions {
+        max_leaf: a.max_leaf,
+        bins: a.bins,
+        treelets,
+        ..BvhOptions::default()
+    };
+    let t1 = Instant::now();
+    let bvh = Bvh::build(&scene.triangles, &bvh_opts)?;
+    let build_time = t1.elapsed();
+    let stats = bvh.stats();
+    let b = scene.bounds();
+    outln!("scene        {}", scene.name);
+    outln!("triangles    {}", scene.len());
+    outln!("materials    {}", scene.materials.len());
+    outln!("emitters     {}", scene.emitters().len());
+    outln!("point lights {}", scene.point_lights.len());
+    outln!(
+        "bounds       [{} {} {}] .. [{} {} {}]",
+        b.min[0],
+        b.min[1],
+        b.min[2],
+        b.max[0],
+        b.max[1],
+        b.max[2]
+    );
+    outln!(
+        "bvh          {} nodes, {} leaves, depth {}, largest leaf {}, SAH cost {:.3}",
+        stats.nodes,
+        stats.leaves,
+        stats.depth,
+        stats.max_leaf,
+        stats.sah_cost
+    );
+    match &bvh.treelets {
+        Some(t) => {
+            let fill: f64 = t
+                .node_ranges
+                .iter()
+                .map(|r| (r.end - r.start) as f64 * 32.0)
+                .sum::<f64>()
+                / (t.node_ranges.len() as f64 * t.options.budget_bytes as f64);
+            outln!(
+                "treelets     {} node treelets ({:.0}% full on average), {} triangle treelets, budget {} bytes, align {}",
+                t.node_ranges.len(),
+                100.0 * fill,
+                t.tri_ranges.len(),
+                t.options.budget_bytes,
+                t.options.align_bytes
+            );
+        }
+        None => outln!("treelets     none"),
+    }
+    let opts = RenderOptions {
+        width: a.width,
+        height: a.height,
+        bvh: bvh_opts,
+        ..RenderOptions::default()
+    };
+    let t2 = Instant::now();
+    let image = build_image_from_symbols(
+        Vec::new(),
+        abi::TEXT_BASE,
+        &OPTIONAL_COMPONENTS,
+        &scene,
+        &opts,
+    )?;
+    let image_time = t2.elapsed();
+    outln!("memory (all components referenced):");
+    for c in &image.components {
+        outln!(
+            "  {:<13} {:>12} bytes  {:>10} elements  at {:#010x}",
+            c.name,
+            c.bytes,
+            c.count,
+            c.addr
+        );
+    }
+    outln!("  {:<13} {:>12} bytes", "total", image.scene_bytes());
+    outln!(
+        "time         load {:.3} s, BVH build {:.3} s ({:.2} M triangles/s), image {:.3} s",
+        load_time.as_secs_f64(),
+        build_time.as_secs_f64(),
+        scene.len() as f64 / build_time.as_secs_f64().max(1e-9) / 1e6,
+        image_time.as_secs_f64()
+    );
+    match std::io::stdout().lock().write_all(out.as_bytes()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(e.into()),
+        _ => Ok(()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn args(scene: &str) -> InfoArgs {
+        InfoArgs {
+            scene: scene.into(),
+            view: None,
+            light: None,
+            max_leaf: 4,
+            bins: 256,
+            treelet_bytes: 4096,
+            treelet_align: 2048,
+            width: 16,
+            height: 16,
+        }
+    }
+
+    #[test]
+    fn info_on_builtin_scenes() {
+        info(&args("cornell")).unwrap();
+        info(&args("procedural:2000")).unwrap();
+    }
+
+    #[test]
+    fn info_reports_bad_input() {
+        let e = info(&args("no-such-scene.obj")).unwrap_err();
+        assert!(e.to_string().contains("no-such-scene.obj"), "{e}");
+        let e = info(&args("procedural:1")).unwrap_err();
+        assert!(e.to_string().contains("procedural"), "{e}");
+        let bad = InfoArgs {
+            treelet_align: 100,
+            ..args("cornell")
+        };
+        assert!(info(&bad).unwrap_err().to_string().contains("alignment"));
+    }
+}

@@ -1,0 +1,256 @@
+//! Every example kernel gives the same printed output and the bit-identical framebuffer
+//! on the emulator (compiled by the trax compiler, linked, functional mode) and with
+//! `trax native` (rustc against the host prelude), on the same scene and chip shape.
+//!
+//! Bit-exactness holds because every f32 operation the kernels use is exactly specified:
+//! IEEE add/sub/mul/div/sqrt, conversions, and the TRaX ops (`trax.fmin/fmax/invsqrt`,
+//! `trax.rand`) whose results both sides take from `trax_runtime::{fops, rng}`; the
+//! kernels that use random numbers assign pixels to threads statically.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use trax_assembler::image::{build_image, RenderOptions};
+use trax_assembler::link::{link, Input, LinkOptions};
+use trax_assembler::scene::{load_scene, LoadOptions};
+use trax_compiler::{compile_file, CompileOptions, Emit, Prelude};
+use trax_emulator::machine::{MachineConfig, Outcome};
+use trax_emulator::memory::Segment;
+use trax_emulator::session::{run, RunRequest};
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+struct Frame {
+    stdout: String,
+    framebuffer: Vec<u8>,
+}
+
+/// Scene and chip used on both sides.
+struct Setup<'a> {
+    kernel: &'a str,
+    width: u32,
+    height: u32,
+    spp: u32,
+    depth: u32,
+    tms: u32,
+    threads: u32,
+    opt_level: u8,
+}
+
+fn emulate(s: &Setup) -> Frame {
+    let path = root().join(s.kernel);
+    let copts = CompileOptions {
+        opt_level: s.opt_level,
+        emit: Emit::Obj,
+        prelude: Some(Prelude::runtime()),
+    };
+    let obj = compile_file(&path, &copts).unwrap_or_else(|e| panic!("{}: {e}", s.kernel));
+    let linked = link(
+        &[Input {
+            name: s.kernel.to_string(),
+            bytes: obj.bytes,
+        }],
+        &LinkOptions::default(),
+    )
+    .unwrap_or_else(|e| panic!("{}: link: {e}", s.kernel));
+    let scene = load_scene("cornell", &LoadOptions::default()).unwrap();
+    let opts = RenderOptions {
+        width: s.width,
+        height: s.height,
+        spp: s.spp,
+        max_depth: s.depth,
+        ..RenderOptions::default()
+    };
+    let image = build_image(&linked.elf, &scene, &opts).unwrap();
+    let fb = image.header.framebuffer;
+    let segments = image
+        .segments
+        .iter()
+        .map(|g| Segment {
+            addr: g.addr,
+            data: g.data.clone(),
+            mem_size: g.size,
+            writable: true,
+        })
+        .collect();
+    let mut out = Vec::new();
+    let result = run(
+        RunRequest {
+            elf_path: s.kernel,
+            elf: &linked.elf,
+            segments: Some(segments),
+            config: MachineConfig {
+                tms: s.tms,
+                threads_per_tm: s.threads,
+                ..MachineConfig::default()
+            },
+        },
+        &mut out,
+    )
+    .unwrap_or_else(|e| panic!("{}: {e}", s.kernel));
+    assert!(
+        matches!(result.summary.outcome, Outcome::Finished),
+        "{}: {:?}\n{}",
+        s.kernel,
+        result.summary.outcome,
+        result.report.unwrap_or_default()
+    );
+    let framebuffer = result
+        .machine
+        .shared
+        .mem
+        .read_bytes(&[], fb.addr, fb.count * 12)
+        .unwrap();
+    Frame {
+        stdout: String::from_utf8(out).unwrap(),
+        framebuffer,
+    }
+}
+
+fn native(s: &Setup) -> Frame {
+    let cache = Path::new(env!("CARGO_TARGET_TMPDIR")).join("trax-native-cache");
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("native-vs-emulator");
+    std::fs::create_dir_all(&dir).unwrap();
+    let stem = Path::new(s.kernel)
+        .file_stem()
+        .unwrap()
+        .to_string_lossy()
+        .into_owned();
+    let raw = dir.join(format!("{stem}.fb"));
+    let out = Command::new(env!("CARGO_BIN_EXE_trax"))
+        .args(["native", s.kernel, "--scene", "cornell"])
+        .args([
+            "--width",
+            &s.width.to_string(),
+            "--height",
+            &s.height.to_string(),
+        ])
+        .args(["--spp", &s.spp.to_string(), "--depth", &s.depth.to_string()])
+        .args([
+            "--tms",
+            &s.tms.to_string(),
+            "--threads",
+            &s.threads.to_string(),
+        ])
+        .arg("--raw-framebuffer")
+        .arg(&raw)
+        .env("TRAX_CACHE_DIR", &cache)
+        .current_dir(root())
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}: {}",
+        s.kernel,
+        String::from_utf8_lossy(&out.stderr)
+    );
+    Frame {
+        stdout: String::from_utf8(out.stdout).unwrap(),
+        framebuffer: std::fs::read(&raw).unwrap(),
+    }
+}
+
+fn check(s: Setup) {
+    let e = emulate(&s);
+    let n = native(&s);
+    assert_eq!(e.stdout, n.stdout, "{}: printed output", s.kernel);
+    assert_eq!(
+        e.framebuffer.len(),
+        (s.width * s.height * 12) as usize,
+        "{}",
+        s.kernel
+    );
+    if e.framebuffer != n.framebuffer {
+        let first = e
+            .framebuffer
+            .chunks(4)
+            .zip(n.framebuffer.chunks(4))
+            .position(|(a, b)| a != b)
+            .unwrap_or(0);
+        let f = |b: &[u8]| f32::from_le_bytes(b[first * 4..first * 4 + 4].try_into().unwrap());
+        panic!(
+            "{}: framebuffers differ first at pixel {} channel {}: emulator {} native {}",
+            s.kernel,
+            first / 3,
+            first % 3,
+            f(&e.framebuffer),
+            f(&n.framebuffer)
+        );
+    }
+    // Not vacuous: kernels print or draw something.
+    if s.kernel.ends_with("features.rs") {
+        assert!(e.stdout.lines().count() > 10, "{}", e.stdout);
+    } else if s.kernel.ends_with("hello.rs") {
+        let lines = e.stdout.lines().filter(|l| l.starts_with("hello")).count();
+        assert_eq!(lines as u32, s.tms * s.threads, "{}", e.stdout);
+    } else {
+        assert!(
+            e.framebuffer.iter().any(|&b| b != 0),
+            "{}: black image",
+            s.kernel
+        );
+    }
+}
+
+fn setup(kernel: &str) -> Setup<'_> {
+    Setup {
+        kernel,
+        width: 16,
+        height: 12,
+        spp: 2,
+        depth: 2,
+        tms: 2,
+        threads: 3,
+        opt_level: 2,
+    }
+}
+
+#[test]
+fn hello() {
+    check(setup("examples/hello.rs"));
+}
+
+#[test]
+fn gradient() {
+    check(setup("examples/gradient.rs"));
+}
+
+#[test]
+fn mandelbrot() {
+    check(setup("examples/mandelbrot.rs"));
+}
+
+#[test]
+fn mandelbrot_simd() {
+    check(setup("examples/mandelbrot_simd.rs"));
+}
+
+#[test]
+fn raycast() {
+    check(setup("examples/raycast.rs"));
+}
+
+#[test]
+fn ao() {
+    check(setup("examples/ao.rs"));
+}
+
+#[test]
+fn pathtracer() {
+    check(setup("examples/pathtracer.rs"));
+}
+
+/// The compiler's every-feature kernel prints what rustc's build prints, at -O0 and -O3.
+#[test]
+fn language_features() {
+    for opt_level in [0, 3] {
+        check(Setup {
+            tms: 1,
+            threads: 1,
+            opt_level,
+            ..setup("compiler/tests/kernels/features.rs")
+        });
+    }
+}

@@ -1,0 +1,156 @@
+//! End-to-end tests of `trax build` and `trax run`: kernel source to image, crash
+//! reports by source line, and clear errors for bad input.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("run-{name}"));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn trax(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_trax"))
+        .args(args)
+        .current_dir(root())
+        .output()
+        .expect("run trax")
+}
+
+fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+#[test]
+fn hello_runs_from_source_with_every_thread() {
+    let out = trax(&["run", "examples/hello.rs", "--tms", "2", "--threads", "3"]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let stdout = text(&out.stdout);
+    for id in 0..6u32 {
+        let line = format!(
+            "hello from thread {id} of 6 (TM {}, thread {})",
+            id / 3,
+            id % 3
+        );
+        assert!(stdout.contains(&line), "missing {line:?} in\n{stdout}");
+    }
+}
+
+#[test]
+fn build_then_run_the_executable_gives_the_same_image() {
+    let dir = scratch("build");
+    let elf = dir.join("gradient.elf");
+    let out = trax(&["build", "examples/gradient.rs", "-o", elf.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let bytes = std::fs::read(&elf).unwrap();
+    assert_eq!(&bytes[..4], b"\x7fELF");
+    assert_eq!(u16::from_le_bytes([bytes[16], bytes[17]]), 2, "ET_EXEC");
+
+    let from_elf = dir.join("a.png");
+    let from_src = dir.join("b.png");
+    let size = ["--width", "24", "--height", "16"];
+    let out = trax(
+        &[
+            &[
+                "run",
+                elf.to_str().unwrap(),
+                "-o",
+                from_elf.to_str().unwrap(),
+            ][..],
+            &size,
+        ]
+        .concat(),
+    );
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let out = trax(
+        &[
+            &[
+                "run",
+                "examples/gradient.rs",
+                "-o",
+                from_src.to_str().unwrap(),
+            ][..],
+            &size,
+        ]
+        .concat(),
+    );
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let a = std::fs::read(&from_elf).unwrap();
+    assert_eq!(a, std::fs::read(&from_src).unwrap());
+    let dec = png::Decoder::new(std::io::BufReader::new(
+        std::fs::File::open(&from_elf).unwrap(),
+    ));
+    let info = dec.read_info().unwrap().info().clone();
+    assert_eq!((info.width, info.height), (24, 16));
+}
+
+#[test]
+fn out_of_bounds_crash_names_the_source_line() {
+    let dir = scratch("crash");
+    let k = dir.join("oob.rs");
+    std::fs::write(
+        &k,
+        "fn get(a: &[u32; 4], i: u32) -> u32 {\n    a[i as usize]\n}\n\nfn trax_main() {\n    let a = [1u32, 2, 3, 4];\n    let v = get(&a, trax::global_id() + 3);\n    println!(\"v = {}\", v);\n}\n",
+    )
+    .unwrap();
+    let out = trax(&["run", k.to_str().unwrap(), "--threads", "2"]);
+    assert_eq!(out.status.code(), Some(1), "{}", text(&out.stderr));
+    let err = text(&out.stderr);
+    assert!(err.contains("thread 1"), "{err}");
+    assert!(err.contains("index out of bounds"), "{err}");
+    assert!(err.contains("oob.rs:2:5"), "{err}");
+    assert!(err.contains("a[i as usize]"), "{err}");
+    assert_eq!(text(&out.stdout), "v = 4\n");
+}
+
+#[test]
+fn compile_errors_point_at_the_source() {
+    let dir = scratch("diag");
+    let k = dir.join("bad.rs");
+    std::fs::write(&k, "fn trax_main() {\n    let x: u32 = 1.5;\n}\n").unwrap();
+    for cmd in ["run", "build"] {
+        let mut args = vec![cmd, k.to_str().unwrap()];
+        if cmd == "build" {
+            args.extend(["-o", "/dev/null"]);
+        }
+        let out = trax(&args);
+        assert_eq!(out.status.code(), Some(1), "{cmd}");
+        let err = text(&out.stderr);
+        assert!(err.contains("bad.rs:2:"), "{cmd}: {err}");
+    }
+}
+
+#[test]
+fn bad_inputs_are_named() {
+    let out = trax(&["run", "/nonexistent/kernel.elf"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(text(&out.stderr).contains("/nonexistent/kernel.elf"));
+
+    let out = trax(&["run", "examples/hello.rs", "--scene", "/nonexistent.obj"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(text(&out.stderr).contains("nonexistent.obj"));
+
+    let out = trax(&["run", "examples/hello.rs", "--threads", "0"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(text(&out.stderr).contains("--threads"));
+
+    let out = trax(&["run", "examples/hello.rs", "--width", "0"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(text(&out.stderr).contains("--width"));
+
+    let dir = scratch("notelf");
+    let f = dir.join("junk.elf");
+    std::fs::write(&f, b"not an elf").unwrap();
+    let out = trax(&["run", f.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        text(&out.stderr).contains("junk.elf"),
+        "{}",
+        text(&out.stderr)
+    );
+}

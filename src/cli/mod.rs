@@ -2,6 +2,7 @@
 
 use clap::{Parser, Subcommand};
 
+mod annotate;
 mod build;
 mod common;
 mod disasm;
@@ -33,6 +34,8 @@ enum Command {
     Run(run::RunArgs),
     /// Disassemble an executable, optionally with source lines.
     Disasm(disasm::DisasmArgs),
+    /// Run a kernel with profiling and print per-source-line costs next to the source.
+    Annotate(annotate::AnnotateArgs),
 }
 
 pub fn main() -> std::process::ExitCode {
@@ -43,6 +46,7 @@ pub fn main() -> std::process::ExitCode {
         Command::Native(a) => native::run(a),
         Command::Run(a) => run::run(a),
         Command::Disasm(a) => disasm::run(a),
+        Command::Annotate(a) => annotate::run(a),
     }
 }
 

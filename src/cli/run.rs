@@ -4,17 +4,23 @@
 //!
 //! The work is in [`super::prepare`] (build + memory image), [`trax_emulator::timing::run`]
 //! and [`trax_emulator::session::run`] (execution); this module parses arguments and reports.
+//! `--profile` charges every instruction (functional) or thread-cycle (timing) to its call
+//! stack ([`trax_emulator::profile`]); `--gdb ADDR` serves the run to gdb-multiarch
+//! ([`trax_emulator::gdb`]). [`execute`] is shared with `trax annotate`.
 
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use clap::Args;
-use trax_emulator::machine::MachineConfig;
+use clap::{Args, ValueEnum};
+use trax_emulator::debuginfo::DebugInfo;
+use trax_emulator::elf::Executable;
+use trax_emulator::machine::{Machine, MachineConfig};
 use trax_emulator::memory::Segment;
-use trax_emulator::session::{run as run_session, RunRequest};
+use trax_emulator::profile::{profile_run, Profile};
+use trax_emulator::session::{load_debug, run as run_session, RunRequest};
 use trax_emulator::timing::{self, ChipConfig, TimingRequest};
-use trax_emulator::Outcome;
+use trax_emulator::{crash, gdb, Outcome};
 use trax_runtime::host::framebuffer_rgb8;
 
 use super::common::RenderArgs;
@@ -24,6 +30,60 @@ use super::prepare::prepare;
 /// Arguments of `trax run`.
 #[derive(Args, Debug)]
 pub struct RunArgs {
+    /// Kernel, scene, chip and run parameters.
+    #[command(flatten)]
+    pub exec: ExecArgs,
+    /// Profile the run: instructions (functional) or thread-cycles with the stall
+    /// breakdown (timing), charged to full source call stacks.
+    #[arg(long)]
+    pub profile: bool,
+    /// Profile output format (`tree` is printed after the program's output).
+    #[arg(long, value_enum, default_value_t = ProfileFormat::Tree, requires = "profile")]
+    pub profile_format: ProfileFormat,
+    /// Write the profile here (default for `folded`: profile.folded, for `speedscope`:
+    /// profile.speedscope.json; `tree` goes to stdout unless this is given).
+    #[arg(long, requires = "profile")]
+    pub profile_out: Option<PathBuf>,
+    /// Serve the run to GDB (gdb-multiarch `target remote ADDR`) on this address, e.g.
+    /// 127.0.0.1:1234 (functional mode).
+    #[arg(long, value_name = "ADDR", conflicts_with = "profile")]
+    pub gdb: Option<String>,
+    /// Allow a non-loopback `--gdb` address (anyone who can connect controls the run).
+    #[arg(long, requires = "gdb")]
+    pub gdb_allow_remote: bool,
+}
+
+/// Profile output formats.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ProfileFormat {
+    /// Indented call tree with inclusive and self percentages.
+    Tree,
+    /// Folded stacks (`a;b;c N` lines), flame-graph input.
+    Folded,
+    /// speedscope JSON (https://www.speedscope.app).
+    Speedscope,
+}
+
+/// What to do besides running: profile, or serve to GDB.
+#[derive(Clone, Debug, Default)]
+pub struct Extras {
+    /// Collect a profile.
+    pub profile: bool,
+    /// GDB server address and whether non-loopback addresses are allowed.
+    pub gdb: Option<(String, bool)>,
+}
+
+/// A finished run as [`execute`] reports it.
+pub struct Executed {
+    /// The process exit code.
+    pub code: ExitCode,
+    /// The resolved profile (when asked for and the run got going) and the DWARF.
+    pub profile: Option<(Profile, Option<DebugInfo>)>,
+}
+
+/// Kernel, scene, chip and run parameters shared by `trax run` and `trax annotate`.
+#[derive(Args, Debug)]
+pub struct ExecArgs {
     /// The kernel: TRaX-Rust source (`.rs`, built first) or a linked executable (ELF).
     pub kernel: PathBuf,
     /// Optimisation level when building from source (`-O0` .. `-O3`).
@@ -66,17 +126,61 @@ pub struct RunArgs {
 
 /// Runs `trax run`.
 pub fn run(a: RunArgs) -> ExitCode {
-    match execute(&a) {
-        Ok(code) => code,
-        Err(msg) => {
-            eprint!("{}", with_newline(format!("error: {msg}")));
-            ExitCode::FAILURE
+    let extras = Extras {
+        profile: a.profile,
+        gdb: a.gdb.clone().map(|g| (g, a.gdb_allow_remote)),
+    };
+    if a.gdb.is_some() && !a.exec.functional {
+        return fail("--gdb needs --functional (the debugger drives the functional core)".into());
+    }
+    let done = match execute(&a.exec, &extras) {
+        Ok(d) => d,
+        Err(msg) => return fail(msg),
+    };
+    if let Some((profile, _)) = &done.profile {
+        if let Err(msg) = write_profile(&a, profile) {
+            return fail(msg);
         }
     }
+    done.code
 }
 
+/// Prints `error: msg` and gives the failure exit code.
+pub fn fail(msg: String) -> ExitCode {
+    eprint!("{}", with_newline(format!("error: {msg}")));
+    ExitCode::FAILURE
+}
+
+/// Prints or writes the profile in the requested format.
+fn write_profile(a: &RunArgs, p: &Profile) -> Result<(), String> {
+    let (text, default) = match a.profile_format {
+        ProfileFormat::Tree => (p.render_tree(TREE_MIN_PERCENT), None),
+        ProfileFormat::Folded => (p.folded(), Some("profile.folded")),
+        ProfileFormat::Speedscope => {
+            let name = a.exec.kernel.display().to_string();
+            (p.speedscope(&name), Some("profile.speedscope.json"))
+        }
+    };
+    match a.profile_out.as_deref().or(default.map(std::path::Path::new)) {
+        Some(path) => {
+            std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))?;
+            eprintln!("wrote profile to {}", path.display());
+        }
+        None => {
+            let stdout = std::io::stdout();
+            let mut out = stdout.lock();
+            let _ = out.write_all(text.as_bytes());
+            let _ = out.flush();
+        }
+    }
+    Ok(())
+}
+
+/// Call-tree nodes below this inclusive percentage are left out of the printed tree.
+const TREE_MIN_PERCENT: f64 = 0.1;
+
 /// The chip: the named config with the command-line overrides applied.
-fn chip_config(a: &RunArgs) -> Result<ChipConfig, String> {
+fn chip_config(a: &ExecArgs) -> Result<ChipConfig, String> {
     let mut chip = ChipConfig::load(&a.config).map_err(|e| e.to_string())?;
     for (flag, v) in [("tms", a.tms), ("threads", a.threads), ("l2s", a.l2s)] {
         if v == Some(0) {
@@ -99,7 +203,9 @@ fn chip_config(a: &RunArgs) -> Result<ChipConfig, String> {
     Ok(chip)
 }
 
-fn execute(a: &RunArgs) -> Result<ExitCode, String> {
+/// Prepares and runs the kernel, reports statistics, writes the PNG; with `extras`,
+/// profiles the run or serves it to GDB.
+pub fn execute(a: &ExecArgs, extras: &Extras) -> Result<Executed, String> {
     if a.quantum == 0 {
         return Err("--quantum must be at least 1".into());
     }
@@ -121,7 +227,10 @@ fn execute(a: &RunArgs) -> Result<ExitCode, String> {
         Ok(p) => p,
         Err(e) => {
             eprint!("{}", with_newline(format!("error: {e}")));
-            return Ok(ExitCode::from(e.exit_code()));
+            return Ok(Executed {
+                code: ExitCode::from(e.exit_code()),
+                profile: None,
+            });
         }
     };
     let fb = prepared.image.header.framebuffer;
@@ -140,6 +249,7 @@ fn execute(a: &RunArgs) -> Result<ExitCode, String> {
     let mut out = stdout.lock();
     let start = std::time::Instant::now();
     let threads = chip.tms * chip.threads_per_tm;
+    let mut profile = None;
     let (outcome, report, machine) = if a.functional {
         let config = MachineConfig {
             tms: chip.tms,
@@ -148,33 +258,46 @@ fn execute(a: &RunArgs) -> Result<ExitCode, String> {
             quantum: a.quantum,
             max_instructions: a.max_instructions,
         };
-        let req = RunRequest {
-            elf_path: &prepared.name,
-            elf: &prepared.elf,
-            segments: Some(segments),
-            config,
+        let r = if extras.profile || extras.gdb.is_some() {
+            run_functional_extra(&prepared.name, &prepared.elf, segments, config, extras, &mut out)?
+        } else {
+            let req = RunRequest {
+                elf_path: &prepared.name,
+                elf: &prepared.elf,
+                segments: Some(segments),
+                config,
+            };
+            let r = run_session(req, &mut out).map_err(|e| format!("{}: {e}", prepared.name))?;
+            FunctionalRun {
+                outcome: r.summary.outcome,
+                instructions: r.summary.instructions,
+                rays: r.summary.stats.first().copied().unwrap_or(0),
+                report: r.report,
+                machine: r.machine,
+                profile: None,
+            }
         };
-        let r = run_session(req, &mut out).map_err(|e| format!("{}: {e}", prepared.name))?;
         let _ = out.flush();
+        profile = r.profile;
         let secs = start.elapsed().as_secs_f64();
-        let n = r.summary.instructions;
+        let n = r.instructions;
         eprintln!(
             "{n} instructions in {secs:.3} s ({:.1} M instr/s), {threads} thread(s), functional",
             n as f64 / secs.max(1e-9) / 1e6,
         );
-        if r.summary.stats[0] > 0 {
-            eprintln!("rays: {}", r.summary.stats[0]);
+        if r.rays > 0 {
+            eprintln!("rays: {}", r.rays);
         }
         if let Some(path) = &a.stats_json {
             let json = serde_json::json!({
                 "mode": "functional",
                 "threads": threads,
                 "instructions": n,
-                "rays": r.summary.stats[0],
+                "rays": r.rays,
             });
             write_json(path, &json)?;
         }
-        (r.summary.outcome, r.report, r.machine)
+        (r.outcome, r.report, r.machine)
     } else {
         let req = TimingRequest {
             elf_path: &prepared.name,
@@ -183,8 +306,13 @@ fn execute(a: &RunArgs) -> Result<ExitCode, String> {
             host_threads: a.host_threads,
             max_cycles: a.max_instructions,
         };
-        let r = timing::run(req, &chip, &mut out).map_err(|e| format!("{}: {e}", prepared.name))?;
+        let (r, prof) = timing::run_profiled(req, &chip, &mut out, extras.profile)
+            .map_err(|e| format!("{}: {e}", prepared.name))?;
         let _ = out.flush();
+        if let Some(prof) = prof {
+            let dbg = load_debug(&prepared.name, &prepared.elf).ok();
+            profile = Some((Profile::build(&prof, dbg.as_ref(), Some(&r.exe)), dbg));
+        }
         let secs = start.elapsed().as_secs_f64();
         eprint!("{}", with_newline(r.stats.summary()));
         eprintln!("simulated in {secs:.3} s");
@@ -205,14 +333,86 @@ fn execute(a: &RunArgs) -> Result<ExitCode, String> {
         write_png(path, w, h, &framebuffer_rgb8(&bytes, w, h)).map_err(|e| e.to_string())?;
         eprintln!("wrote {}", path.display());
     }
-    match (&outcome, &report) {
-        (Outcome::Finished, _) => Ok(ExitCode::SUCCESS),
+    let code = match (&outcome, &report) {
+        (Outcome::Finished, _) => ExitCode::SUCCESS,
         (_, Some(report)) => {
             eprint!("{}", with_newline(report.clone()));
-            Ok(ExitCode::FAILURE)
+            ExitCode::FAILURE
         }
-        (outcome, None) => Err(format!("{}: {outcome:?}", prepared.name)),
-    }
+        (outcome, None) => return Err(format!("{}: {outcome:?}", prepared.name)),
+    };
+    Ok(Executed { code, profile })
+}
+
+/// A functional run's results, however it was driven.
+struct FunctionalRun {
+    outcome: Outcome,
+    instructions: u64,
+    rays: u64,
+    report: Option<String>,
+    machine: Machine,
+    profile: Option<(Profile, Option<DebugInfo>)>,
+}
+
+/// A functional run with profiling or under GDB (the plain one is
+/// [`trax_emulator::session::run`]).
+fn run_functional_extra(
+    name: &str,
+    elf: &[u8],
+    segments: Vec<Segment>,
+    config: MachineConfig,
+    extras: &Extras,
+    out: &mut dyn Write,
+) -> Result<FunctionalRun, String> {
+    let exe = Executable::parse(name, elf).map_err(|e| format!("{name}: {e}"))?;
+    let mut machine = Machine::new(&segments, exe.text_start, exe.text_end, exe.entry, config)
+        .map_err(|e| format!("{name}: {e}"))?;
+    let mut profile = None;
+    let (outcome, instructions) = if let Some((addr, allow_remote)) = &extras.gdb {
+        let listener = gdb::bind(addr, *allow_remote).map_err(|e| e.to_string())?;
+        let local = listener.local_addr().map_err(|e| e.to_string())?;
+        eprintln!("waiting for gdb on {local}");
+        let outcome = gdb::serve_listener(&mut machine, listener, out).map_err(|e| e.to_string())?;
+        match outcome {
+            Some(o) => (o, retired(&machine)),
+            None => {
+                eprintln!("gdb detached before the program ended; running it to completion");
+                let s = machine.run(out);
+                (s.outcome, retired(&machine))
+            }
+        }
+    } else {
+        let (summary, prof) = profile_run(&mut machine, out);
+        let dbg = load_debug(name, elf).ok();
+        profile = Some((Profile::build(&prof, dbg.as_ref(), Some(&exe)), dbg));
+        (summary.outcome, summary.instructions)
+    };
+    let report = match &outcome {
+        Outcome::Finished => None,
+        Outcome::Crashed(c) => {
+            let dbg = load_debug(name, elf).ok();
+            Some(crash::report(c, &machine.shared, Some(&exe), dbg.as_ref()))
+        }
+        Outcome::Deadlock { waiting } => Some(format!(
+            "error: deadlock: {waiting} live thread(s) are all waiting at barriers or semaphores"
+        )),
+        Outcome::InstructionLimit => Some(format!(
+            "error: instruction limit reached after {instructions} instructions"
+        )),
+    };
+    Ok(FunctionalRun {
+        outcome,
+        instructions,
+        rays: machine.shared.stats.first().copied().unwrap_or(0),
+        report,
+        machine,
+        profile,
+    })
+}
+
+/// Instructions retired by every thread so far.
+fn retired(m: &Machine) -> u64 {
+    m.threads.iter().map(|t| t.retired).sum()
 }
 
 fn write_json(path: &std::path::Path, value: &serde_json::Value) -> Result<(), String> {

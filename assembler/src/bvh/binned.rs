@@ -79,6 +79,14 @@ impl Bin {
             max: [self.hi[0], self.hi[1], self.hi[2]],
         }
     }
+
+    /// Surface area of a non-empty bin (callers only use it once something was added; an
+    /// empty bin's value is meaningless but never NaN-trapping).
+    #[inline(always)]
+    fn area(&self) -> f32 {
+        let d = [0, 1, 2].map(|i| self.hi[i] - self.lo[i]);
+        2.0 * (d[0] * d[1] + d[1] * d[2] + d[2] * d[0])
+    }
 }
 
 /// A chosen split: the left part's size and, when the binning already knows them, each
@@ -246,7 +254,7 @@ fn sah_split(
     let n = range.len();
     // Many bins where they matter (large nodes near the root, where a few huge triangles
     // such as enclosing walls must be separated precisely), few where they would be noise.
-    let nb = n.max(16).min(nb);
+    let nb = (n / 2).max(16).min(nb);
     // Large nodes alternate between two bin sets, so that runs of neighbouring triangles
     // falling in one bin do not serialise on that bin's memory; merged afterwards.
     let sets = if n >= 8 * nb { 2 } else { 1 };
@@ -302,7 +310,7 @@ fn sah_split(
         let mut acc = Bin::EMPTY;
         for k in (1..nb).rev() {
             acc.merge(&bins[k]);
-            right_area[k] = acc.aabb().area();
+            right_area[k] = acc.area();
         }
         let mut acc = Bin::EMPTY;
         let mut nl = 0u32;
@@ -313,7 +321,7 @@ fn sah_split(
             if nl == 0 || nr == 0 {
                 continue;
             }
-            let cost = acc.aabb().area() * nl as f32 + right_area[k + 1] * nr as f32;
+            let cost = acc.area() * nl as f32 + right_area[k + 1] * nr as f32;
             if cost < best.0 {
                 best = (cost, axis, k);
             }
@@ -405,30 +413,37 @@ fn exact_split(
     if right_area.len() < n + 1 {
         right_area.resize(n + 1, 0.0);
     }
-    // Sort small (key, position) pairs rather than the 32-byte triangles themselves.
-    let mut keys = [(0.0f32, 0u8); EXACT_BELOW];
+    // Sort packed (ordered key bits, position) integers rather than the 32-byte triangles
+    // or float pairs: one integer compare per step, same order as `total_cmp` then position.
+    let mut keys = [0u64; EXACT_BELOW];
     let keys = &mut keys[..n];
+    let mut best_keys = [0u64; EXACT_BELOW];
     let mut best = (f32::INFINITY, 0usize, 0usize);
     for axis in 0..3 {
         for (i, k) in keys.iter_mut().enumerate() {
-            *k = (range[i].c(axis), i as u8);
+            *k = pack_key(range[i].c(axis), i);
         }
         sort_keys(keys);
         let mut acc = Bin::EMPTY;
         for k in (1..n).rev() {
-            acc.add(&range[keys[k].1 as usize]);
-            right_area[k] = acc.aabb().area();
+            acc.add(&range[key_pos(keys[k])]);
+            right_area[k] = acc.area();
         }
         let mut acc = Bin::EMPTY;
+        let mut improved = false;
         for k in 1..n {
-            acc.add(&range[keys[k - 1].1 as usize]);
-            if keys[k - 1].0 == keys[k].0 {
+            acc.add(&range[key_pos(keys[k - 1])]);
+            if key_f32(keys[k - 1]) == key_f32(keys[k]) {
                 continue;
             }
-            let cost = acc.aabb().area() * k as f32 + right_area[k] * (n - k) as f32;
+            let cost = acc.area() * k as f32 + right_area[k] * (n - k) as f32;
             if cost < best.0 {
                 best = (cost, axis, k);
+                improved = true;
             }
+        }
+        if improved {
+            best_keys[..n].copy_from_slice(keys);
         }
     }
     let area = t.bounds.area();
@@ -440,30 +455,45 @@ fn exact_split(
     }
     // Reorder by the chosen axis through a small buffer (cheaper than sorting 32-byte
     // triangles); the split falls between distinct keys, so the sides are exact.
-    let axis = best.1;
-    for (i, k) in keys.iter_mut().enumerate() {
-        *k = (range[i].c(axis), i as u8);
-    }
-    sort_keys(keys);
     let mut buf = [range[0]; EXACT_BELOW];
     buf[..n].copy_from_slice(range);
-    for (dst, k) in range.iter_mut().zip(keys.iter()) {
-        *dst = buf[k.1 as usize];
+    for (dst, &k) in range.iter_mut().zip(best_keys[..n].iter()) {
+        *dst = buf[key_pos(k)];
     }
     Some(best.2)
 }
 
-/// Sorts (key, position) pairs by key, then position: insertion sort for the tiny arrays
-/// near the leaves (where a general sort's set-up dominates), the standard sort otherwise.
-fn sort_keys(keys: &mut [(f32, u8)]) {
-    let less = |a: &(f32, u8), b: &(f32, u8)| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)).is_lt();
+/// Packs a key and a position so that integer order is `f32::total_cmp` order, then position.
+#[inline(always)]
+fn pack_key(key: f32, pos: usize) -> u64 {
+    let b = key.to_bits();
+    let ord = if b >> 31 == 1 { !b } else { b | 0x8000_0000 };
+    ((ord as u64) << 32) | pos as u64
+}
+
+/// The position packed by [`pack_key`].
+#[inline(always)]
+fn key_pos(k: u64) -> usize {
+    (k as u32) as usize
+}
+
+/// The key packed by [`pack_key`].
+#[inline(always)]
+fn key_f32(k: u64) -> f32 {
+    let ord = (k >> 32) as u32;
+    f32::from_bits(if ord >> 31 == 1 { ord & 0x7FFF_FFFF } else { !ord })
+}
+
+/// Sorts packed keys: insertion sort for the tiny arrays near the leaves (where a general
+/// sort's set-up dominates), the standard sort otherwise.
+fn sort_keys(keys: &mut [u64]) {
     if keys.len() > 8 {
-        keys.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        keys.sort_unstable();
         return;
     }
     for i in 1..keys.len() {
         let mut j = i;
-        while j > 0 && less(&keys[j], &keys[j - 1]) {
+        while j > 0 && keys[j] < keys[j - 1] {
             keys.swap(j, j - 1);
             j -= 1;
         }

@@ -20,6 +20,7 @@ use crate::decode::Inst;
 use crate::exec::Stop;
 use crate::machine::{Crash, Machine, Outcome};
 use crate::memsys::{Access, AccessKind, Completion, MemRequest, MemSystem, Stall};
+use crate::profile::{CostKind, Profiler};
 use crate::thread::{RunState, Shared, Thread};
 
 /// Number of `UnitClass` values (array index bound).
@@ -112,6 +113,11 @@ pub struct Engine<'c> {
     pub now: u64,
     global_ops: u32,
     max_cycles: Option<u64>,
+    /// When set, every live thread-cycle (issue or stall) is charged to the thread's
+    /// call stack and pc: issue, data-dependence, resource (unit, I-cache, cache bank),
+    /// memory (MSHRs, DRAM queue) and other (barrier/semaphore wait) cycles. Halted
+    /// threads are not charged, so the profile total is the live thread-cycles.
+    pub profiler: Option<Profiler>,
 }
 
 fn slot_idx(base: u32, len: usize, pc: u32) -> usize {
@@ -174,6 +180,7 @@ impl<'c> Engine<'c> {
             now: 0,
             global_ops: 0,
             max_cycles,
+            profiler: None,
         })
     }
 
@@ -257,6 +264,7 @@ impl<'c> Engine<'c> {
         if now < until {
             self.c.tc.data_dependence += 1;
             self.c.dep_by_producer[p as usize] += 1;
+            self.charge(m, gid, CostKind::DataStall);
             return Ok(());
         }
         let t = &mut m.threads[gid];
@@ -270,6 +278,7 @@ impl<'c> Engine<'c> {
                     t.state = RunState::Running;
                 } else {
                     self.c.tc.sync_wait += 1;
+                    self.charge(m, gid, CostKind::OtherStall);
                     return Ok(());
                 }
             }
@@ -321,6 +330,7 @@ impl<'c> Engine<'c> {
             let slot = &mut self.icache_use[cache * ic.banks as usize + bank];
             if *slot >= ic.fetches_per_bank {
                 self.c.tc.icache_conflict += 1;
+                self.charge(m, gid, CostKind::ResourceStall);
                 return Ok(());
             }
             *slot += 1;
@@ -339,6 +349,7 @@ impl<'c> Engine<'c> {
                 if ready != PENDING {
                     self.wake[gid] = (ready, p as u32);
                 }
+                self.charge(m, gid, CostKind::DataStall);
                 return Ok(());
             }
         }
@@ -372,13 +383,29 @@ impl<'c> Engine<'c> {
                     Access::Ready(c) => ready_at = c.max(now + 1),
                     Access::Pending => pending_load = true,
                     Access::Stall(st) => {
-                        match st {
-                            Stall::L1Bank => self.c.tc.l1_bank_conflict += 1,
-                            Stall::L2Bank => self.c.tc.l2_bank_conflict += 1,
-                            Stall::L1Mshr => self.c.tc.l1_mshr_full += 1,
-                            Stall::L2Mshr => self.c.tc.l2_mshr_full += 1,
-                            Stall::DramQueue => self.c.tc.dram_queue_full += 1,
-                        }
+                        let kind = match st {
+                            Stall::L1Bank => {
+                                self.c.tc.l1_bank_conflict += 1;
+                                CostKind::ResourceStall
+                            }
+                            Stall::L2Bank => {
+                                self.c.tc.l2_bank_conflict += 1;
+                                CostKind::ResourceStall
+                            }
+                            Stall::L1Mshr => {
+                                self.c.tc.l1_mshr_full += 1;
+                                CostKind::MemoryStall
+                            }
+                            Stall::L2Mshr => {
+                                self.c.tc.l2_mshr_full += 1;
+                                CostKind::MemoryStall
+                            }
+                            Stall::DramQueue => {
+                                self.c.tc.dram_queue_full += 1;
+                                CostKind::MemoryStall
+                            }
+                        };
+                        self.charge(m, gid, kind);
                         return Ok(());
                     }
                 }
@@ -390,6 +417,7 @@ impl<'c> Engine<'c> {
                     if self.global_ops >= self.cfg.global_registers.ops_per_cycle {
                         self.c.tc.unit_conflict += 1;
                         self.c.unit_conflicts[UnitClass::GlobalRegs as usize] += 1;
+                        self.charge(m, gid, CostKind::ResourceStall);
                         return Ok(());
                     }
                     self.global_ops += 1;
@@ -403,6 +431,7 @@ impl<'c> Engine<'c> {
                     if u.free_at[inst] > now {
                         self.c.tc.unit_conflict += 1;
                         self.c.unit_conflicts[c as usize] += 1;
+                        self.charge(m, gid, CostKind::ResourceStall);
                         return Ok(());
                     }
                     u.free_at[inst] = if u.pipelined {
@@ -417,9 +446,29 @@ impl<'c> Engine<'c> {
         // Issue: execute functionally now.
         let gr_wait = info.class == UnitClass::GlobalRegs;
         let before = m.threads[gid].pc;
+        // The issue cycle belongs to the stack and pc before execution (a call pushes,
+        // a return pops). A global-register op may turn out to be a semaphore retry, so
+        // its thread is snapshotted (rare ops, profiling only).
+        let snapshot = match (&self.profiler, gr_wait) {
+            (Some(_), true) => Some(m.threads[gid].clone()),
+            (Some(_), false) => {
+                self.charge(m, gid, CostKind::Issue);
+                None
+            }
+            (None, _) => None,
+        };
         self.execute(m, gid, idx)?;
         let t = &m.threads[gid];
-        if gr_wait && t.pc == before && t.state == RunState::Running {
+        let retry = gr_wait && t.pc == before && t.state == RunState::Running;
+        if let (Some(p), Some(snap)) = (self.profiler.as_mut(), snapshot) {
+            let kind = if retry {
+                CostKind::OtherStall
+            } else {
+                CostKind::Issue
+            };
+            p.charge(gid, &snap, kind, 1);
+        }
+        if retry {
             // A semaphore that is not available: retry next cycle.
             self.c.tc.sync_wait += 1;
             return Ok(());
@@ -435,6 +484,14 @@ impl<'c> Engine<'c> {
             s.producer[info.dst as usize] = idx as u32;
         }
         Ok(())
+    }
+
+    /// Charges one cycle of `kind` to thread `gid` when profiling.
+    #[inline(always)]
+    fn charge(&mut self, m: &Machine, gid: usize, kind: CostKind) {
+        if let Some(p) = self.profiler.as_mut() {
+            p.charge(gid, &m.threads[gid], kind, 1);
+        }
     }
 
     /// Executes the thread's next instruction functionally.

@@ -27,6 +27,7 @@ use crate::crash;
 use crate::elf::{ElfError, Executable};
 use crate::machine::{Machine, MachineConfig, Outcome, SetupError};
 use crate::memory::Segment;
+use crate::profile::Profiler;
 
 /// Errors before the simulation starts.
 #[derive(Debug, thiserror::Error)]
@@ -81,6 +82,18 @@ pub fn run(
     chip: &ChipConfig,
     out: &mut dyn Write,
 ) -> Result<TimingResult, TimingError> {
+    run_profiled(req, chip, out, false).map(|(r, _)| r)
+}
+
+/// Like [`run`]; with `profile`, also charges every live thread-cycle (issue and each
+/// stall kind) to its call stack and returns the [`Profiler`] (see
+/// [`engine::Engine::profiler`]).
+pub fn run_profiled(
+    req: TimingRequest<'_>,
+    chip: &ChipConfig,
+    out: &mut dyn Write,
+    profile: bool,
+) -> Result<(TimingResult, Option<Profiler>), TimingError> {
     chip.validate()?;
     let exe = Executable::parse(req.elf_path, req.elf)?;
     let segments = req.segments.clone().unwrap_or_else(|| exe.segments.clone());
@@ -94,7 +107,11 @@ pub fn run(
     let mut machine = Machine::new(&segments, exe.text_start, exe.text_end, exe.entry, mcfg)?;
     let mut engine =
         engine::Engine::new(chip, &machine, req.max_cycles).map_err(TimingError::Memory)?;
+    if profile {
+        engine.profiler = Some(Profiler::new(&machine.shared.program, machine.threads.len()));
+    }
     let outcome = engine.run(&mut machine, out);
+    let profiler = engine.profiler.take();
     let cycles = engine.now;
     let st = stats::build(
         chip,
@@ -115,11 +132,12 @@ pub fn run(
         )),
         Outcome::InstructionLimit => Some(format!("error: cycle limit reached after {cycles} cycles")),
     };
-    Ok(TimingResult {
+    let result = TimingResult {
         outcome,
         stats: st,
         report,
         machine,
         exe,
-    })
+    };
+    Ok((result, profiler))
 }

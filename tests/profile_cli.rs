@@ -147,7 +147,10 @@ fn timing_profile_total_is_the_live_thread_cycles() {
         root_line.contains(&format!("issue {issued}")),
         "root {root_line} vs {issued} issued"
     );
-    assert!(root_line.contains("stall"), "no stall breakdown: {root_line}");
+    assert!(
+        root_line.contains("stall"),
+        "no stall breakdown: {root_line}"
+    );
 }
 
 #[test]
@@ -165,7 +168,7 @@ fn annotate_prints_kernel_lines_with_costs() {
     let stdout = text(&out.stdout);
     let line = stdout
         .lines()
-        .find(|l| l.ends_with("| let g = (y as f32 + 0.5) * inv_h;"))
+        .find(|l| l.contains(" | ") && l.ends_with("let g = (y as f32 + 0.5) * inv_h;"))
         .unwrap_or_else(|| panic!("kernel line missing in\n{stdout}"));
     let cost: u64 = line.split_whitespace().next().unwrap().parse().unwrap();
     // One evaluation per pixel at least.
@@ -182,8 +185,71 @@ fn gdb_refuses_remote_addresses_and_timing_mode() {
         "0.0.0.0:0",
     ]);
     assert!(!out.status.success());
-    assert!(text(&out.stderr).contains("not a loopback"), "{}", text(&out.stderr));
+    assert!(
+        text(&out.stderr).contains("not a loopback"),
+        "{}",
+        text(&out.stderr)
+    );
     let out = trax(&["run", "examples/hello.rs", "--gdb", "127.0.0.1:0"]);
     assert!(!out.status.success());
-    assert!(text(&out.stderr).contains("--functional"), "{}", text(&out.stderr));
+    assert!(
+        text(&out.stderr).contains("--functional"),
+        "{}",
+        text(&out.stderr)
+    );
+}
+
+#[test]
+fn gdb_session_continues_the_run_to_its_end() {
+    use std::io::{BufRead, BufReader, Read};
+    use std::process::Stdio;
+    let dir = scratch("gdb");
+    let elf = dir.join("hello.elf");
+    let out = trax(&["build", "examples/hello.rs", "-o", elf.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let mut child = Command::new(env!("CARGO_BIN_EXE_trax"))
+        .args([
+            "run",
+            elf.to_str().unwrap(),
+            "--functional",
+            "--tms",
+            "1",
+            "--threads",
+            "2",
+        ])
+        .args(["--gdb", "127.0.0.1:0"])
+        .current_dir(root())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("spawn trax");
+    let mut err = BufReader::new(child.stderr.take().unwrap());
+    let mut line = String::new();
+    err.read_line(&mut line).unwrap();
+    let addr = line
+        .trim()
+        .strip_prefix("waiting for gdb on ")
+        .unwrap_or_else(|| panic!("unexpected first line {line:?}"))
+        .to_string();
+    let g = Command::new("gdb-multiarch")
+        .arg("-batch")
+        .arg("-nx")
+        .arg(&elf)
+        .args(["-ex", &format!("target remote {addr}"), "-ex", "continue"])
+        .output()
+        .expect("run gdb-multiarch");
+    let gdb_out = text(&g.stdout) + &text(&g.stderr);
+    let status = child.wait().unwrap();
+    let mut rest = String::new();
+    err.read_to_string(&mut rest).unwrap();
+    let mut stdout = String::new();
+    child
+        .stdout
+        .take()
+        .unwrap()
+        .read_to_string(&mut stdout)
+        .unwrap();
+    assert!(status.success(), "trax: {rest}\ngdb: {gdb_out}");
+    assert!(gdb_out.contains("exited normally"), "{gdb_out}");
+    assert!(stdout.contains("hello from thread 1 of 2"), "{stdout}");
 }

@@ -34,7 +34,7 @@ pub enum PrepareError {
     #[error("linking {path}: {source}")]
     Link {
         path: String,
-        source: trax_assembler::link::LinkError,
+        source: Box<trax_assembler::link::LinkError>,
     },
     #[error("scene `{scene}`: {source}")]
     Scene {
@@ -110,5 +110,8 @@ pub fn build_executable(kernel: &Path, opt_level: u8) -> Result<Vec<u8>, Prepare
     };
     link(&[input], &LinkOptions::default())
         .map(|l| l.elf)
-        .map_err(|source| PrepareError::Link { path: name, source })
+        .map_err(|source| PrepareError::Link {
+            path: name,
+            source: Box::new(source),
+        })
 }

@@ -161,7 +161,11 @@ fn write_profile(a: &RunArgs, p: &Profile) -> Result<(), String> {
             (p.speedscope(&name), Some("profile.speedscope.json"))
         }
     };
-    match a.profile_out.as_deref().or(default.map(std::path::Path::new)) {
+    match a
+        .profile_out
+        .as_deref()
+        .or(default.map(std::path::Path::new))
+    {
         Some(path) => {
             std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))?;
             eprintln!("wrote profile to {}", path.display());
@@ -259,7 +263,14 @@ pub fn execute(a: &ExecArgs, extras: &Extras) -> Result<Executed, String> {
             max_instructions: a.max_instructions,
         };
         let r = if extras.profile || extras.gdb.is_some() {
-            run_functional_extra(&prepared.name, &prepared.elf, segments, config, extras, &mut out)?
+            run_functional_extra(
+                &prepared.name,
+                &prepared.elf,
+                segments,
+                config,
+                extras,
+                &mut out,
+            )?
         } else {
             let req = RunRequest {
                 elf_path: &prepared.name,
@@ -372,7 +383,8 @@ fn run_functional_extra(
         let listener = gdb::bind(addr, *allow_remote).map_err(|e| e.to_string())?;
         let local = listener.local_addr().map_err(|e| e.to_string())?;
         eprintln!("waiting for gdb on {local}");
-        let outcome = gdb::serve_listener(&mut machine, listener, out).map_err(|e| e.to_string())?;
+        let outcome =
+            gdb::serve_listener(&mut machine, listener, out).map_err(|e| e.to_string())?;
         match outcome {
             Some(o) => (o, retired(&machine)),
             None => {

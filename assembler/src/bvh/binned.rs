@@ -1,10 +1,11 @@
 //! Binned SAH builder (one thread).
 //!
 //! Each node of `n` triangles bins their centroids into `n` equal slots per axis (at least
-//! 16, at most `bins`; nodes of at most 32 triangles evaluate every split exactly instead),
-//! evaluates the SAH at every bin boundary of all three axes, and splits at the cheapest
-//! one; a node with at most `max_leaf` triangles becomes a leaf when that is no more
-//! expensive. Robustness:
+//! 16, at most `bins`), evaluates the SAH at every bin boundary of all three axes, and splits
+//! at the cheapest one; a node with at most `max_leaf` triangles becomes a leaf when that is
+//! no more expensive. Subtrees of at most 128 triangles are instead built with exact
+//! full-sweep splits over lists sorted once per subtree (cheaper than binning at that size,
+//! and better splits). Robustness:
 //! a node whose centroids coincide on every axis, or that has no split with both sides
 //! non-empty, is split at the middle of its range; past `sah_depth` splits are object
 //! medians, so depth stays bounded; bin indices are clamped so huge or tiny extents never
@@ -117,7 +118,9 @@ struct Task {
 
 /// Nodes with at most this many triangles evaluate every split (a full sweep), which is
 /// cheap at that size and recovers the quality binning loses on small nodes.
-const EXACT_BELOW: usize = 32;
+const EXACT_BELOW: usize = 128;
+// Small subtrees index their triangles with `u8`.
+const _: () = assert!(EXACT_BELOW <= 256);
 
 /// Bounds of a range and of its doubled centroids.
 fn range_bounds(prims: &[Prim]) -> (Aabb, Aabb) {
@@ -158,7 +161,8 @@ pub fn build(triangles: &[[Vec3; 3]], opts: &BvhOptions) -> Bvh {
     }];
     let mut bins = vec![Bin::EMPTY; 6 * nb];
     let mut counts = vec![0u32; 6 * nb];
-    let mut right_area = vec![0.0f32; nb];
+    let mut right_area = vec![0.0f32; 3 * nb];
+    let mut small = Small::new(max_leaf, opts.sah_depth);
     while let Some(t) = stack.pop() {
         let n = t.end - t.start;
         let leaf = |nodes: &mut Vec<Node>| {
@@ -174,6 +178,10 @@ pub fn build(triangles: &[[Vec3; 3]], opts: &BvhOptions) -> Bvh {
             continue;
         }
         let range = &mut prims[t.start..t.end];
+        if n <= EXACT_BELOW {
+            small.build(range, &t, &mut nodes);
+            continue;
+        }
         let ext = [0, 1, 2].map(|i| t.cbounds.max[i] - t.cbounds.min[i]);
         let widest = (0..3)
             .max_by(|&a, &b| ext[a].total_cmp(&ext[b]))
@@ -186,8 +194,6 @@ pub fn build(triangles: &[[Vec3; 3]], opts: &BvhOptions) -> Bvh {
             let mid = n / 2;
             range.select_nth_unstable_by(mid, |a, b| a.c(widest).total_cmp(&b.c(widest)));
             Some(Split::at(mid))
-        } else if n <= EXACT_BELOW {
-            exact_split(range, &t, max_leaf, &mut right_area).map(Split::at)
         } else {
             sah_split(
                 range,
@@ -254,10 +260,10 @@ fn sah_split(
     let n = range.len();
     // Many bins where they matter (large nodes near the root, where a few huge triangles
     // such as enclosing walls must be separated precisely), few where they would be noise.
-    let nb = (n / 2).max(16).min(nb);
+    let nb = n.max(16).min(nb);
     // Large nodes alternate between two bin sets, so that runs of neighbouring triangles
     // falling in one bin do not serialise on that bin's memory; merged afterwards.
-    let sets = if n >= 8 * nb { 2 } else { 1 };
+    let sets = if n >= 2 * nb { 2 } else { 1 };
     bins[..sets * 3 * nb].fill(Bin::EMPTY);
     counts[..sets * 3 * nb].fill(0);
     // A finite, non-negative scale; `as usize` saturates (NaN -> 0), then clamp.
@@ -300,31 +306,41 @@ fn sah_split(
             }
         }
     }
-    let mut best = (f32::INFINITY, 0usize, 0usize); // (cost, axis, last left bin)
-    for axis in 0..3 {
-        if scale[axis] == 0.0 {
-            continue;
+    // All three axes in one pass, so their dependency chains overlap. An axis that was not
+    // binned (scale 0) has every triangle in bin 0, so it never offers a split.
+    let bx = [&bins[..nb], &bins[nb..2 * nb], &bins[2 * nb..3 * nb]];
+    let cx = [&counts[..nb], &counts[nb..2 * nb], &counts[2 * nb..3 * nb]];
+    let right_area = &mut right_area[..3 * nb];
+    let mut acc = [Bin::EMPTY; 3];
+    for k in (1..nb).rev() {
+        for axis in 0..3 {
+            acc[axis].merge(&bx[axis][k]);
+            right_area[3 * k + axis] = acc[axis].area();
         }
-        let bins = &bins[axis * nb..axis * nb + nb];
-        let counts = &counts[axis * nb..axis * nb + nb];
-        let mut acc = Bin::EMPTY;
-        for k in (1..nb).rev() {
-            acc.merge(&bins[k]);
-            right_area[k] = acc.area();
-        }
-        let mut acc = Bin::EMPTY;
-        let mut nl = 0u32;
-        for k in 0..nb - 1 {
-            acc.merge(&bins[k]);
-            nl += counts[k];
-            let nr = n as u32 - nl;
-            if nl == 0 || nr == 0 {
+    }
+    let mut acc = [Bin::EMPTY; 3];
+    let mut nl = [0u32; 3];
+    let mut axis_best = [(f32::INFINITY, 0usize); 3]; // (cost, last left bin)
+    for k in 0..nb - 1 {
+        for axis in 0..3 {
+            acc[axis].merge(&bx[axis][k]);
+            nl[axis] += cx[axis][k];
+            let nr = n as u32 - nl[axis];
+            if nl[axis] == 0 || nr == 0 {
                 continue;
             }
-            let cost = acc.area() * nl as f32 + right_area[k + 1] * nr as f32;
-            if cost < best.0 {
-                best = (cost, axis, k);
+            let cost =
+                acc[axis].area() * nl[axis] as f32 + right_area[3 * (k + 1) + axis] * nr as f32;
+            if cost < axis_best[axis].0 {
+                axis_best[axis] = (cost, k);
             }
+        }
+    }
+    // Cheapest overall; ties go to the lower axis, then the lower bin.
+    let mut best = (f32::INFINITY, 0usize, 0usize); // (cost, axis, last left bin)
+    for (axis, &(cost, k)) in axis_best.iter().enumerate() {
+        if cost < best.0 {
+            best = (cost, axis, k);
         }
     }
     let area = t.bounds.area();
@@ -401,66 +417,212 @@ fn partition(range: &mut [Prim], left: impl Fn(&Prim) -> bool) -> (usize, Aabb, 
     (i, lc, rc)
 }
 
-/// Full-sweep SAH over a small range; sorts the range on the chosen axis and returns the left
-/// size, or `None` for a leaf.
-fn exact_split(
-    range: &mut [Prim],
-    t: &Task,
+/// A split inside a small subtree: (axis of the list that is split, left size, the two
+/// child boxes when the sweep already knows them).
+type SmallSplit = (usize, usize, Option<(Aabb, Aabb)>);
+
+/// Builds whole subtrees of at most [`EXACT_BELOW`] triangles with full-sweep SAH splits.
+///
+/// The triangles are copied to a local buffer and sorted once per axis (by doubled centroid,
+/// then position); each split then stably partitions the three sorted lists instead of
+/// sorting again, so a subtree costs three small sorts in all rather than three per node.
+/// Splits fall only between distinct keys, so each candidate's sides, and hence the tree,
+/// are those of sorting every node afresh.
+struct Small {
+    buf: [Prim; EXACT_BELOW],
+    /// Doubled centroids of `buf`, per axis.
+    keys: [[f32; EXACT_BELOW]; 3],
+    /// Per axis, local positions in key order; a node owns the same slice of all three.
+    lists: [[u8; EXACT_BELOW]; 3],
+    left: [bool; EXACT_BELOW],
+    /// Suffix boxes of the sweep, per position and axis.
+    right: [[Bin; 3]; EXACT_BELOW],
     max_leaf: usize,
-    right_area: &mut Vec<f32>,
-) -> Option<usize> {
-    let n = range.len();
-    if right_area.len() < n + 1 {
-        right_area.resize(n + 1, 0.0);
+    sah_depth: u32,
+}
+
+impl Small {
+    fn new(max_leaf: usize, sah_depth: u32) -> Small {
+        let zero = Prim {
+            lo: [0.0; 4],
+            hi: [0.0; 4],
+        };
+        Small {
+            buf: [zero; EXACT_BELOW],
+            keys: [[0.0; EXACT_BELOW]; 3],
+            lists: [[0; EXACT_BELOW]; 3],
+            left: [false; EXACT_BELOW],
+            right: [[Bin::EMPTY; 3]; EXACT_BELOW],
+            max_leaf,
+            sah_depth,
+        }
     }
-    // Sort packed (ordered key bits, position) integers rather than the 32-byte triangles
-    // or float pairs: one integer compare per step, same order as `total_cmp` then position.
-    let mut keys = [0u64; EXACT_BELOW];
-    let keys = &mut keys[..n];
-    let mut best_keys = [0u64; EXACT_BELOW];
-    let mut best = (f32::INFINITY, 0usize, 0usize);
-    for axis in 0..3 {
-        for (i, k) in keys.iter_mut().enumerate() {
-            *k = pack_key(range[i].c(axis), i);
-        }
-        sort_keys(keys);
-        let mut acc = Bin::EMPTY;
-        for k in (1..n).rev() {
-            acc.add(&range[key_pos(keys[k])]);
-            right_area[k] = acc.area();
-        }
-        let mut acc = Bin::EMPTY;
-        let mut improved = false;
-        for k in 1..n {
-            acc.add(&range[key_pos(keys[k - 1])]);
-            if key_f32(keys[k - 1]) == key_f32(keys[k]) {
-                continue;
+
+    /// Builds the subtree of task `t` (`range` is its triangles, at most [`EXACT_BELOW`]),
+    /// appending its nodes depth-first and reordering `range` into leaf order.
+    fn build(&mut self, range: &mut [Prim], t: &Task, nodes: &mut Vec<Node>) {
+        let n = range.len();
+        self.buf[..n].copy_from_slice(range);
+        let mut keys = [0u64; EXACT_BELOW];
+        for axis in 0..3 {
+            let keys = &mut keys[..n];
+            for (i, k) in keys.iter_mut().enumerate() {
+                let c = self.buf[i].c(axis);
+                self.keys[axis][i] = c;
+                *k = pack_key(c, i);
             }
-            let cost = acc.area() * k as f32 + right_area[k] * (n - k) as f32;
+            sort_keys(keys);
+            for (l, &k) in self.lists[axis].iter_mut().zip(keys.iter()) {
+                *l = key_pos(k) as u8;
+            }
+        }
+        self.node(0, n, t.node, t.bounds, t.depth, t.start as u32, nodes);
+        for (dst, &l) in range.iter_mut().zip(self.lists[0][..n].iter()) {
+            *dst = self.buf[l as usize];
+        }
+    }
+
+    /// Doubled centroid of local triangle `l` on `axis`.
+    #[inline(always)]
+    fn key(&self, axis: usize, l: u8) -> f32 {
+        self.keys[axis][l as usize]
+    }
+
+    /// Box of the triangles at list positions `s..e`.
+    fn bounds(&self, s: usize, e: usize) -> Aabb {
+        let mut b = Bin::EMPTY;
+        for &l in &self.lists[0][s..e] {
+            b.add(&self.buf[l as usize]);
+        }
+        b.aabb()
+    }
+
+    /// Builds the node at list positions `s..e` (slot `first + s` onwards).
+    #[allow(clippy::too_many_arguments)]
+    fn node(
+        &mut self,
+        s: usize,
+        e: usize,
+        node: u32,
+        bounds: Aabb,
+        depth: u32,
+        first: u32,
+        nodes: &mut Vec<Node>,
+    ) {
+        let n = e - s;
+        let mid = self.choose(s, e, &bounds, depth);
+        let Some((axis, k, boxes)) = mid else {
+            nodes[node as usize] = Node {
+                min: bounds.min,
+                max: bounds.max,
+                a: first + s as u32,
+                b: n as u32,
+            };
+            return;
+        };
+        // Mark the sides from the chosen axis's order, then stably partition the others.
+        let m = s + k;
+        for (i, &l) in self.lists[axis][s..e].iter().enumerate() {
+            self.left[l as usize] = i < k;
+        }
+        // Branch-free: each entry is written to both sides' buffers and only the cursor of
+        // its own side advances (the other write is overwritten or past the end).
+        for other in (0..3).filter(|&a| a != axis) {
+            let (mut lt, mut rt) = ([0u8; EXACT_BELOW], [0u8; EXACT_BELOW]);
+            let (mut i, mut j) = (0usize, 0usize);
+            for &l in &self.lists[other][s..e] {
+                let is_left = self.left[l as usize];
+                lt[i.min(EXACT_BELOW - 1)] = l;
+                rt[j.min(EXACT_BELOW - 1)] = l;
+                i += is_left as usize;
+                j += !is_left as usize;
+            }
+            self.lists[other][s..m].copy_from_slice(&lt[..k]);
+            self.lists[other][m..e].copy_from_slice(&rt[..n - k]);
+        }
+        let (lb, rb) = boxes.unwrap_or_else(|| (self.bounds(s, m), self.bounds(m, e)));
+        let a = nodes.len() as u32;
+        nodes.push(Node::default());
+        nodes.push(Node::default());
+        nodes[node as usize] = Node {
+            min: bounds.min,
+            max: bounds.max,
+            a,
+            b: 0,
+        };
+        self.node(s, m, a, lb, depth + 1, first, nodes);
+        self.node(m, e, a + 1, rb, depth + 1, first, nodes);
+    }
+
+    /// The split of list positions `s..e` as (axis, left size), or `None` for a leaf; the
+    /// same rules as the binned builder's loop, with every distinct split position a candidate.
+    fn choose(&mut self, s: usize, e: usize, bounds: &Aabb, depth: u32) -> Option<SmallSplit> {
+        let n = e - s;
+        if n == 1 {
+            return None;
+        }
+        let ext =
+            [0, 1, 2].map(|a| self.key(a, self.lists[a][e - 1]) - self.key(a, self.lists[a][s]));
+        let widest = (0..3)
+            .max_by(|&a, &b| ext[a].total_cmp(&ext[b]))
+            .unwrap_or(0);
+        if ext[widest] <= 0.0 {
+            // All centroids coincide: no spatial split exists.
+            return (n > self.max_leaf).then_some((0, n / 2, None));
+        }
+        if depth >= self.sah_depth {
+            return Some((widest, n / 2, None));
+        }
+        // All three axes in one pass, so their dependency chains overlap; suffix boxes are
+        // kept so the chosen split's child boxes come for free.
+        let Small {
+            buf,
+            keys,
+            lists,
+            right,
+            ..
+        } = self;
+        let lists = [&lists[0][s..e], &lists[1][s..e], &lists[2][s..e]];
+        let mut acc = [Bin::EMPTY; 3];
+        for k in (1..n).rev() {
+            for axis in 0..3 {
+                acc[axis].add(&buf[lists[axis][k] as usize]);
+                right[k][axis] = acc[axis];
+            }
+        }
+        let mut acc = [Bin::EMPTY; 3];
+        let mut axis_best = [(f32::INFINITY, 0usize, Bin::EMPTY); 3]; // (cost, k, left box)
+        for k in 1..n {
+            for axis in 0..3 {
+                let (prev, next) = (lists[axis][k - 1] as usize, lists[axis][k] as usize);
+                acc[axis].add(&buf[prev]);
+                if keys[axis][prev] == keys[axis][next] {
+                    continue;
+                }
+                let cost = acc[axis].area() * k as f32 + right[k][axis].area() * (n - k) as f32;
+                if cost < axis_best[axis].0 {
+                    axis_best[axis] = (cost, k, acc[axis]);
+                }
+            }
+        }
+        // Cheapest overall; ties go to the lower axis, then the lower position.
+        let mut best = (f32::INFINITY, 0usize, 0usize);
+        for (axis, &(cost, k, _)) in axis_best.iter().enumerate() {
             if cost < best.0 {
                 best = (cost, axis, k);
-                improved = true;
             }
         }
-        if improved {
-            best_keys[..n].copy_from_slice(keys);
+        let area = bounds.area();
+        if !best.0.is_finite() {
+            return (n > self.max_leaf).then_some((0, n / 2, None));
         }
+        if n <= self.max_leaf && n as f32 * area <= C_TRAV * area + best.0 {
+            return None;
+        }
+        let (axis, k) = (best.1, best.2);
+        let boxes = (axis_best[axis].2.aabb(), right[k][axis].aabb());
+        Some((axis, k, Some(boxes)))
     }
-    let area = t.bounds.area();
-    if !best.0.is_finite() {
-        return (n > max_leaf).then_some(n / 2);
-    }
-    if n <= max_leaf && n as f32 * area <= C_TRAV * area + best.0 {
-        return None;
-    }
-    // Reorder by the chosen axis through a small buffer (cheaper than sorting 32-byte
-    // triangles); the split falls between distinct keys, so the sides are exact.
-    let mut buf = [range[0]; EXACT_BELOW];
-    buf[..n].copy_from_slice(range);
-    for (dst, &k) in range.iter_mut().zip(best_keys[..n].iter()) {
-        *dst = buf[key_pos(k)];
-    }
-    Some(best.2)
 }
 
 /// Packs a key and a position so that integer order is `f32::total_cmp` order, then position.
@@ -475,13 +637,6 @@ fn pack_key(key: f32, pos: usize) -> u64 {
 #[inline(always)]
 fn key_pos(k: u64) -> usize {
     (k as u32) as usize
-}
-
-/// The key packed by [`pack_key`].
-#[inline(always)]
-fn key_f32(k: u64) -> f32 {
-    let ord = (k >> 32) as u32;
-    f32::from_bits(if ord >> 31 == 1 { ord & 0x7FFF_FFFF } else { !ord })
 }
 
 /// Sorts packed keys: insertion sort for the tiny arrays near the leaves (where a general

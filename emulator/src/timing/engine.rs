@@ -114,8 +114,9 @@ pub struct Engine<'c> {
     global_ops: u32,
     max_cycles: Option<u64>,
     /// When set, every live thread-cycle (issue or stall) is charged to the thread's
-    /// call stack and pc: issue, data-dependence, resource (unit, I-cache, cache bank),
-    /// memory (MSHRs, DRAM queue) and other (barrier/semaphore wait) cycles. Halted
+    /// call stack and pc: issue, data-dependence (on a non-load producer), resource
+    /// (unit, I-cache, cache bank), memory (waiting for a load's data, MSHRs full, DRAM
+    /// queue full) and other (barrier/semaphore wait) cycles. Halted
     /// threads are not charged, so the profile total is the live thread-cycles.
     pub profiler: Option<Profiler>,
 }
@@ -264,7 +265,8 @@ impl<'c> Engine<'c> {
         if now < until {
             self.c.tc.data_dependence += 1;
             self.c.dep_by_producer[p as usize] += 1;
-            self.charge(m, gid, CostKind::DataStall);
+            let kind = self.dep_kind(p as usize);
+            self.charge(m, gid, kind);
             return Ok(());
         }
         let t = &mut m.threads[gid];
@@ -349,7 +351,8 @@ impl<'c> Engine<'c> {
                 if ready != PENDING {
                     self.wake[gid] = (ready, p as u32);
                 }
-                self.charge(m, gid, CostKind::DataStall);
+                let kind = self.dep_kind(p);
+                self.charge(m, gid, kind);
                 return Ok(());
             }
         }
@@ -484,6 +487,16 @@ impl<'c> Engine<'c> {
             s.producer[info.dst as usize] = idx as u32;
         }
         Ok(())
+    }
+
+    /// The profile kind of a data-dependence stall on producer word `p`: waiting for a
+    /// load's data is a memory stall, anything else a data stall.
+    #[inline(always)]
+    fn dep_kind(&self, p: usize) -> CostKind {
+        match self.info.get(p) {
+            Some(i) if i.mem.is_some_and(|mo| !mo.store) => CostKind::MemoryStall,
+            _ => CostKind::DataStall,
+        }
     }
 
     /// Charges one cycle of `kind` to thread `gid` when profiling.

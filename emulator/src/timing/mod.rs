@@ -108,7 +108,10 @@ pub fn run_profiled(
     let mut engine =
         engine::Engine::new(chip, &machine, req.max_cycles).map_err(TimingError::Memory)?;
     if profile {
-        engine.profiler = Some(Profiler::new(&machine.shared.program, machine.threads.len()));
+        engine.profiler = Some(Profiler::new(
+            &machine.shared.program,
+            machine.threads.len(),
+        ));
     }
     let outcome = engine.run(&mut machine, out);
     let profiler = engine.profiler.take();

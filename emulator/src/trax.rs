@@ -10,7 +10,8 @@
 //! - `trax.clock`: the thread's retired-instruction count in functional mode.
 //! - `trax.rand`: `trax_runtime::rng::Rng` seeded from the scene header seed and the
 //!   thread's global id (identical to `trax native`).
-//! - `trax.fmin/fmax/invsqrt`: `trax_runtime::fops` (identical to `trax native`).
+//! - `trax.fmin/fmax/invsqrt`: `trax_runtime::fops`; `trax.boxtest/tritest`:
+//!   `trax_runtime::pipes` (both identical to `trax native`).
 //! - Streams: unbounded FIFO queues of rays; `trax.strsched` picks the non-empty stream
 //!   with the most rays (lowest id on ties) and makes it the TM's current stream.
 //! - Box pipeline: slab test with the ray's inverse direction; NaN slab distances (0 * inf)
@@ -20,7 +21,7 @@
 
 use crate::thread::{Fault, RunState, Shared, Thread, NUM_GLOBALS, NUM_STATS};
 use std::fmt::Write as _;
-use trax_runtime::fops;
+use trax_runtime::{fops, pipes};
 use trax_runtime::isa::{AbortKind, TraxOp};
 
 /// What the scheduler does after a TRaX instruction.
@@ -258,22 +259,17 @@ pub fn exec_trax(
         SetPipe => sh.tm_pipe_mode[t.tm as usize] = sa,
         BoxTest => {
             let c = |i: usize| f32::from_bits(t.cop2[i]);
-            let mut tmin = f32::NEG_INFINITY;
-            let mut tmax = f32::INFINITY;
-            for a in 0..3 {
-                let (o, inv) = (c(a), c(3 + a));
-                let t0 = (c(6 + a) - o) * inv;
-                let t1 = (c(9 + a) - o) * inv;
-                tmin = fops::fmax(tmin, fops::fmin(t0, t1));
-                tmax = fops::fmin(tmax, fops::fmax(t0, t1));
-            }
-            let entry = fops::fmax(tmin, 0.0);
-            let r = if tmax >= entry { entry } else { f32::INFINITY };
+            let r = pipes::box_test(
+                [c(0), c(1), c(2)],
+                [c(3), c(4), c(5)],
+                [c(6), c(7), c(8)],
+                [c(9), c(10), c(11)],
+            );
             t.regs.set_f32_bits(rd, r.to_bits());
         }
         TriTest => {
             let c = |i: usize| f32::from_bits(t.cop2[i]);
-            let (r, u, v) = tri_test(
+            let (r, u, v) = pipes::tri_test(
                 [c(0), c(1), c(2)],
                 [c(3), c(4), c(5)],
                 [c(12), c(13), c(14)],
@@ -299,54 +295,6 @@ fn stream_index(id: u32) -> Result<usize, Fault> {
     }
 }
 
-fn sub(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-fn cross(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-fn dot(a: [f32; 3], b: [f32; 3]) -> f32 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-/// Möller–Trumbore ray/triangle test: (distance or +inf, u, v).
-pub fn tri_test(
-    o: [f32; 3],
-    d: [f32; 3],
-    v0: [f32; 3],
-    v1: [f32; 3],
-    v2: [f32; 3],
-) -> (f32, f32, f32) {
-    let miss = (f32::INFINITY, 0.0, 0.0);
-    let e1 = sub(v1, v0);
-    let e2 = sub(v2, v0);
-    let p = cross(d, e2);
-    let det = dot(e1, p);
-    if det == 0.0 || det.is_nan() {
-        return miss;
-    }
-    let inv = 1.0 / det;
-    let s = sub(o, v0);
-    let u = dot(s, p) * inv;
-    if !(0.0..=1.0).contains(&u) {
-        return miss;
-    }
-    let q = cross(s, e1);
-    let v = dot(d, q) * inv;
-    if !(v >= 0.0 && u + v <= 1.0) {
-        return miss;
-    }
-    let dist = dot(e2, q) * inv;
-    if dist > 0.0 {
-        (dist, u, v)
-    } else {
-        miss
-    }
-}
 
 /// `fmt::Write` adapter over the output buffer.
 struct Out<'a>(&'a mut Vec<u8>);

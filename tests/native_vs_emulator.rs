@@ -180,7 +180,7 @@ fn check(s: Setup) {
         );
     }
     // Not vacuous: kernels print or draw something.
-    if s.kernel.ends_with("features.rs") {
+    if s.kernel.ends_with("features.rs") || s.kernel.ends_with("memfill.rs") {
         assert!(e.stdout.lines().count() > 10, "{}", e.stdout);
     } else if s.kernel.ends_with("hello.rs") {
         let lines = e.stdout.lines().filter(|l| l.starts_with("hello")).count();
@@ -251,6 +251,19 @@ fn language_features() {
             threads: 1,
             opt_level,
             ..setup("compiler/tests/kernels/features.rs")
+        });
+    }
+}
+
+/// Filled local arrays (the compiler's own `memset`, word and byte paths) match rustc.
+#[test]
+fn memory_fill() {
+    for opt_level in [0, 2] {
+        check(Setup {
+            tms: 1,
+            threads: 1,
+            opt_level,
+            ..setup("compiler/tests/kernels/memfill.rs")
         });
     }
 }

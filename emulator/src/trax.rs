@@ -21,8 +21,8 @@
 
 use crate::thread::{Fault, RunState, Shared, Thread, NUM_GLOBALS, NUM_STATS};
 use std::fmt::Write as _;
-use trax_runtime::{fops, pipes};
 use trax_runtime::isa::{AbortKind, TraxOp};
+use trax_runtime::{fops, pipes};
 
 /// What the scheduler does after a TRaX instruction.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -294,7 +294,6 @@ fn stream_index(id: u32) -> Result<usize, Fault> {
         })
     }
 }
-
 
 /// `fmt::Write` adapter over the output buffer.
 struct Out<'a>(&'a mut Vec<u8>);

@@ -10,10 +10,10 @@
 
 use std::io::Write;
 
-use crate::exec::Stop;
 use crate::memory::{LayoutError, Memory, Segment};
+use crate::profile::sched::{Driven, PlainExec, Scheduler};
 use crate::program::Program;
-use crate::thread::{CallFrame, ChipShape, Fault, RunState, Shared, Thread};
+use crate::thread::{CallFrame, ChipShape, Fault, Shared, Thread};
 use crate::RegFile;
 use trax_runtime::abi;
 
@@ -76,6 +76,23 @@ pub struct Crash {
     pub calls: Vec<CallFrame>,
     /// Registers at the fault.
     pub regs: RegFile,
+}
+
+impl Crash {
+    /// The crash of thread `t` with `fault`, capturing its state at the fault.
+    pub fn capture(t: &Thread, fault: Fault) -> Crash {
+        Crash {
+            fault,
+            gid: t.gid,
+            tid: t.tid,
+            tm: t.tm,
+            retired: t.retired,
+            pc: t.pc,
+            in_slot: t.slot_pc == t.pc,
+            calls: t.calls.clone(),
+            regs: t.regs.clone(),
+        }
+    }
 }
 
 /// How a run ended.
@@ -170,84 +187,19 @@ impl Machine {
     }
 
     /// Runs to completion, writing print output to `out` as it is produced.
+    ///
+    /// The interleaving (TM-major round robin, `quantum` instructions per turn) is
+    /// [`Scheduler`]'s, shared with the profiler and the debugger so their runs equal this one.
     pub fn run(&mut self, out: &mut dyn Write) -> RunSummary {
-        let quantum = self.config.quantum.max(1) as u64;
-        let mut total: u64 = self.threads.iter().map(|t| t.retired).sum();
-        let outcome = 'run: loop {
-            if self.shared.live_threads == 0 {
-                break Outcome::Finished;
-            }
-            let mut progressed = false;
-            for i in 0..self.threads.len() {
-                let t = &mut self.threads[i];
-                match t.state {
-                    RunState::Halted => continue,
-                    RunState::Barrier { reg, generation } => {
-                        if self.shared.barrier_generation[reg as usize] > generation {
-                            t.state = RunState::Running;
-                        } else {
-                            continue;
-                        }
-                    }
-                    RunState::Running => {}
-                }
-                let mut budget = quantum;
-                if let Some(max) = self.config.max_instructions {
-                    if total >= max {
-                        break 'run Outcome::InstructionLimit;
-                    }
-                    budget = budget.min(max - total);
-                }
-                let before = t.retired;
-                let stop = t.run(&mut self.shared, budget);
-                t.ll_addr = None;
-                total += t.retired - before;
-                progressed |= t.retired != before;
-                match stop {
-                    Stop::Budget | Stop::Blocked | Stop::Retry => {}
-                    Stop::Halted => {
-                        self.shared.live_threads -= 1;
-                        release_barriers(&mut self.shared);
-                    }
-                    Stop::Fault(fault) => {
-                        let t = &self.threads[i];
-                        let crash = Crash {
-                            fault,
-                            gid: t.gid,
-                            tid: t.tid,
-                            tm: t.tm,
-                            retired: t.retired,
-                            pc: t.pc,
-                            in_slot: t.slot_pc == t.pc,
-                            calls: t.calls.clone(),
-                            regs: t.regs.clone(),
-                        };
-                        drain(&mut self.shared.output, out);
-                        break 'run Outcome::Crashed(Box::new(crash));
-                    }
-                }
-            }
-            drain(&mut self.shared.output, out);
-            if !progressed && self.shared.live_threads > 0 {
-                // Released barrier waiters make progress on the next round.
-                let releasable = self.threads.iter().any(|t| match t.state {
-                    RunState::Barrier { reg, generation } => {
-                        self.shared.barrier_generation[reg as usize] > generation
-                    }
-                    RunState::Running => false,
-                    RunState::Halted => false,
-                });
-                if !releasable {
-                    break Outcome::Deadlock {
-                        waiting: self.shared.live_threads,
-                    };
-                }
+        let mut sched = Scheduler::new(self);
+        let outcome = loop {
+            if let Driven::Done(o) = sched.run(self, out, &mut PlainExec) {
+                break o;
             }
         };
-        drain(&mut self.shared.output, out);
         RunSummary {
             outcome,
-            instructions: total,
+            instructions: sched.total,
             stats: self.shared.stats.to_vec(),
             profile: self.shared.profile.to_vec(),
         }
@@ -255,7 +207,7 @@ impl Machine {
 }
 
 /// Releases barriers whose arrivals now cover every live thread (after a thread halts).
-fn release_barriers(sh: &mut Shared) {
+pub(crate) fn release_barriers(sh: &mut Shared) {
     for i in 0..sh.barrier_waiting.len() {
         if sh.barrier_waiting[i] > 0 && sh.globals[i] >= sh.live_threads {
             sh.globals[i] = 0;
@@ -265,7 +217,8 @@ fn release_barriers(sh: &mut Shared) {
     }
 }
 
-fn drain(buf: &mut Vec<u8>, out: &mut dyn Write) {
+/// Writes buffered print output to `out`.
+pub(crate) fn drain(buf: &mut Vec<u8>, out: &mut dyn Write) {
     if !buf.is_empty() {
         // Output errors (closed pipe) must not stop the simulation.
         let _ = out.write_all(buf);

@@ -1,10 +1,10 @@
 //! `trax build`: compile a TRaX-Rust kernel and link it with the runtime start-up code into a
 //! MIPS32r6 executable (or stop at an object, assembly or LLVM IR).
 
+use super::prepare::{build_executable, PrepareError};
 use clap::{Args, ValueEnum};
 use std::path::PathBuf;
 use std::process::ExitCode;
-use trax_assembler::link::{link, Input, LinkOptions};
 use trax_compiler::{compile_file, CompileError, CompileOptions, Emit, Prelude};
 
 /// Output kind of `trax build`.
@@ -38,31 +38,22 @@ pub struct BuildArgs {
 
 /// Runs `trax build`.
 pub fn run(a: BuildArgs) -> ExitCode {
-    let opts = CompileOptions {
-        opt_level: a.opt_level,
-        emit: match a.emit {
-            EmitKind::Exe | EmitKind::Obj => Emit::Obj,
-            EmitKind::Asm => Emit::Asm,
-            EmitKind::LlvmIr => Emit::LlvmIr,
-        },
-        prelude: Some(Prelude::runtime()),
-    };
-    let result = compile_file(&a.kernel, &opts).map(|out| out.bytes);
-    let result = match (result, a.emit) {
-        (Ok(obj), EmitKind::Exe) => {
-            let input = Input {
-                name: a.kernel.display().to_string(),
-                bytes: obj,
+    let result = match a.emit {
+        EmitKind::Exe => build_executable(&a.kernel, a.opt_level),
+        other => {
+            let opts = CompileOptions {
+                opt_level: a.opt_level,
+                emit: match other {
+                    EmitKind::Asm => Emit::Asm,
+                    EmitKind::LlvmIr => Emit::LlvmIr,
+                    EmitKind::Exe | EmitKind::Obj => Emit::Obj,
+                },
+                prelude: Some(Prelude::runtime()),
             };
-            match link(&[input], &LinkOptions::default()) {
-                Ok(linked) => Ok(linked.elf),
-                Err(e) => {
-                    eprintln!("error: linking {}: {e}", a.kernel.display());
-                    return ExitCode::from(1);
-                }
-            }
+            compile_file(&a.kernel, &opts)
+                .map(|out| out.bytes)
+                .map_err(PrepareError::Compile)
         }
-        (r, _) => r,
     };
     match result {
         Ok(bytes) => match std::fs::write(&a.output, &bytes) {
@@ -72,13 +63,17 @@ pub fn run(a: BuildArgs) -> ExitCode {
                 ExitCode::from(1)
             }
         },
-        Err(e) => {
+        Err(PrepareError::Compile(e)) => {
             match &e {
                 CompileError::Diagnostics(_) => eprint!("{e}"),
                 CompileError::Internal(_) => eprintln!(
                     "error: {e}\nnote: this is a bug in the trax compiler; please report it"
                 ),
             }
+            ExitCode::from(e.exit_code())
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
             ExitCode::from(e.exit_code())
         }
     }

@@ -1,15 +1,15 @@
-//! A resumable copy of [`Machine::run`]'s scheduler with a pluggable per-thread executor.
+//! The functional scheduler, resumable and with a pluggable per-thread executor.
 //!
-//! The profiler runs each thread's quantum in basic-block chunks and the debugger pauses
-//! the chip at a breakpoint and resumes it later; both need the interleaving of an
-//! ordinary run (TM-major round robin, `quantum` instructions per turn, LL link cleared
-//! on a context switch, barrier release when a thread halts) so their results equal an
-//! unprofiled, undebugged run. Keep this in step with `machine.rs`.
+//! [`Machine::run`] drives it with [`PlainExec`]; the profiler runs each thread's quantum
+//! in basic-block chunks and the debugger pauses the chip at a breakpoint and resumes it
+//! later. All share one interleaving (TM-major round robin, `quantum` instructions per
+//! turn, LL link cleared on a context switch, barrier release when a thread halts), so
+//! profiled and debugged runs equal ordinary ones.
 
 use std::io::Write;
 
 use crate::exec::Stop;
-use crate::machine::{Crash, Machine, Outcome};
+use crate::machine::{drain, release_barriers, Crash, Machine, Outcome};
 use crate::thread::{RunState, Shared, Thread};
 
 /// Runs one thread's turn (or part of it).
@@ -192,38 +192,9 @@ fn account(m: &mut Machine, i: usize, stop: Stop) -> Option<Outcome> {
             release_barriers(&mut m.shared);
             None
         }
-        Stop::Fault(fault) => {
-            let t = &m.threads[i];
-            Some(Outcome::Crashed(Box::new(Crash {
-                fault,
-                gid: t.gid,
-                tid: t.tid,
-                tm: t.tm,
-                retired: t.retired,
-                pc: t.pc,
-                in_slot: t.slot_pc == t.pc,
-                calls: t.calls.clone(),
-                regs: t.regs.clone(),
-            })))
-        }
-    }
-}
-
-/// Releases barriers whose arrivals now cover every live thread (as `machine.rs`).
-fn release_barriers(sh: &mut Shared) {
-    for i in 0..sh.barrier_waiting.len() {
-        if sh.barrier_waiting[i] > 0 && sh.globals[i] >= sh.live_threads {
-            sh.globals[i] = 0;
-            sh.barrier_generation[i] += 1;
-            sh.barrier_waiting[i] = 0;
-        }
-    }
-}
-
-fn drain(buf: &mut Vec<u8>, out: &mut dyn Write) {
-    if !buf.is_empty() {
-        let _ = out.write_all(buf);
-        let _ = out.flush();
-        buf.clear();
+        Stop::Fault(fault) => Some(Outcome::Crashed(Box::new(Crash::capture(
+            &m.threads[i],
+            fault,
+        )))),
     }
 }

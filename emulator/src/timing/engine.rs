@@ -18,7 +18,7 @@ use super::config::ChipConfig;
 use super::operands::{classify, OpInfo, NUM_SLOTS, PC_BASE};
 use crate::decode::Inst;
 use crate::exec::Stop;
-use crate::machine::{Crash, Machine, Outcome};
+use crate::machine::{drain, release_barriers, Crash, Machine, Outcome};
 use crate::memsys::{Access, AccessKind, Completion, MemRequest, MemSystem, Stall};
 use crate::profile::{CostKind, Profiler};
 use crate::thread::{RunState, Shared, Thread};
@@ -523,19 +523,7 @@ impl<'c> Engine<'c> {
                 sh.live_threads -= 1;
                 release_barriers(sh);
             }
-            Stop::Fault(fault) => {
-                return Err(Box::new(Crash {
-                    fault,
-                    gid: t.gid,
-                    tid: t.tid,
-                    tm: t.tm,
-                    retired: t.retired,
-                    pc: t.pc,
-                    in_slot: t.slot_pc == t.pc,
-                    calls: t.calls.clone(),
-                    regs: t.regs.clone(),
-                }))
-            }
+            Stop::Fault(fault) => return Err(Box::new(Crash::capture(t, fault))),
         }
         // `trax.clock` reads the cycle counter in the timing model.
         if let Some(Inst::Trax {
@@ -558,23 +546,4 @@ fn class_from_index(k: usize) -> Option<UnitClass> {
         .iter()
         .map(|(c, _)| *c)
         .find(|c| *c as usize == k)
-}
-
-/// Releases barriers whose arrivals now cover every live thread (after a thread halts).
-fn release_barriers(sh: &mut Shared) {
-    for i in 0..sh.barrier_waiting.len() {
-        if sh.barrier_waiting[i] > 0 && sh.globals[i] >= sh.live_threads {
-            sh.globals[i] = 0;
-            sh.barrier_generation[i] += 1;
-            sh.barrier_waiting[i] = 0;
-        }
-    }
-}
-
-fn drain(buf: &mut Vec<u8>, out: &mut dyn Write) {
-    if !buf.is_empty() {
-        let _ = out.write_all(buf);
-        let _ = out.flush();
-        buf.clear();
-    }
 }

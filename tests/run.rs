@@ -158,3 +158,46 @@ fn bad_inputs_are_named() {
         text(&out.stderr)
     );
 }
+
+/// The acceptance check: the same path-tracer run on 1 and 2 host threads writes
+/// identical JSON statistics and an identical image (4 TMs of detailed-DRAM baseline chip).
+#[test]
+fn host_threads_give_identical_stats_and_image() {
+    let dir = scratch("host-threads");
+    let run = |n: &str| {
+        let json = dir.join(format!("stats{n}.json"));
+        let png = dir.join(format!("img{n}.png"));
+        let out = trax(&[
+            "run",
+            "examples/pathtracer.rs",
+            "--config",
+            "baseline",
+            "--tms",
+            "4",
+            "--threads",
+            "8",
+            "--width",
+            "24",
+            "--height",
+            "24",
+            "--host-threads",
+            n,
+            "--stats-json",
+            json.to_str().unwrap(),
+            "-o",
+            png.to_str().unwrap(),
+        ]);
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        assert!(
+            text(&out.stderr).contains(&format!("on {n} host thread(s)")),
+            "{}",
+            text(&out.stderr)
+        );
+        (std::fs::read(json).unwrap(), std::fs::read(png).unwrap())
+    };
+    let (json1, png1) = run("1");
+    let (json2, png2) = run("2");
+    assert!(json1.len() > 1000);
+    assert_eq!(text(&json1), text(&json2));
+    assert_eq!(png1, png2);
+}

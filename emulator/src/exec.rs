@@ -16,9 +16,11 @@
 //! - `sc` succeeds if the thread's `ll` link is for the same address and the thread was
 //!   not descheduled in between (a context switch clears the link).
 
+use crate::chip::Chip;
 use crate::decode::{Conv, Inst, F2, F3};
 use crate::fpu::{self, BinOp, IntRound};
 use crate::memory::MemFault;
+use crate::msa_glue::MsaStep;
 use crate::thread::{CallFrame, Fault, Shared, Thread, MAX_SHADOW_FRAMES};
 use crate::trax::{exec_trax, TraxFlow};
 
@@ -35,6 +37,10 @@ pub enum Stop {
     Retry,
     /// The thread faulted at `pc` (not advanced; `retired` excludes it).
     Fault(Fault),
+    /// The next instruction changes chip-wide state the [`Chip`] view may not change (a
+    /// store to global memory, a global-register, stream or halt operation); nothing was
+    /// done (pc unchanged). Replay it with exclusive access.
+    Defer,
 }
 
 /// FCSR bits `ctc1 $31` can write (QEMU's r6 mask: RM, Flags, Enables, Cause, FS).
@@ -96,14 +102,14 @@ impl Thread {
     }
 
     /// Runs up to `budget` instructions.
-    pub fn run(&mut self, sh: &mut Shared, budget: u64) -> Stop {
+    pub fn run<C: Chip>(&mut self, sh: &mut C, budget: u64) -> Stop {
         let end = self.retired.saturating_add(budget);
         // pc and npc live in locals (registers) in the loop; `self` is updated on exit.
         let (mut pc, mut npc) = (self.pc, self.npc);
         while self.retired < end {
-            let inst = match sh.program.get(pc) {
+            let inst = match sh.shared().program.get(pc) {
                 Some(i) => *i,
-                None => match self.fetch_slow(sh, pc) {
+                None => match self.fetch_slow(sh.shared(), pc) {
                     Ok(i) => i,
                     Err(f) => {
                         (self.pc, self.npc) = (pc, npc);
@@ -122,13 +128,19 @@ impl Thread {
                                 None => Stop::Retry,
                             }
                         }
+                        StepExit::Defer => {
+                            (self.pc, self.npc) = (pc, npc);
+                            Stop::Defer
+                        }
                         StepExit::Flow(TraxFlow::Retry) => {
                             (self.pc, self.npc) = (pc, npc);
                             Stop::Retry
                         }
                         // Halt and Block completed the instruction and set pc/npc.
                         StepExit::Flow(TraxFlow::Halt) => Stop::Halted,
-                        StepExit::Flow(TraxFlow::Block | TraxFlow::Next) => Stop::Blocked,
+                        StepExit::Flow(TraxFlow::Block | TraxFlow::Next | TraxFlow::Defer) => {
+                            Stop::Blocked
+                        }
                     };
                 }
             }
@@ -140,9 +152,9 @@ impl Thread {
     /// Executes one instruction at `pc` (followed by `npc`). On `Ok` returns the new
     /// `(pc, npc)`; on an error exit `self.pc`/`self.npc` are left for the caller.
     #[inline(always)]
-    fn step(
+    fn step<C: Chip>(
         &mut self,
-        sh: &mut Shared,
+        sh: &mut C,
         pc: u32,
         npc: u32,
         inst: Inst,
@@ -195,7 +207,7 @@ impl Thread {
         }
         macro_rules! load {
             ($n:literal, $base:expr, $off:expr) => {
-                match sh.mem.read::<$n>(&self.local, ea!($base, $off)) {
+                match sh.shared().mem.read::<$n>(&self.local, ea!($base, $off)) {
                     Ok(b) => b,
                     Err(f) => fault!(mem_fault(f)),
                 }
@@ -203,8 +215,10 @@ impl Thread {
         }
         macro_rules! store {
             ($base:expr, $off:expr, $v:expr) => {
-                if let Err(f) = sh.mem.write(&mut self.local, ea!($base, $off), $v) {
-                    fault!(mem_fault(f))
+                match sh.store(&mut self.local, ea!($base, $off), $v) {
+                    Ok(true) => {}
+                    Ok(false) => return Err(StepExit::Defer),
+                    Err(f) => fault!(mem_fault(f)),
                 }
             };
         }
@@ -356,7 +370,7 @@ impl Thread {
             Addiupc { rs, off } => g!(rs) = pc.wrapping_add(off as u32),
             Lwpc { rs, off } => {
                 let a = pc.wrapping_add(off as u32);
-                match sh.mem.read::<4>(&self.local, a) {
+                match sh.shared().mem.read::<4>(&self.local, a) {
                     Ok(b) => g!(rs) = u32::from_le_bytes(b),
                     Err(f) => fault!(mem_fault(f)),
                 }
@@ -728,6 +742,7 @@ impl Thread {
             Trax { op, rd, rs, rt, sa } => match exec_trax(self, sh, op, rd, rs, rt, sa) {
                 Ok(TraxFlow::Next) => {}
                 Ok(TraxFlow::Retry) => return Err(StepExit::Flow(TraxFlow::Retry)),
+                Ok(TraxFlow::Defer) => return Err(StepExit::Defer),
                 Ok(flow) => {
                     // Halt/Block complete the instruction, then stop the thread.
                     self.regs.gpr[0] = 0;
@@ -739,8 +754,9 @@ impl Thread {
                 Err(f) => fault!(f),
             },
             Msa(m) => match crate::msa_glue::execute(self, sh, &m) {
-                Ok(None) => {}
-                Ok(Some(taken)) => {
+                Ok(MsaStep::Done) => {}
+                Ok(MsaStep::Defer) => return Err(StepExit::Defer),
+                Ok(MsaStep::Branch(taken)) => {
                     // MSA branches have a delay slot.
                     branch!(taken, m.imm);
                 }
@@ -830,6 +846,7 @@ fn int_round(op: Conv) -> IntRound {
 #[derive(Clone, Copy)]
 enum StepExit {
     Fault,
+    Defer,
     Flow(TraxFlow),
 }
 

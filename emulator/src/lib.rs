@@ -6,6 +6,7 @@
 //! memory, null guard, per-thread local stores); [`machine`] (threads and scheduling);
 //! [`elf`], [`debuginfo`] and [`crash`] (loading and reports); [`session`] (one-call runs).
 
+pub mod chip;
 pub mod crash;
 pub mod debuginfo;
 pub mod decode;

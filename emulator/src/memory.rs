@@ -245,6 +245,33 @@ impl Memory {
         Err(self.fault(addr, N as u8, true))
     }
 
+    /// Like [`Self::write`] for a view that may not change global memory: writes `local`
+    /// and returns `Ok(true)`, or returns `Ok(false)` without writing when `addr` is in
+    /// global memory (a write there is done later with [`Self::write`], which reports
+    /// its faults).
+    #[inline(always)]
+    pub fn write_local<const N: usize>(
+        &self,
+        local: &mut [u8],
+        addr: u32,
+        v: [u8; N],
+    ) -> Result<bool, MemFault> {
+        if (addr as usize) < self.bytes.len() {
+            return Ok(false);
+        }
+        if addr & (N as u32 - 1) != 0 {
+            return Err(self.fault(addr, N as u8, true));
+        }
+        let o = addr.wrapping_sub(self.stack_base) as usize;
+        match local.get_mut(o..o + N) {
+            Some(b) => {
+                b.copy_from_slice(&v);
+                Ok(true)
+            }
+            None => Err(self.fault(addr, N as u8, true)),
+        }
+    }
+
     /// Reads a byte string (for prints and abort messages); any byte may be unaligned.
     pub fn read_bytes(&self, local: &[u8], addr: u32, len: u32) -> Result<Vec<u8>, MemFault> {
         let mut out = Vec::with_capacity(len.min(1 << 16) as usize);

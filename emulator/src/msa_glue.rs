@@ -1,61 +1,93 @@
 //! Connects the MSA engine ([`crate::msa`]) to the core: memory access and fault mapping.
 
-use crate::memory::{MemFault, Memory};
+use crate::chip::Chip;
+use crate::memory::MemFault;
 use crate::msa::{self, MsaFault, MsaInst, MsaMemory, MsaOutcome};
-use crate::thread::{Fault, Shared, Thread};
+use crate::thread::{Fault, Thread};
+
+/// Why an MSA access did not complete.
+enum MemExit {
+    Fault(MemFault),
+    /// A store to global memory the chip view may not write (nothing was written).
+    Defer,
+}
+
+impl From<MemFault> for MemExit {
+    fn from(f: MemFault) -> Self {
+        MemExit::Fault(f)
+    }
+}
 
 /// MSA's view of a thread's memory (global memory plus its local store).
-struct ThreadMem<'a> {
-    mem: &'a mut Memory,
+struct ThreadMem<'a, C: Chip> {
+    chip: &'a mut C,
     local: &'a mut [u8],
 }
 
-impl MsaMemory for ThreadMem<'_> {
-    type Error = MemFault;
+impl<C: Chip> MsaMemory for ThreadMem<'_, C> {
+    type Error = MemExit;
 
-    fn load(&mut self, addr: u32, buf: &mut [u8]) -> Result<(), MemFault> {
+    fn load(&mut self, addr: u32, buf: &mut [u8]) -> Result<(), MemExit> {
+        let mem = &self.chip.shared().mem;
         if buf.len() == 16 && addr & 15 == 0 {
-            buf.copy_from_slice(&self.mem.read::<16>(self.local, addr)?);
+            buf.copy_from_slice(&mem.read::<16>(self.local, addr)?);
             return Ok(());
         }
         // MSA vector accesses need no alignment: go byte by byte.
         for (i, b) in buf.iter_mut().enumerate() {
-            *b = self
-                .mem
-                .read::<1>(self.local, addr.wrapping_add(i as u32))?[0];
+            *b = mem.read::<1>(self.local, addr.wrapping_add(i as u32))?[0];
         }
         Ok(())
     }
 
-    fn store(&mut self, addr: u32, data: &[u8]) -> Result<(), MemFault> {
+    fn store(&mut self, addr: u32, data: &[u8]) -> Result<(), MemExit> {
         if data.len() == 16 && addr & 15 == 0 {
             let mut v = [0u8; 16];
             v.copy_from_slice(data);
-            return self.mem.write::<16>(self.local, addr, v);
+            return match self.chip.store::<16>(self.local, addr, v)? {
+                true => Ok(()),
+                false => Err(MemExit::Defer),
+            };
         }
-        // All or nothing: check every byte before writing any.
+        // All or nothing: check every byte (and whether this view may write it) first.
+        let global_end = self.chip.shared().mem.global_end();
         for i in 0..data.len() as u32 {
-            self.mem.read::<1>(self.local, addr.wrapping_add(i))?;
+            let a = addr.wrapping_add(i);
+            self.chip.shared().mem.read::<1>(self.local, a)?;
+            if a < global_end && !self.chip.writes_global() {
+                return Err(MemExit::Defer);
+            }
         }
         for (i, b) in data.iter().enumerate() {
-            self.mem
-                .write::<1>(self.local, addr.wrapping_add(i as u32), [*b])?;
+            self.chip
+                .store::<1>(self.local, addr.wrapping_add(i as u32), [*b])?;
         }
         Ok(())
     }
 }
 
-/// Runs one MSA instruction: `Ok(None)` done, `Ok(Some(taken))` for an MSA branch.
+/// How an MSA instruction ended.
+pub enum MsaStep {
+    /// Executed.
+    Done,
+    /// An MSA branch, taken or not.
+    Branch(bool),
+    /// Not executed: it stores to global memory the chip view may not write.
+    Defer,
+}
+
+/// Runs one MSA instruction.
 #[inline(never)]
-pub fn execute(t: &mut Thread, sh: &mut Shared, inst: &MsaInst) -> Result<Option<bool>, Fault> {
+pub fn execute<C: Chip>(t: &mut Thread, sh: &mut C, inst: &MsaInst) -> Result<MsaStep, Fault> {
     let mut m = ThreadMem {
-        mem: &mut sh.mem,
+        chip: sh,
         local: &mut t.local,
     };
     match msa::execute(inst, &mut t.regs, &mut m) {
-        MsaOutcome::Done => Ok(None),
-        MsaOutcome::Branch(taken) => Ok(Some(taken)),
-        MsaOutcome::Fault(MsaFault::Memory(f)) => Err(Fault::Memory {
+        MsaOutcome::Done => Ok(MsaStep::Done),
+        MsaOutcome::Branch(taken) => Ok(MsaStep::Branch(taken)),
+        MsaOutcome::Fault(MsaFault::Memory(MemExit::Defer)) => Ok(MsaStep::Defer),
+        MsaOutcome::Fault(MsaFault::Memory(MemExit::Fault(f))) => Err(Fault::Memory {
             fault: f,
             fetch: false,
         }),

@@ -19,7 +19,8 @@
 //!   else +inf. Triangle pipeline: Möller–Trumbore in f32, hits with `t > 0` and
 //!   barycentrics in [0, 1]; barycentrics go to cop2 21 and 22.
 
-use crate::thread::{Fault, RunState, Shared, Thread, NUM_GLOBALS, NUM_STATS};
+use crate::chip::Chip;
+use crate::thread::{Fault, RunState, Thread, NUM_GLOBALS, NUM_STATS};
 use std::fmt::Write as _;
 use trax_runtime::isa::{AbortKind, TraxOp};
 use trax_runtime::{fops, pipes};
@@ -35,6 +36,8 @@ pub enum TraxFlow {
     Block,
     /// Not executed; try again later (pc unchanged).
     Retry,
+    /// Not executed: it changes chip-wide state the [`Chip`] view may not change.
+    Defer,
 }
 
 fn greg(index: u32) -> Result<usize, Fault> {
@@ -57,9 +60,9 @@ fn mem_err(f: crate::memory::MemFault) -> Fault {
 
 /// Executes one TRaX instruction.
 #[inline(never)]
-pub fn exec_trax(
+pub fn exec_trax<C: Chip>(
     t: &mut Thread,
-    sh: &mut Shared,
+    chip: &mut C,
     op: TraxOp,
     rd: u8,
     rs: u8,
@@ -77,12 +80,21 @@ pub fn exec_trax(
             t.regs.gpr[rd] = v;
         }
     };
+    // Operations that change chip-wide state need exclusive access.
+    macro_rules! exclusive {
+        () => {
+            match chip.exclusive() {
+                Some(sh) => sh,
+                None => return Ok(TraxFlow::Defer),
+            }
+        };
+    }
     match op {
         ThreadId => set(t, t.tid),
         TmId => set(t, t.tm),
         GlobalId => set(t, t.gid),
-        NumThreads => set(t, sh.shape.total()),
-        NumTms => set(t, sh.shape.tms),
+        NumThreads => set(t, chip.shared().shape.total()),
+        NumTms => set(t, chip.shared().shape.tms),
         Clock => set(t, t.retired as u32),
         Rand => {
             let v = t.rng.next_f32();
@@ -94,6 +106,7 @@ pub fn exec_trax(
         }
         AtomicInc | AtomicDec | AtomicAdd | IncReset => {
             let i = greg(vs)?;
+            let sh = exclusive!();
             let old = sh.globals[i];
             sh.globals[i] = match op {
                 AtomicInc => old.wrapping_add(1),
@@ -111,12 +124,16 @@ pub fn exec_trax(
             set(t, old);
         }
         GlobalRead => {
-            let v = sh.globals[greg(vs)?];
+            let v = chip.shared().globals[greg(vs)?];
             set(t, v);
         }
-        GlobalWrite => sh.globals[greg(vs)?] = vt,
+        GlobalWrite => {
+            let i = greg(vs)?;
+            exclusive!().globals[i] = vt;
+        }
         Barrier => {
             let i = greg(vs)?;
+            let sh = exclusive!();
             sh.globals[i] = sh.globals[i].wrapping_add(1);
             if sh.globals[i] >= sh.live_threads {
                 sh.globals[i] = 0;
@@ -133,6 +150,7 @@ pub fn exec_trax(
         }
         SemAcquire => {
             let i = greg(vs)?;
+            let sh = exclusive!();
             if sh.globals[i] == 0 {
                 return Ok(TraxFlow::Retry);
             }
@@ -140,47 +158,52 @@ pub fn exec_trax(
         }
         SemRelease => {
             let i = greg(vs)?;
+            let sh = exclusive!();
             sh.globals[i] = sh.globals[i].wrapping_add(1);
         }
         FMin => t.regs.set_f32_bits(rd, fops::fmin(f32s, f32t).to_bits()),
         FMax => t.regs.set_f32_bits(rd, fops::fmax(f32s, f32t).to_bits()),
         InvSqrt => t.regs.set_f32_bits(rd, fops::invsqrt(f32s).to_bits()),
         PrintInt => {
-            let _ = write!(Out(&mut sh.output), "{}", vs as i32);
+            let _ = write!(Out(chip.output()), "{}", vs as i32);
         }
         PrintUint => {
-            let _ = write!(Out(&mut sh.output), "{vs}");
+            let _ = write!(Out(chip.output()), "{vs}");
         }
         PrintF32 => {
-            let _ = write!(Out(&mut sh.output), "{f32s}");
+            let _ = write!(Out(chip.output()), "{f32s}");
         }
         PrintF64 => {
             let v = f64::from_bits(t.regs.f64_bits((rs & 31) as usize));
-            let _ = write!(Out(&mut sh.output), "{v}");
+            let _ = write!(Out(chip.output()), "{v}");
         }
         PrintStr => {
-            let bytes = sh.mem.read_bytes(&t.local, vs, vt).map_err(mem_err)?;
-            sh.output
+            let bytes = chip
+                .shared()
+                .mem
+                .read_bytes(&t.local, vs, vt)
+                .map_err(mem_err)?;
+            chip.output()
                 .extend_from_slice(String::from_utf8_lossy(&bytes).as_bytes());
         }
         PrintChar => {
             let c = char::from_u32(vs).unwrap_or(char::REPLACEMENT_CHARACTER);
-            let _ = write!(Out(&mut sh.output), "{c}");
+            let _ = write!(Out(chip.output()), "{c}");
         }
         PrintBool => {
-            let _ = write!(Out(&mut sh.output), "{}", vs != 0);
+            let _ = write!(Out(chip.output()), "{}", vs != 0);
         }
         PrintI64 => {
             let v = ((vt as u64) << 32 | vs as u64) as i64;
-            let _ = write!(Out(&mut sh.output), "{v}");
+            let _ = write!(Out(chip.output()), "{v}");
         }
         PrintU64 => {
             let v = (vt as u64) << 32 | vs as u64;
-            let _ = write!(Out(&mut sh.output), "{v}");
+            let _ = write!(Out(chip.output()), "{v}");
         }
         Abort => {
             let len = g(rd as u8).min(4096);
-            let message = match sh.mem.read_bytes(&t.local, vt, len) {
+            let message = match chip.shared().mem.read_bytes(&t.local, vt, len) {
                 Ok(b) => String::from_utf8_lossy(&b).into_owned(),
                 Err(_) => format!("<unreadable message at {vt:#010x}>"),
             };
@@ -194,7 +217,7 @@ pub fn exec_trax(
         ProfEnd => {
             if let Some(p) = t.profile_open.iter().rposition(|(r, _)| *r == sa) {
                 let (_, start) = t.profile_open.remove(p);
-                sh.profile[(sa & 31) as usize] += t.retired - start;
+                chip.profile()[(sa & 31) as usize] += t.retired - start;
             }
         }
         Stat => {
@@ -205,7 +228,7 @@ pub fn exec_trax(
                     index: sa as u32,
                 });
             }
-            sh.stats[i] += 1;
+            chip.stats()[i] += 1;
         }
         StreamWriteStart => t.stream_write = Some((vs, Vec::new())),
         StreamWrite => {
@@ -214,6 +237,7 @@ pub fn exec_trax(
             }
         }
         StreamWriteEnd => {
+            let sh = exclusive!();
             if let Some((id, words)) = t.stream_write.take() {
                 let id = stream_index(id)?;
                 if sh.streams.len() <= id {
@@ -223,6 +247,7 @@ pub fn exec_trax(
             }
         }
         StreamReadStart => {
+            let sh = exclusive!();
             let cur = sh.tm_stream[t.tm as usize];
             let ray = sh.streams.get_mut(cur as usize).and_then(|q| q.pop_front());
             let got = ray.is_some();
@@ -242,10 +267,15 @@ pub fn exec_trax(
         }
         StreamReadEnd => t.stream_read = None,
         StreamSize => {
-            let n = sh.streams.get(vs as usize).map_or(0, |q| q.len() as u32);
+            let n = chip
+                .shared()
+                .streams
+                .get(vs as usize)
+                .map_or(0, |q| q.len() as u32);
             set(t, n);
         }
         StreamSchedule => {
+            let sh = exclusive!();
             let best = sh
                 .streams
                 .iter()
@@ -256,7 +286,7 @@ pub fn exec_trax(
             sh.tm_stream[t.tm as usize] = best;
             set(t, best);
         }
-        SetPipe => sh.tm_pipe_mode[t.tm as usize] = sa,
+        SetPipe => exclusive!().tm_pipe_mode[t.tm as usize] = sa,
         BoxTest => {
             let c = |i: usize| f32::from_bits(t.cop2[i]);
             let r = pipes::box_test(

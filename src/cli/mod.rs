@@ -8,6 +8,7 @@ mod common;
 mod disasm;
 mod native;
 mod prepare;
+mod progress;
 mod run;
 mod scene;
 

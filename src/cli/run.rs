@@ -26,6 +26,7 @@ use trax_runtime::host::framebuffer_rgb8;
 use super::common::RenderArgs;
 use super::native::write_png;
 use super::prepare::prepare;
+use super::progress::ProgressLine;
 
 /// Arguments of `trax run`.
 #[derive(Args, Debug)]
@@ -107,9 +108,10 @@ pub struct ExecArgs {
     /// Functional mode: execute without the timing model (fast; no cycle statistics).
     #[arg(long)]
     pub functional: bool,
-    /// Host threads for the timing simulation (results are identical for any value).
-    #[arg(long, default_value_t = 1)]
-    pub host_threads: usize,
+    /// Host threads for the timing simulation; default: the host's cores (at most one per
+    /// TM). Results are identical for any value.
+    #[arg(long)]
+    pub host_threads: Option<usize>,
     /// Write the statistics as JSON to this file.
     #[arg(long)]
     pub stats_json: Option<PathBuf>,
@@ -213,7 +215,7 @@ pub fn execute(a: &ExecArgs, extras: &Extras) -> Result<Executed, String> {
     if a.quantum == 0 {
         return Err("--quantum must be at least 1".into());
     }
-    if a.host_threads == 0 {
+    if a.host_threads == Some(0) {
         return Err("--host-threads must be at least 1".into());
     }
     for out in a.output.iter().chain(&a.stats_json) {
@@ -310,15 +312,26 @@ pub fn execute(a: &ExecArgs, extras: &Extras) -> Result<Executed, String> {
         }
         (r.outcome, r.report, r.machine)
     } else {
+        // One host thread per TM at most; profiling runs on one (same results).
+        let host_threads = match a.host_threads {
+            Some(n) => n,
+            None => std::thread::available_parallelism().map_or(1, |n| n.get()),
+        }
+        .min(chip.tms as usize)
+        .max(1);
+        let host_threads = if extras.profile { 1 } else { host_threads };
         let req = TimingRequest {
             elf_path: &prepared.name,
             elf: &prepared.elf,
             segments: Some(segments),
-            host_threads: a.host_threads,
+            host_threads,
             max_cycles: a.max_instructions,
         };
-        let (r, prof) = timing::run_profiled(req, &chip, &mut out, extras.profile)
-            .map_err(|e| format!("{}: {e}", prepared.name))?;
+        let line = ProgressLine::start(chip.tms * chip.threads_per_tm);
+        let mut show = |p: &timing::Progress| line.timing(p);
+        let res = timing::run_with(req, &chip, &mut out, extras.profile, Some(&mut show));
+        line.finish();
+        let (r, prof) = res.map_err(|e| format!("{}: {e}", prepared.name))?;
         let _ = out.flush();
         if let Some(prof) = prof {
             let dbg = load_debug(&prepared.name, &prepared.elf).ok();
@@ -326,7 +339,7 @@ pub fn execute(a: &ExecArgs, extras: &Extras) -> Result<Executed, String> {
         }
         let secs = start.elapsed().as_secs_f64();
         eprint!("{}", with_newline(r.stats.summary()));
-        eprintln!("simulated in {secs:.3} s");
+        eprintln!("simulated in {secs:.3} s on {host_threads} host thread(s)");
         if let Some(path) = &a.stats_json {
             let json = serde_json::to_value(&r.stats).map_err(|e| e.to_string())?;
             write_json(path, &json)?;

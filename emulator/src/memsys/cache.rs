@@ -73,6 +73,7 @@ pub enum Lookup {
     Miss,
 }
 
+#[derive(Clone)]
 struct Mshr {
     line: u32,
     waiters: Vec<u64>,
@@ -100,6 +101,7 @@ pub struct CacheGeometry {
 }
 
 /// A timing-only cache.
+#[derive(Clone)]
 pub struct Cache {
     line_shift: u32,
     set_mask: u32,

@@ -1,4 +1,10 @@
 //! The memory system as the core sees it: per-TM L1s, L2s shared by groups of TMs, one DRAM.
+//!
+//! Split in two so TMs can be simulated in parallel: [`TmMem`] (one TM's L1; its accesses
+//! touch nothing else) and [`ChipMem`] (L2s and DRAM, which serve the requests the L1s sent,
+//! in a fixed order, and send fills back). A request sent at cycle `c` reaches its L2 at
+//! `c` and an L2 hit is valid in the L1 at `c + l2.hit_latency`, so a caller that runs the
+//! TMs `l1.hit_latency + l2.hit_latency` cycles ahead of the L2s loses no timing.
 
 use super::cache::{Cache, CacheGeometry, CacheStats, Lookup};
 use super::cacti::{self, CacheCost};
@@ -26,12 +32,6 @@ pub enum Stall {
     L1Bank,
     /// All L1 MSHRs are busy.
     L1Mshr,
-    /// The L2 bank was used this cycle.
-    L2Bank,
-    /// All L2 MSHRs are busy.
-    L2Mshr,
-    /// The DRAM channel's queue is full.
-    DramQueue,
 }
 
 /// Statistics of the whole memory system.
@@ -55,20 +55,279 @@ pub struct MemStats {
     pub l1_area_mm2: f64,
     /// Total L2 area, mm².
     pub l2_area_mm2: f64,
+    /// Request-cycles an L2 request waited because its DRAM channel queue was full.
+    pub dram_queue_full: u64,
+}
+
+/// A load or store leaving a TM's L1 for its L2.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct L2Request {
+    /// Core cycle the L1 sent it.
+    pub cycle: Cycle,
+    /// Byte address.
+    pub addr: u32,
+    /// The sending TM.
+    pub tm: u32,
+    /// Store (write-around) rather than a line fill.
+    pub write: bool,
+}
+
+/// The TM side of the memory system: one L1 and the requests it sends to its L2.
+///
+/// A TM's accesses touch only this (so TMs can be simulated on different host threads);
+/// the L2s and DRAM ([`ChipMem`]) serve the sent requests later, in a fixed order, and
+/// send line fills back ([`TmMem::apply_fills`]).
+#[derive(Clone)]
+pub struct TmMem {
+    l1: Cache,
+    tm: u32,
+    /// Requests sent to the L2 (served by [`ChipMem::serve_until`]).
+    sent: Vec<L2Request>,
+    /// Line fills received (line, cycle the line is valid in the L1).
+    fills: Vec<(u32, Cycle)>,
+    waiters: Vec<u64>,
+}
+
+impl TmMem {
+    /// One access by this TM at core cycle `now`: an L1 hit or a merge with a known fill
+    /// time is `Ready`; a miss sends a request to the L2 and is `Pending` (its
+    /// [`Completion`] comes from [`Self::apply_fills`]); a store is posted (`Ready` after
+    /// the L1 latency). Calls within a cycle are served in call order.
+    pub fn access(&mut self, req: &MemRequest, now: Cycle) -> Access {
+        let addr = req.addr;
+        let l1 = &mut self.l1;
+        if !l1.claim_bank(addr, now) {
+            return Access::Stall(Stall::L1Bank);
+        }
+        if req.kind == AccessKind::Write {
+            l1.stats.accesses += 1;
+            l1.stats.stores += 1;
+            l1.stats.store_bytes += u64::from(req.size);
+            self.sent.push(L2Request {
+                cycle: now,
+                addr,
+                tm: self.tm,
+                write: true,
+            });
+            return Access::Ready(now + l1.hit_latency());
+        }
+        let line = l1.line_of(addr);
+        match l1.lookup(line, now) {
+            Lookup::Hit(r) => {
+                l1.stats.accesses += 1;
+                l1.stats.hits += 1;
+                l1.stats.load_bytes += u64::from(req.size);
+                l1.touch(line);
+                Access::Ready(r)
+            }
+            Lookup::Merged(r) => {
+                count_merged(l1, req);
+                Access::Ready(r)
+            }
+            Lookup::Pending(i) => {
+                count_merged(l1, req);
+                l1.mshr_join(i, req.id);
+                Access::Pending
+            }
+            Lookup::Miss => {
+                if !l1.mshr_available() {
+                    l1.stats.mshr_full += 1;
+                    return Access::Stall(Stall::L1Mshr);
+                }
+                l1.stats.accesses += 1;
+                l1.stats.misses += 1;
+                l1.stats.load_bytes += u64::from(req.size);
+                l1.mshr_alloc(line, req.id);
+                self.sent.push(L2Request {
+                    cycle: now,
+                    addr,
+                    tm: self.tm,
+                    write: false,
+                });
+                Access::Pending
+            }
+        }
+    }
+
+    /// Installs the line fills received from the L2 and appends the completions of the
+    /// loads waiting for them to `out`.
+    pub fn apply_fills(&mut self, out: &mut Vec<Completion>) {
+        let hit = self.l1.hit_latency();
+        for (line, at) in self.fills.drain(..) {
+            self.waiters.clear();
+            self.l1.fill(line, at, &mut self.waiters);
+            out.extend(self.waiters.iter().map(|&id| Completion {
+                id,
+                cycle: at + hit,
+            }));
+        }
+    }
+
+    /// The L1's counters.
+    pub fn l1_stats(&self) -> &CacheStats {
+        &self.l1.stats
+    }
+
+    /// Whether requests or fills are in flight between this L1 and its L2.
+    pub fn busy(&self) -> bool {
+        !self.sent.is_empty() || !self.fills.is_empty()
+    }
+}
+
+fn count_merged(l1: &mut Cache, req: &MemRequest) {
+    l1.stats.accesses += 1;
+    l1.stats.misses += 1;
+    l1.stats.merged += 1;
+    l1.stats.load_bytes += u64::from(req.size);
+}
+
+/// The chip side of the memory system: the L2s and DRAM.
+pub struct ChipMem {
+    l2: Vec<Cache>,
+    dram: Dram,
+    tms: usize,
+    tms_per_l2: usize,
+    l1_line_shift: u32,
+    /// First core cycle not yet served.
+    clock: Cycle,
+    /// Requests not yet served, oldest first.
+    queue: Vec<L2Request>,
+    dram_out: Vec<Completion>,
+    waiters_l2: Vec<u64>,
+    /// Request-cycles a DRAM channel queue was full.
+    dram_queue_full: u64,
+}
+
+impl ChipMem {
+    /// Serves, cycle by cycle up to `end` (exclusive), the requests the TMs sent (taken from
+    /// `tms`) and the DRAM; line fills go back to the TMs' [`TmMem::apply_fills`]. Requests
+    /// of one cycle are served oldest first, then in TM order rotating with the cycle; a
+    /// request refused (L2 bank taken, L2 MSHRs or the DRAM queue full) is retried the next
+    /// cycle.
+    pub fn serve_until(&mut self, end: Cycle, tms: &mut [&mut TmMem]) {
+        for t in tms.iter_mut() {
+            self.queue.append(&mut t.sent);
+        }
+        let n = self.tms as u64;
+        self.queue
+            .sort_by_key(|r| (r.cycle, (u64::from(r.tm) + n - r.cycle % n) % n));
+        while self.clock < end {
+            let c = self.clock;
+            self.dram.advance_to(c, &mut self.dram_out);
+            self.route_dram(tms);
+            let mut i = 0;
+            while i < self.queue.len() && self.queue[i].cycle <= c {
+                let r = self.queue[i];
+                if self.serve(&r, c, tms) {
+                    self.queue.remove(i);
+                } else {
+                    i += 1;
+                }
+            }
+            self.clock += 1;
+        }
+    }
+
+    /// Serves one request at cycle `c`; false if refused.
+    fn serve(&mut self, r: &L2Request, c: Cycle, tms: &mut [&mut TmMem]) -> bool {
+        let tm = r.tm as usize;
+        let g = tm / self.tms_per_l2;
+        let l2 = &mut self.l2[g];
+        if !l2.claim_bank(r.addr, c) {
+            return false;
+        }
+        if r.write {
+            if !self.dram.can_accept(r.addr, true) {
+                self.dram_queue_full += 1;
+                return false;
+            }
+            l2.stats.accesses += 1;
+            l2.stats.stores += 1;
+            l2.stats.store_bytes += u64::from(l2.line_bytes());
+            let line_addr = r.addr & !(l2.line_bytes() - 1);
+            let ok = self
+                .dram
+                .submit(u64::MAX, line_addr, true, c, &mut self.dram_out);
+            debug_assert!(ok, "can_accept was checked");
+            self.route_dram(tms);
+            return true;
+        }
+        let line = r.addr >> self.l1_line_shift;
+        let res = l2.lookup(line, c);
+        if res == Lookup::Miss {
+            if !l2.mshr_available() {
+                l2.stats.mshr_full += 1;
+                return false;
+            }
+            if !self.dram.can_accept(r.addr, false) {
+                self.dram_queue_full += 1;
+                return false;
+            }
+        }
+        l2.stats.accesses += 1;
+        l2.stats.load_bytes += u64::from(l2.line_bytes());
+        match res {
+            Lookup::Hit(at) => {
+                l2.stats.hits += 1;
+                l2.touch(line);
+                tms[tm].fills.push((line, at));
+            }
+            Lookup::Merged(at) => {
+                l2.stats.misses += 1;
+                l2.stats.merged += 1;
+                tms[tm].fills.push((line, at));
+            }
+            Lookup::Pending(j) => {
+                l2.stats.misses += 1;
+                l2.stats.merged += 1;
+                l2.mshr_join(j, tm as u64);
+            }
+            Lookup::Miss => {
+                l2.stats.misses += 1;
+                l2.mshr_alloc(line, tm as u64);
+                let line_addr = line << self.l1_line_shift;
+                let id = ((g as u64) << 32) | u64::from(line);
+                let ok = self
+                    .dram
+                    .submit(id, line_addr, false, c, &mut self.dram_out);
+                debug_assert!(ok, "can_accept was checked");
+                self.route_dram(tms);
+            }
+        }
+        true
+    }
+
+    /// Routes DRAM read completions through the L2 MSHRs to the TMs' L1s.
+    fn route_dram(&mut self, tms: &mut [&mut TmMem]) {
+        for c in self.dram_out.drain(..) {
+            let g = (c.id >> 32) as usize;
+            let line = c.id as u32;
+            let l2 = &mut self.l2[g];
+            self.waiters_l2.clear();
+            l2.fill(line, c.cycle, &mut self.waiters_l2);
+            let l1_fill = c.cycle + l2.hit_latency();
+            for &tm in &self.waiters_l2 {
+                tms[tm as usize].fills.push((line, l1_fill));
+            }
+        }
+    }
+
+    /// Lower bound on the next cycle with news: `None` if nothing is outstanding below the
+    /// L1s.
+    pub fn next_event(&self) -> Option<Cycle> {
+        if !self.queue.is_empty() {
+            return Some(self.clock);
+        }
+        self.dram.next_event()
+    }
 }
 
 /// Per-TM L1s, shared L2s and DRAM.
 pub struct MemSystem {
-    l1: Vec<Cache>,
-    l2: Vec<Cache>,
-    dram: Dram,
-    tms_per_l2: usize,
+    tm: Vec<TmMem>,
+    chip: ChipMem,
     l1_cost: CacheCost,
     l2_cost: CacheCost,
-    dram_out: Vec<Completion>,
-    waiters_l2: Vec<u64>,
-    waiters_l1: Vec<u64>,
-    done: Vec<Completion>,
 }
 
 impl MemSystem {
@@ -94,6 +353,12 @@ impl MemSystem {
                 cfg.dram.detailed.line_bytes, cfg.l2.line_bytes
             )));
         }
+        if cfg.l1.line_bytes != cfg.l2.line_bytes {
+            return Err(MemSysError::Config(format!(
+                "l1.line_bytes ({}) must equal l2.line_bytes ({})",
+                cfg.l1.line_bytes, cfg.l2.line_bytes
+            )));
+        }
         let l1g = CacheGeometry {
             capacity_bytes: cfg.l1.capacity_bytes,
             line_bytes: cfg.l1.line_bytes,
@@ -116,10 +381,27 @@ impl MemSystem {
         };
         let n_l2 = tms.div_ceil(tms_per_l2);
         Ok(MemSystem {
-            l1: (0..tms).map(|_| Cache::new(l1g)).collect(),
-            l2: (0..n_l2).map(|_| Cache::new(l2g)).collect(),
-            dram: Dram::new(&cfg.dram, core_mhz)?,
-            tms_per_l2,
+            tm: (0..tms)
+                .map(|i| TmMem {
+                    l1: Cache::new(l1g),
+                    tm: i as u32,
+                    sent: Vec::new(),
+                    fills: Vec::new(),
+                    waiters: Vec::new(),
+                })
+                .collect(),
+            chip: ChipMem {
+                l2: (0..n_l2).map(|_| Cache::new(l2g)).collect(),
+                dram: Dram::new(&cfg.dram, core_mhz)?,
+                tms,
+                tms_per_l2,
+                l1_line_shift: cfg.l1.line_bytes.trailing_zeros(),
+                clock: 0,
+                queue: Vec::new(),
+                dram_out: Vec::new(),
+                waiters_l2: Vec::new(),
+                dram_queue_full: 0,
+            },
             l1_cost: cacti::resolve(
                 cfg.l1.capacity_bytes,
                 cfg.l1.banks,
@@ -134,211 +416,79 @@ impl MemSystem {
                 cfg.l2.area_mm2,
                 cfg.l2.energy_nj,
             ),
-            dram_out: Vec::new(),
-            waiters_l2: Vec::new(),
-            waiters_l1: Vec::new(),
-            done: Vec::new(),
         })
     }
 
     /// Number of L2 caches.
     pub fn num_l2(&self) -> usize {
-        self.l2.len()
+        self.chip.l2.len()
     }
 
     /// The DRAM model.
     pub fn dram(&self) -> &Dram {
-        &self.dram
+        &self.chip.dram
     }
 
-    /// One access by TM `tm` at core cycle `now`. Calls within a cycle are served in call order
-    /// (the caller fixes a deterministic order); `now` must not decrease between calls.
+    /// Takes the TM sides out, for a caller that drives them apart from the chip side
+    /// (the timing engine simulates TMs on several host threads); put them back with
+    /// [`Self::restore_tms`] before reading statistics.
+    pub fn take_tms(&mut self) -> Vec<TmMem> {
+        std::mem::take(&mut self.tm)
+    }
+
+    /// Puts back the TM sides taken by [`Self::take_tms`].
+    pub fn restore_tms(&mut self, tms: Vec<TmMem>) {
+        self.tm = tms;
+    }
+
+    /// The chip side (L2s and DRAM).
+    pub fn chip_mut(&mut self) -> &mut ChipMem {
+        &mut self.chip
+    }
+
+    /// One access by TM `tm` at core cycle `now` (see [`TmMem::access`]). `now` must not
+    /// decrease between calls.
     pub fn access(&mut self, tm: usize, req: &MemRequest, now: Cycle) -> Access {
-        let g = tm / self.tms_per_l2;
-        let addr = req.addr;
-        if !self.l1[tm].claim_bank(addr, now) {
-            return Access::Stall(Stall::L1Bank);
-        }
-        if req.kind == AccessKind::Write {
-            return self.store(tm, g, req, now);
-        }
-        let l1 = &mut self.l1[tm];
-        let line = l1.line_of(addr);
-        match l1.lookup(line, now) {
-            Lookup::Hit(r) => {
-                l1.stats.accesses += 1;
-                l1.stats.hits += 1;
-                l1.stats.load_bytes += u64::from(req.size);
-                l1.touch(line);
-                return Access::Ready(r);
-            }
-            Lookup::Merged(r) => {
-                Self::count_merged(l1, req);
-                return Access::Ready(r);
-            }
-            Lookup::Pending(i) => {
-                Self::count_merged(l1, req);
-                l1.mshr_join(i, req.id);
-                return Access::Pending;
-            }
-            Lookup::Miss => {}
-        }
-        if !l1.mshr_available() {
-            l1.stats.mshr_full += 1;
-            return Access::Stall(Stall::L1Mshr);
-        }
-        let l1_hit = l1.hit_latency();
-        let l2 = &mut self.l2[g];
-        if !l2.claim_bank(addr, now) {
-            return Access::Stall(Stall::L2Bank);
-        }
-        let l2_res = l2.lookup(line, now);
-        if l2_res == Lookup::Miss {
-            if !l2.mshr_available() {
-                l2.stats.mshr_full += 1;
-                return Access::Stall(Stall::L2Mshr);
-            }
-            if !self.dram.can_accept(addr, false) {
-                return Access::Stall(Stall::DramQueue);
-            }
-        }
-        // Accepted from here on.
-        let l1 = &mut self.l1[tm];
-        l1.stats.accesses += 1;
-        l1.stats.misses += 1;
-        l1.stats.load_bytes += u64::from(req.size);
-        let l2 = &mut self.l2[g];
-        l2.stats.accesses += 1;
-        l2.stats.load_bytes += u64::from(l2.line_bytes());
-        match l2_res {
-            Lookup::Hit(r) => {
-                l2.stats.hits += 1;
-                l2.touch(line);
-                self.l1[tm].install(line, r);
-                Access::Ready(r + l1_hit)
-            }
-            Lookup::Merged(r) => {
-                l2.stats.misses += 1;
-                l2.stats.merged += 1;
-                self.l1[tm].install(line, r);
-                Access::Ready(r + l1_hit)
-            }
-            Lookup::Pending(j) => {
-                l2.stats.misses += 1;
-                l2.stats.merged += 1;
-                l2.mshr_join(j, tm as u64);
-                self.l1[tm].mshr_alloc(line, req.id);
-                Access::Pending
-            }
-            Lookup::Miss => {
-                l2.stats.misses += 1;
-                l2.mshr_alloc(line, tm as u64);
-                self.l1[tm].mshr_alloc(line, req.id);
-                let line_addr = line << self.l1[tm].line_bytes().trailing_zeros();
-                let id = ((g as u64) << 32) | u64::from(line);
-                let ok = self
-                    .dram
-                    .submit(id, line_addr, false, now, &mut self.dram_out);
-                debug_assert!(ok, "can_accept was checked");
-                self.route_dram();
-                Access::Pending
-            }
-        }
+        self.tm[tm].access(req, now)
     }
 
-    fn count_merged(l1: &mut Cache, req: &MemRequest) {
-        l1.stats.accesses += 1;
-        l1.stats.misses += 1;
-        l1.stats.merged += 1;
-        l1.stats.load_bytes += u64::from(req.size);
-    }
-
-    fn store(&mut self, tm: usize, g: usize, req: &MemRequest, now: Cycle) -> Access {
-        let addr = req.addr;
-        if !self.l2[g].claim_bank(addr, now) {
-            return Access::Stall(Stall::L2Bank);
-        }
-        if !self.dram.can_accept(addr, true) {
-            return Access::Stall(Stall::DramQueue);
-        }
-        let l1 = &mut self.l1[tm];
-        l1.stats.accesses += 1;
-        l1.stats.stores += 1;
-        l1.stats.store_bytes += u64::from(req.size);
-        let l1_hit = l1.hit_latency();
-        let l2 = &mut self.l2[g];
-        l2.stats.accesses += 1;
-        l2.stats.stores += 1;
-        l2.stats.store_bytes += u64::from(l2.line_bytes());
-        let line_addr = addr & !(l2.line_bytes() - 1);
-        let ok = self
-            .dram
-            .submit(u64::MAX, line_addr, true, now, &mut self.dram_out);
-        debug_assert!(ok, "can_accept was checked");
-        self.route_dram();
-        Access::Ready(now + l1_hit)
-    }
-
-    /// Routes DRAM read completions through the L2 and L1 MSHRs to the requesters.
-    fn route_dram(&mut self) {
-        let mut fresh = std::mem::take(&mut self.dram_out);
-        for c in fresh.drain(..) {
-            let g = (c.id >> 32) as usize;
-            let line = c.id as u32;
-            let l2 = &mut self.l2[g];
-            let l2_hit = l2.hit_latency();
-            self.waiters_l2.clear();
-            l2.fill(line, c.cycle, &mut self.waiters_l2);
-            let l1_fill = c.cycle + l2_hit;
-            for &tm in &self.waiters_l2 {
-                let l1 = &mut self.l1[tm as usize];
-                let ready = l1_fill + l1.hit_latency();
-                self.waiters_l1.clear();
-                l1.fill(line, l1_fill, &mut self.waiters_l1);
-                self.done.extend(
-                    self.waiters_l1
-                        .iter()
-                        .map(|&id| Completion { id, cycle: ready }),
-                );
-            }
-        }
-        self.dram_out = fresh;
-    }
-
-    /// Advances DRAM to core cycle `now` (exclusive) and appends every completion learnt since
-    /// the last call to `out`. A completion's cycle is when the load's data is ready; it may lie
-    /// after `now` (DRAM data-return times are known once the read is scheduled).
+    /// Serves everything sent before core cycle `now` and appends every completion learnt
+    /// so far to `out`. A completion's cycle is when the load's data is ready; it may lie
+    /// after `now` (a DRAM read's return time is known once it is scheduled).
     pub fn advance_to(&mut self, now: Cycle, out: &mut Vec<Completion>) {
-        self.dram.advance_to(now, &mut self.dram_out);
-        self.route_dram();
-        out.append(&mut self.done);
+        let mut tms: Vec<&mut TmMem> = self.tm.iter_mut().collect();
+        self.chip.serve_until(now, &mut tms);
+        for t in &mut self.tm {
+            t.apply_fills(out);
+        }
     }
 
     /// Lower bound on the next core cycle at which [`Self::advance_to`] may report something;
-    /// `None` if no request is outstanding below the L2s.
+    /// `None` if no request is outstanding below the L1s.
     pub fn next_event(&self) -> Option<Cycle> {
-        if !self.done.is_empty() {
+        if self.tm.iter().any(TmMem::busy) {
             return Some(0);
         }
-        self.dram.next_event()
+        self.chip.next_event()
     }
 
     /// Statistics so far.
     pub fn stats(&self) -> MemStats {
         let mut l1 = CacheStats::default();
-        for c in &self.l1 {
-            l1.add(&c.stats);
+        for t in &self.tm {
+            l1.add(&t.l1.stats);
         }
-        let l2: Vec<CacheStats> = self.l2.iter().map(|c| c.stats.clone()).collect();
+        let l2: Vec<CacheStats> = self.chip.l2.iter().map(|c| c.stats.clone()).collect();
         let l2_reads: u64 = l2.iter().map(|s| s.accesses - s.stores).sum();
         MemStats {
             l1_energy_nj: self.l1_cost.energy_nj * (l1.accesses - l1.stores) as f64,
             l2_energy_nj: self.l2_cost.energy_nj * l2_reads as f64,
-            l1_area_mm2: self.l1_cost.area_mm2 * self.l1.len() as f64,
-            l2_area_mm2: self.l2_cost.area_mm2 * self.l2.len() as f64,
+            l1_area_mm2: self.l1_cost.area_mm2 * self.tm.len() as f64,
+            l2_area_mm2: self.l2_cost.area_mm2 * self.chip.l2.len() as f64,
+            dram_queue_full: self.chip.dram_queue_full,
             l1,
             l2,
-            dram: self.dram.stats(),
+            dram: self.chip.dram.stats(),
             l1_cost: self.l1_cost,
             l2_cost: self.l2_cost,
         }

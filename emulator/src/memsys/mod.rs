@@ -9,15 +9,19 @@
 //! ```text
 //! let mut mem = MemSystem::new(&cfg, tms, tms_per_l2, core_mhz)?;
 //! each core cycle `now` (non-decreasing):
-//!     mem.advance_to(now, &mut completions);      // DRAM progress; learn fill times
+//!     mem.advance_to(now, &mut completions);      // L2s and DRAM serve what was sent before `now`
 //!     for each memory op, in a deterministic order (e.g. TM, then thread):
 //!         match mem.access(tm, &MemRequest { addr, kind, size, requester, id }, now) {
 //!             Access::Ready(c)  => data ready (store acknowledged) at cycle c
 //!             Access::Pending   => a Completion { id, cycle } arrives from a later advance_to
-//!             Access::Stall(_)  => refused this cycle (bank conflict, MSHRs or DRAM queue full)
+//!             Access::Stall(_)  => refused this cycle (L1 bank conflict or L1 MSHRs full)
 //!         }
 //! ```
 //!
+//! The same in two halves, for TMs simulated on several host threads: [`TmMem::access`] per
+//! TM (L1 only; misses and stores are sent to the L2), [`ChipMem::serve_until`] for the L2s and
+//! DRAM (requests served in (cycle, rotating TM) order; a refused request — L2 bank taken, L2
+//! MSHRs or DRAM queue full — waits for the next cycle), [`TmMem::apply_fills`] back in the TM.
 //! * A [`Completion`]'s `cycle` is when the data is ready; it may be later than the `now` of the
 //!   `advance_to` that reports it (a DRAM read's return time is known once it is scheduled), so a
 //!   scoreboard can simply record it as the register's ready cycle.
@@ -45,7 +49,7 @@ pub use cache::{Cache, CacheStats};
 pub use config::{BankInterleave, L1Config, L2Config, MemSysConfig};
 pub use dram::{Dram, DramEnergy, DramStats};
 pub use dram_config::{AddressMapping, DramConfig, DramModel, DRAM_PRESETS};
-pub use hierarchy::{Access, MemStats, MemSystem, Stall};
+pub use hierarchy::{Access, ChipMem, L2Request, MemStats, MemSystem, Stall, TmMem};
 pub use timespec::{ns_to_cycles, TimeSpec};
 
 /// A time in core cycles.

@@ -186,7 +186,8 @@ impl Scheduler {
 /// Applies a thread's stop to the chip; returns the outcome if it ends the run.
 fn account(m: &mut Machine, i: usize, stop: Stop) -> Option<Outcome> {
     match stop {
-        Stop::Budget | Stop::Blocked | Stop::Retry => None,
+        // `Defer` does not happen with exclusive access.
+        Stop::Budget | Stop::Blocked | Stop::Retry | Stop::Defer => None,
         Stop::Halted => {
             m.shared.live_threads -= 1;
             release_barriers(&mut m.shared);

@@ -1,27 +1,44 @@
 //! The cycle loop: TMs of in-order single-issue thread processors sharing execution units,
 //! I-cache banks, an L1; L2s, DRAM and global registers shared chip-wide.
 //!
-//! Each cycle, TMs are visited in a rotating order and, inside a TM, threads in a rotating
-//! order (round-robin arbitration for shared units, banks and fetch slots). A thread
-//! fetches (I-cache bank conflict = stall), checks its scoreboard (sources and destination
-//! ready; a stall is charged to the instruction that produced the pending register), claims
-//! its unit (or the memory system), then the instruction is executed functionally and its
-//! destination becomes ready at issue + latency (or when the memory system delivers the
-//! line). Debug-class TRaX ops (prints, counters, profile markers) execute in zero cycles.
-//! Everything is visited in a fixed order, so a run is deterministic.
+//! Time advances in *quanta* of `l1.hit_latency + l2.hit_latency` cycles, each in two
+//! phases:
+//! 1. Parallel: every TM simulates the quantum's cycles on its own ([`super::tm`]): each
+//!    cycle its threads, in a rotating order (round-robin arbitration for units, banks
+//!    and fetch slots), fetch (I-cache bank conflict = stall), check their scoreboard
+//!    (sources and destination ready; a stall is charged to the instruction that produced
+//!    the pending register), claim their unit or the L1, and execute functionally; the
+//!    destination is ready at issue + latency, or when the memory system delivers the
+//!    line. Debug-class TRaX ops (prints, counters, profile markers) cost zero cycles. L1
+//!    misses and stores are *sent* to the L2. TMs are spread over the host threads.
+//! 2. Serial: prints and counters are merged in TM order; deferred chip-wide
+//!    instructions (stores to global memory, global-register, barrier, semaphore, stream
+//!    and halt operations) execute in (issue cycle, rotating TM, thread) order, global
+//!    registers serving `ops_per_cycle` per cycle; the L2s and DRAM serve the sent
+//!    requests cycle by cycle ([`crate::memsys::ChipMem`]) and send fills back.
+//!
+//! An L2 reply can never be due inside the quantum that sent its request (the quantum is
+//! the L1 + L2 hit latency), so the split loses no memory timing. A thread that issued a
+//! deferred instruction waits for the rest of the quantum (`global_sync` cycles): its
+//! effect becomes visible to the other TMs at the quantum's end. Every order is fixed
+//! and no phase depends on how TMs are spread over host threads, so cycles, statistics
+//! and output are identical for any `host_threads`.
 
 use std::io::Write;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Mutex, RwLock};
 
-use trax_runtime::isa::{TraxOp, UnitClass};
+use trax_runtime::isa::UnitClass;
 
 use super::config::ChipConfig;
-use super::operands::{classify, OpInfo, NUM_SLOTS, PC_BASE};
-use crate::decode::Inst;
+use super::operands::{classify, OpInfo};
+use super::tm::{patch_clock, Deferred, TmSim};
+use super::workers::Rounds;
 use crate::exec::Stop;
 use crate::machine::{drain, release_barriers, Crash, Machine, Outcome};
-use crate::memsys::{Access, AccessKind, Completion, MemRequest, MemSystem, Stall};
-use crate::profile::{CostKind, Profiler};
-use crate::thread::{RunState, Shared, Thread};
+use crate::memsys::{MemSystem, TmMem};
+use crate::profile::Profiler;
+use crate::thread::{Shared, Thread};
 
 /// Number of `UnitClass` values (array index bound).
 pub const NUM_CLASSES: usize = 24;
@@ -39,16 +56,14 @@ pub struct ThreadCycles {
     pub icache_conflict: u64,
     /// L1 bank conflict.
     pub l1_bank_conflict: u64,
-    /// L2 bank conflict.
-    pub l2_bank_conflict: u64,
     /// All L1 MSHRs were busy.
     pub l1_mshr_full: u64,
-    /// All L2 MSHRs were busy.
-    pub l2_mshr_full: u64,
-    /// The DRAM channel queue was full.
-    pub dram_queue_full: u64,
     /// Waiting at a barrier or semaphore.
     pub sync_wait: u64,
+    /// Waiting, after a chip-wide instruction (store to global memory, global-register,
+    /// barrier, semaphore, stream or halt operation), for the end of the quantum in which
+    /// it is ordered with the other TMs.
+    pub global_sync: u64,
     /// Halted (finished) while others ran.
     pub halted: u64,
 }
@@ -77,111 +92,148 @@ pub struct Counters {
     pub debug_ops: u64,
 }
 
-#[derive(Clone)]
-struct Sb {
-    ready: [u64; NUM_SLOTS],
-    producer: [u32; NUM_SLOTS],
-    fetched: bool,
+/// How far a run has got (for progress displays).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Progress {
+    /// Cycles simulated.
+    pub cycles: u64,
+    /// Instructions issued (including zero-cost debug ops).
+    pub instructions: u64,
+    /// Rays counted so far (`trax.stat 0`).
+    pub rays: u64,
+    /// Threads not yet halted.
+    pub live_threads: u32,
 }
 
-/// A pending register (waits for a memory completion).
-const PENDING: u64 = u64::MAX;
+/// Receives a [`Progress`] report every few host milliseconds.
+pub type ProgressFn<'a> = &'a mut dyn FnMut(&Progress);
 
-struct Unit {
-    count: u32,
-    latency: u64,
-    pipelined: bool,
-    /// Per TM, per unit instance: first cycle the unit accepts an op.
-    free_at: Vec<u64>,
+/// Quanta between checks of the host clock for progress reports.
+const PROGRESS_EVERY: u64 = 1024;
+
+/// Timing facts of one execution-unit class.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct UnitSpec {
+    pub count: u32,
+    pub latency: u64,
+    pub pipelined: bool,
+}
+
+/// What every TM reads and nobody changes during a run.
+pub(crate) struct Shape {
+    /// Timing facts per text word.
+    pub info: Vec<OpInfo>,
+    /// First text address.
+    pub base: u32,
+    /// Per unit class (index = `UnitClass as usize`).
+    pub units: Vec<UnitSpec>,
+    pub icaches: usize,
+    pub icache_banks: usize,
+    pub fetches_per_bank: u32,
+    /// I-cache bank slots per TM.
+    pub icache_slots: usize,
+    pub local_latency: u64,
+}
+
+impl Shape {
+    /// Text index of `pc` (`info.len()` when outside the text or misaligned).
+    #[inline(always)]
+    pub fn slot_idx(&self, pc: u32) -> usize {
+        let len = self.info.len();
+        let i = (pc.wrapping_sub(self.base) >> 2) as usize;
+        if pc.wrapping_sub(self.base) & 3 == 0 && i < len {
+            i
+        } else {
+            len
+        }
+    }
+}
+
+/// The TMs one host thread simulates, with its counters (aligned apart so two host
+/// threads never write the same cache line).
+#[repr(align(128))]
+struct Part {
+    tms: Vec<TmSim>,
+    c: Counters,
+    /// Whether the state was reallocated by the host thread that runs it.
+    local: bool,
 }
 
 /// The timing simulation of one machine.
 pub struct Engine<'c> {
     cfg: &'c ChipConfig,
-    sb: Vec<Sb>,
-    /// Per thread: (cycle before which it stalls on a known data dependence, producer).
-    wake: Vec<(u64, u32)>,
-    units: Vec<Unit>,
-    info: Vec<OpInfo>,
-    base: u32,
+    shape: Shape,
     mem: MemSystem,
-    icache_use: Vec<u32>,
-    completions: Vec<Completion>,
-    /// Counters.
+    /// Counters (complete after [`Self::run`]).
     pub c: Counters,
     /// Current cycle.
     pub now: u64,
-    global_ops: u32,
     max_cycles: Option<u64>,
+    host_threads: usize,
     /// When set, every live thread-cycle (issue or stall) is charged to the thread's
     /// call stack and pc: issue, data-dependence (on a non-load producer), resource
-    /// (unit, I-cache, cache bank), memory (waiting for a load's data, MSHRs full, DRAM
-    /// queue full) and other (barrier/semaphore wait) cycles. Halted
-    /// threads are not charged, so the profile total is the live thread-cycles.
+    /// (unit, I-cache, cache bank), memory (waiting for a load's data, MSHRs full) and
+    /// other (barrier/semaphore wait, chip-wide ordering) cycles. Halted threads are not
+    /// charged, so the profile total is the live thread-cycles. Profiling runs on one
+    /// host thread (with the same results).
     pub profiler: Option<Profiler>,
-}
-
-fn slot_idx(base: u32, len: usize, pc: u32) -> usize {
-    let i = (pc.wrapping_sub(base) >> 2) as usize;
-    if pc.wrapping_sub(base) & 3 == 0 && i < len {
-        i
-    } else {
-        len
-    }
+    /// Called with the run's progress about every 100 ms of host time.
+    pub progress: Option<ProgressFn<'c>>,
 }
 
 impl<'c> Engine<'c> {
-    /// Prepares the model for `machine` (already built with the chip's shape).
+    /// Prepares the model for `machine` (already built with the chip's shape), to be
+    /// simulated with `host_threads` host threads.
     pub fn new(
         cfg: &'c ChipConfig,
         machine: &Machine,
         max_cycles: Option<u64>,
+        host_threads: usize,
     ) -> Result<Self, String> {
         let tms = cfg.tms as usize;
         let mem = MemSystem::new(&cfg.memory, tms, cfg.tms_per_l2 as usize, cfg.clock_mhz())
             .map_err(|e| e.to_string())?;
-        let mut units = Vec::with_capacity(NUM_CLASSES);
-        for k in 0..NUM_CLASSES {
-            let class = class_from_index(k);
-            let u = class.map(|c| cfg.unit(c));
-            let (count, latency, pipelined) = match u {
-                Some(u) => (u.count, u.latency as u64, u.pipelined),
-                None => (1, 1, true),
-            };
-            units.push(Unit {
-                count,
-                latency,
-                pipelined,
-                free_at: vec![0; tms * count as usize],
-            });
-        }
+        let units = (0..NUM_CLASSES)
+            .map(|k| match class_from_index(k).map(|c| cfg.unit(c)) {
+                Some(u) => UnitSpec {
+                    count: u.count,
+                    latency: u.latency as u64,
+                    pipelined: u.pipelined,
+                },
+                None => UnitSpec {
+                    count: 1,
+                    latency: 1,
+                    pipelined: true,
+                },
+            })
+            .collect();
         let prog = &machine.shared.program;
         let info: Vec<OpInfo> = prog.insts.iter().map(classify).collect();
         let n = info.len() + 1;
-        let sb = Sb {
-            ready: [0; NUM_SLOTS],
-            producer: [u32::MAX; NUM_SLOTS],
-            fetched: false,
-        };
+        let ic = &cfg.icache;
         Ok(Engine {
             cfg,
-            sb: vec![sb; machine.threads.len()],
-            wake: vec![(0, 0); machine.threads.len()],
-            units,
-            info,
-            base: prog.base,
+            shape: Shape {
+                info,
+                base: prog.base,
+                units,
+                icaches: ic.per_tm as usize,
+                icache_banks: ic.banks as usize,
+                fetches_per_bank: ic.fetches_per_bank,
+                icache_slots: (ic.per_tm * ic.banks) as usize,
+                local_latency: cfg.local_store.latency as u64,
+            },
             mem,
-            icache_use: vec![0; (cfg.icache.per_tm * cfg.icache.banks) as usize],
-            completions: Vec::new(),
             c: Counters {
                 issued_at: vec![0; n],
                 dep_by_producer: vec![0; n],
                 ..Counters::default()
             },
             now: 0,
-            global_ops: 0,
             max_cycles,
+            host_threads: host_threads.clamp(1, tms),
             profiler: None,
+            progress: None,
         })
     }
 
@@ -194,349 +246,358 @@ impl<'c> Engine<'c> {
     pub fn run(&mut self, m: &mut Machine, out: &mut dyn Write) -> Outcome {
         let tms = self.cfg.tms as usize;
         let n = self.cfg.threads_per_tm as usize;
-        let mut idle_cycles = 0u64;
-        let outcome = loop {
-            if m.shared.live_threads == 0 {
-                break Outcome::Finished;
-            }
-            if let Some(max) = self.max_cycles {
-                if self.now >= max {
-                    break Outcome::InstructionLimit;
-                }
-            }
-            self.mem.advance_to(self.now, &mut self.completions);
-            for c in self.completions.drain(..) {
-                let gid = (c.id >> 8) as usize;
-                let slot = (c.id & 0xFF) as usize;
-                if let Some(s) = self.sb.get_mut(gid) {
-                    if s.ready[slot] == PENDING {
-                        s.ready[slot] = c.cycle;
-                    }
-                }
-            }
-            self.global_ops = 0;
-            let issued_before = self.c.tc.issued + self.c.debug_ops;
-            let first_tm = (self.now % tms as u64) as usize;
-            for k in 0..tms {
-                let tm = (first_tm + k) % tms;
-                self.icache_use.iter_mut().for_each(|x| *x = 0);
-                let first = (self.now % n as u64) as usize;
-                for j in 0..n {
-                    let tid = (first + j) % n;
-                    let gid = tm * n + tid;
-                    if let Err(crash) = self.step_thread(m, tm, tid, gid) {
-                        drain(&mut m.shared.output, out);
-                        return Outcome::Crashed(crash);
-                    }
-                }
-            }
-            if !m.shared.output.is_empty() {
-                drain(&mut m.shared.output, out);
-            }
-            if self.c.tc.issued + self.c.debug_ops == issued_before {
-                idle_cycles += 1;
-            } else {
-                idle_cycles = 0;
-            }
-            self.now += 1;
-            // Nobody issued for a long time: a deadlock (or a memory system that stopped
-            // making progress).
-            if (idle_cycles > 1_000_000 && self.mem.next_event().is_none())
-                || idle_cycles > 10_000_000
-            {
-                let waiting = m.shared.live_threads;
-                break Outcome::Deadlock { waiting };
-            }
+        let workers = if self.profiler.is_some() {
+            1
+        } else {
+            self.host_threads
         };
+        // Hand the threads and L1s to the TMs, the TMs to the host threads.
+        let mut threads = std::mem::take(&mut m.threads).into_iter();
+        let mut tm_mems = self.mem.take_tms().into_iter();
+        let mut parts: Vec<Part> = (0..workers)
+            .map(|_| Part {
+                tms: Vec::new(),
+                c: Counters {
+                    issued_at: vec![0; self.c.issued_at.len()],
+                    dep_by_producer: vec![0; self.c.issued_at.len()],
+                    ..Counters::default()
+                },
+                local: false,
+            })
+            .collect();
+        for tm in 0..tms {
+            let ts: Vec<Thread> = threads.by_ref().take(n).collect();
+            let mem = tm_mems.next().expect("one L1 per TM");
+            parts[tm * workers / tms]
+                .tms
+                .push(TmSim::new(tm, ts, mem, &self.shape));
+        }
+        let parts: Vec<Mutex<Part>> = parts.into_iter().map(Mutex::new).collect();
+        let mut profiler = self.profiler.take();
+        let mut progress = self.progress.take();
+        let mut halted_excess = 0u64;
+        let outcome = {
+            let shared = RwLock::new(&mut m.shared);
+            let rounds = Rounds::new(workers - 1);
+            let window = (AtomicU64::new(0), AtomicU64::new(0));
+            let Engine {
+                cfg,
+                shape,
+                mem,
+                now,
+                max_cycles,
+                ..
+            } = self;
+            let (cfg, shape, max_cycles) = (*cfg, &*shape, *max_cycles);
+            let job = |w: usize| {
+                let (from, to) = (
+                    window.0.load(Ordering::Acquire),
+                    window.1.load(Ordering::Acquire),
+                );
+                let sh = shared.read().unwrap_or_else(|e| e.into_inner());
+                let mut p = parts[w].lock().unwrap_or_else(|e| e.into_inner());
+                let Part { tms, c, local } = &mut *p;
+                if !*local {
+                    // Reallocate the TMs' state from this host thread (its own heap
+                    // arena), so no cache line is shared with another host thread's TMs.
+                    *local = true;
+                    *c = c.clone();
+                    for t in tms.iter_mut() {
+                        *t = t.clone();
+                    }
+                }
+                for t in tms {
+                    t.run_quantum(shape, &sh, c, None, from, to);
+                }
+            };
+            std::thread::scope(|scope| {
+                let crew = rounds.spawn(scope, &job);
+                let mut d = Driver {
+                    cfg,
+                    shape,
+                    mem,
+                    now,
+                    max_cycles,
+                    halted_excess: &mut halted_excess,
+                    progress: progress.as_deref_mut(),
+                };
+                let outcome = d.drive(&shared, &parts, &rounds, &crew, &window, &mut profiler, out);
+                rounds.finish(&crew);
+                outcome
+            })
+        };
+        self.profiler = profiler;
+        self.progress = progress;
+        // Take everything back.
+        let mut tm_mems = Vec::with_capacity(tms);
+        for p in parts {
+            let p = p.into_inner().unwrap_or_else(|e| e.into_inner());
+            self.c.add(&p.c);
+            for t in p.tms {
+                m.threads.extend(t.threads);
+                tm_mems.push(t.mem);
+            }
+        }
+        self.mem.restore_tms(tm_mems);
+        self.c.tc.halted -= halted_excess.min(self.c.tc.halted);
         drain(&mut m.shared.output, out);
         outcome
     }
+}
 
-    fn step_thread(
-        &mut self,
-        m: &mut Machine,
-        tm: usize,
-        tid: usize,
-        gid: usize,
-    ) -> Result<(), Box<Crash>> {
-        let now = self.now;
-        // Still waiting for a register with a known ready cycle: same stall as last cycle.
-        let (until, p) = self.wake[gid];
-        if now < until {
-            self.c.tc.data_dependence += 1;
-            self.c.dep_by_producer[p as usize] += 1;
-            let kind = self.dep_kind(p as usize);
-            self.charge(m, gid, kind);
-            return Ok(());
-        }
-        let t = &mut m.threads[gid];
-        match t.state {
-            RunState::Halted => {
-                self.c.tc.halted += 1;
-                return Ok(());
-            }
-            RunState::Barrier { reg, generation } => {
-                if m.shared.barrier_generation[reg as usize] > generation {
-                    t.state = RunState::Running;
-                } else {
-                    self.c.tc.sync_wait += 1;
-                    self.charge(m, gid, CostKind::OtherStall);
-                    return Ok(());
-                }
-            }
-            RunState::Running => {}
-        }
-        // Debug-class ops cost nothing: run them and look at the next instruction.
-        for _ in 0..64 {
-            let pc = m.threads[gid].pc;
-            let idx = slot_idx(self.base, self.info.len(), pc);
-            let info = if idx < self.info.len() {
-                self.info[idx]
-            } else {
-                match m.threads[gid].current_inst(&m.shared) {
-                    Some(i) => classify(&i),
-                    // A fetch fault: let the functional core report it.
-                    None => classify(&Inst::Sync { stype: 0 }),
-                }
-            };
-            if info.class == UnitClass::Debug {
-                self.c.debug_ops += 1;
-                self.execute(m, gid, idx)?;
-                if m.threads[gid].state != RunState::Running {
-                    return Ok(());
-                }
-                continue;
-            }
-            return self.try_issue(m, tm, tid, gid, idx, pc, info, now);
-        }
-        Ok(())
+/// What the leader thread changes while the TMs run.
+struct Driver<'a, 'p> {
+    cfg: &'a ChipConfig,
+    shape: &'a Shape,
+    mem: &'a mut MemSystem,
+    now: &'a mut u64,
+    max_cycles: Option<u64>,
+    /// Halted thread-cycles counted after the end of the run (subtracted at the end).
+    halted_excess: &'a mut u64,
+    progress: Option<&'a mut (dyn FnMut(&Progress) + 'p)>,
+}
+
+impl Driver<'_, '_> {
+    /// Cycles per quantum: the L1 plus L2 hit latency (an L2 reply is never due sooner).
+    fn quantum(&self) -> u64 {
+        let m = &self.cfg.memory;
+        u64::from(m.l1.hit_latency + m.l2.hit_latency).max(1)
     }
 
+    /// The quantum loop (on the leader thread).
     #[allow(clippy::too_many_arguments)]
-    fn try_issue(
+    fn drive(
         &mut self,
-        m: &mut Machine,
-        tm: usize,
-        tid: usize,
-        gid: usize,
-        idx: usize,
-        pc: u32,
-        mut info: OpInfo,
-        now: u64,
-    ) -> Result<(), Box<Crash>> {
-        // Fetch.
-        if !self.sb[gid].fetched {
-            let ic = &self.cfg.icache;
-            let cache = tid % ic.per_tm as usize;
-            let bank = (pc >> 2) as usize % ic.banks as usize;
-            let slot = &mut self.icache_use[cache * ic.banks as usize + bank];
-            if *slot >= ic.fetches_per_bank {
-                self.c.tc.icache_conflict += 1;
-                self.charge(m, gid, CostKind::ResourceStall);
-                return Ok(());
-            }
-            *slot += 1;
-            self.c.fetches += 1;
-            self.sb[gid].fetched = true;
-        }
-        // Scoreboard.
-        let s = &self.sb[gid];
-        for r in info.src.into_iter().chain(std::iter::once(info.dst)) {
-            if r != 0 && s.ready[r as usize] > now {
-                self.c.tc.data_dependence += 1;
-                let p = s.producer[r as usize] as usize;
-                let p = p.min(self.info.len());
-                self.c.dep_by_producer[p] += 1;
-                let ready = s.ready[r as usize];
-                if ready != PENDING {
-                    self.wake[gid] = (ready, p as u32);
+        shared: &RwLock<&mut Shared>,
+        parts: &[Mutex<Part>],
+        rounds: &Rounds,
+        crew: &[std::thread::ScopedJoinHandle<'_, ()>],
+        window: &(AtomicU64, AtomicU64),
+        profiler: &mut Option<Profiler>,
+        out: &mut dyn Write,
+    ) -> Outcome {
+        let q = self.quantum();
+        let tms = self.cfg.tms as u64;
+        let mut idle_cycles = 0u64;
+        let mut progress_before = 0u64;
+        let mut deferred: Vec<Deferred> = Vec::new();
+        let mut gr = (0u64, 0u32); // global registers: (cycle, ops served in it)
+        let mut quanta = 0u64;
+        let mut last_report = std::time::Instant::now();
+        loop {
+            {
+                let sh = shared.read().unwrap_or_else(|e| e.into_inner());
+                if sh.live_threads == 0 {
+                    return Outcome::Finished;
                 }
-                let kind = self.dep_kind(p);
-                self.charge(m, gid, kind);
-                return Ok(());
             }
-        }
-        // Unit, memory or local store.
-        let t = &m.threads[gid];
-        let mut ready_at = now + 1;
-        let mut pending_load = false;
-        if let Some(mo) = info.mem {
-            let addr = if mo.base == PC_BASE {
-                pc.wrapping_add(mo.off as u32)
-            } else {
-                t.regs.gpr[mo.base as usize].wrapping_add(mo.off as u32)
+            if let Some(max) = self.max_cycles {
+                if *self.now >= max {
+                    return Outcome::InstructionLimit;
+                }
+            }
+            let from = *self.now;
+            let to = match self.max_cycles {
+                Some(max) => (from + q).min(max),
+                None => from + q,
             };
-            if addr >= m.shared.mem.global_end() {
-                info.class = UnitClass::LocalStore;
-                self.c.local_accesses += 1;
-                ready_at = now + self.cfg.local_store.latency as u64;
+            // Phase 1: the TMs, in parallel.
+            window.0.store(from, Ordering::Release);
+            window.1.store(to, Ordering::Release);
+            rounds.start(crew);
+            {
+                let sh = shared.read().unwrap_or_else(|e| e.into_inner());
+                let mut p = parts[0].lock().unwrap_or_else(|e| e.into_inner());
+                let Part { tms, c, .. } = &mut *p;
+                for t in tms {
+                    t.run_quantum(self.shape, &sh, c, profiler.as_mut(), from, to);
+                }
+            }
+            if !rounds.wait(crew) {
+                // A host thread died; the scope re-raises its panic.
+                return Outcome::Deadlock { waiting: 0 };
+            }
+            // Phase 2: chip-wide, serial.
+            let mut guards: Vec<_> = parts
+                .iter()
+                .map(|p| p.lock().unwrap_or_else(|e| e.into_inner()))
+                .collect();
+            let mut sh_guard = shared.write().unwrap_or_else(|e| e.into_inner());
+            let sh: &mut Shared = &mut sh_guard;
+            let mut sims: Vec<&mut TmSim> = Vec::with_capacity(tms as usize);
+            let mut c_first: Option<&mut Counters> = None;
+            for g in guards.iter_mut() {
+                let Part { tms, c, .. } = &mut **g;
+                if c_first.is_none() {
+                    c_first = Some(c);
+                }
+                sims.extend(tms.iter_mut());
+            }
+            let c = c_first.expect("at least one part");
+            // The first fault, in (cycle, TM) order.
+            let mut crash: Option<(u64, Box<Crash>)> = None;
+            for t in sims.iter_mut() {
+                if let Some((cyc, _, cr)) = t.crash.take() {
+                    if crash.as_ref().is_none_or(|(c0, _)| cyc < *c0) {
+                        crash = Some((cyc, cr));
+                    }
+                }
+            }
+            // Prints and counters, in TM order (prints after a fault's cycle are dropped).
+            let until = crash.as_ref().map(|(c0, _)| *c0);
+            for t in sims.iter_mut() {
+                t.fx.merge_into(sh, until);
+            }
+            if !sh.output.is_empty() {
+                drain(&mut sh.output, out);
+            }
+            // Deferred chip-wide instructions.
+            deferred.clear();
+            for t in sims.iter_mut() {
+                deferred.append(&mut t.deferred);
+            }
+            deferred.sort_by_key(|d| (d.cycle, (u64::from(d.tm) + tms - d.cycle % tms) % tms));
+            let mut last_halt = None;
+            for d in &deferred {
+                if crash.as_ref().is_some_and(|(c0, _)| d.cycle >= *c0) {
+                    break;
+                }
+                let sim = &mut *sims[d.tm as usize];
+                let tid = d.tid as usize;
+                if d.halted {
+                    sh.live_threads -= 1;
+                    release_barriers(sh);
+                    last_halt = Some(d.cycle);
+                    continue;
+                }
+                let t = &mut sim.threads[tid];
+                let stop = t.run(sh, 1);
+                let idx = d.idx as usize;
+                match stop {
+                    Stop::Fault(f) => {
+                        crash = Some((d.cycle, Box::new(Crash::capture(t, f))));
+                        break;
+                    }
+                    // A semaphore that is not available: retry next quantum.
+                    Stop::Retry | Stop::Defer => {
+                        c.tc.sync_wait += 1;
+                        continue;
+                    }
+                    Stop::Halted => {
+                        sh.live_threads -= 1;
+                        release_barriers(sh);
+                        last_halt = Some(d.cycle);
+                    }
+                    Stop::Budget | Stop::Blocked => {}
+                }
+                patch_clock(&sh.program.insts, t, idx, d.cycle);
+                let last = c.issued_at.len() - 1;
+                c.issued_at[idx.min(last)] += 1;
+                let info = d.info;
+                let mut ready = d.ready_at;
+                if info.class == UnitClass::GlobalRegs {
+                    let g = &self.cfg.global_registers;
+                    if gr.0 < d.cycle {
+                        gr = (d.cycle, 0);
+                    }
+                    if gr.1 >= g.ops_per_cycle {
+                        gr = (gr.0 + 1, 0);
+                    }
+                    gr.1 += 1;
+                    c.unit_conflicts[UnitClass::GlobalRegs as usize] += gr.0 - d.cycle;
+                    ready = gr.0 + g.latency as u64;
+                }
+                c.tc.issued += 1;
+                c.class_ops[info.class as usize] += 1;
+                c.reg_accesses +=
+                    info.src.iter().filter(|&&r| r != 0).count() as u64 + (info.dst != 0) as u64;
+                let s = &mut sim.sb[tid];
+                s.fetched = false;
+                if info.dst != 0 {
+                    s.ready[info.dst as usize] = ready.max(to);
+                    s.producer[info.dst as usize] = d.idx;
+                }
+            }
+            // Drain prints of deferred instructions (none today) and stop on a fault.
+            if let Some((cyc, cr)) = crash {
+                *self.now = cyc;
+                drop(sims);
+                return Outcome::Crashed(cr);
+            }
+            // The L2s and DRAM serve what the L1s sent.
+            let mut l1s: Vec<&mut TmMem> = sims.iter_mut().map(|t| &mut t.mem).collect();
+            self.mem.chip_mut().serve_until(to, &mut l1s);
+            let progress: u64 = guards.iter().map(|g| g.c.tc.issued + g.c.debug_ops).sum();
+            if let Some(h) = last_halt {
+                if sh.live_threads == 0 {
+                    // The run ends after the last halt; every thread was halted in the
+                    // rest of the quantum.
+                    *self.now = h + 1;
+                    *self.halted_excess = (to - h - 1) * sh.shape.total() as u64;
+                    return Outcome::Finished;
+                }
+            }
+            if progress == progress_before {
+                idle_cycles += to - from;
             } else {
-                let req = MemRequest {
-                    addr,
-                    kind: if mo.store {
-                        AccessKind::Write
-                    } else {
-                        AccessKind::Read
-                    },
-                    size: mo.size as u32,
-                    requester: gid as u32,
-                    id: ((gid as u64) << 8) | info.dst as u64,
+                idle_cycles = 0;
+            }
+            progress_before = progress;
+            *self.now = to;
+            quanta += 1;
+            if quanta.is_multiple_of(PROGRESS_EVERY) {
+                if let Some(report) = self.progress.as_deref_mut() {
+                    if last_report.elapsed().as_millis() >= 100 {
+                        last_report = std::time::Instant::now();
+                        report(&Progress {
+                            cycles: to,
+                            instructions: progress,
+                            rays: sh.stats[0],
+                            live_threads: sh.live_threads,
+                        });
+                    }
+                }
+            }
+            // Nobody issued for a long time: a deadlock (or a memory system that stopped
+            // making progress).
+            if (idle_cycles > 1_000_000 && self.mem.chip_mut().next_event().is_none())
+                || idle_cycles > 10_000_000
+            {
+                return Outcome::Deadlock {
+                    waiting: sh.live_threads,
                 };
-                match self.mem.access(tm, &req, now) {
-                    Access::Ready(c) => ready_at = c.max(now + 1),
-                    Access::Pending => pending_load = true,
-                    Access::Stall(st) => {
-                        let kind = match st {
-                            Stall::L1Bank => {
-                                self.c.tc.l1_bank_conflict += 1;
-                                CostKind::ResourceStall
-                            }
-                            Stall::L2Bank => {
-                                self.c.tc.l2_bank_conflict += 1;
-                                CostKind::ResourceStall
-                            }
-                            Stall::L1Mshr => {
-                                self.c.tc.l1_mshr_full += 1;
-                                CostKind::MemoryStall
-                            }
-                            Stall::L2Mshr => {
-                                self.c.tc.l2_mshr_full += 1;
-                                CostKind::MemoryStall
-                            }
-                            Stall::DramQueue => {
-                                self.c.tc.dram_queue_full += 1;
-                                CostKind::MemoryStall
-                            }
-                        };
-                        self.charge(m, gid, kind);
-                        return Ok(());
-                    }
-                }
             }
-        } else {
-            match info.class {
-                UnitClass::RegFile => {}
-                UnitClass::GlobalRegs => {
-                    if self.global_ops >= self.cfg.global_registers.ops_per_cycle {
-                        self.c.tc.unit_conflict += 1;
-                        self.c.unit_conflicts[UnitClass::GlobalRegs as usize] += 1;
-                        self.charge(m, gid, CostKind::ResourceStall);
-                        return Ok(());
-                    }
-                    self.global_ops += 1;
-                    ready_at = now + self.cfg.global_registers.latency as u64;
-                }
-                c => {
-                    let n = self.cfg.threads_per_tm as usize;
-                    let u = &mut self.units[c as usize];
-                    let cnt = u.count as usize;
-                    let inst = tm * cnt + tid * cnt / n;
-                    if u.free_at[inst] > now {
-                        self.c.tc.unit_conflict += 1;
-                        self.c.unit_conflicts[c as usize] += 1;
-                        self.charge(m, gid, CostKind::ResourceStall);
-                        return Ok(());
-                    }
-                    u.free_at[inst] = if u.pipelined {
-                        now + 1
-                    } else {
-                        now + u.latency
-                    };
-                    ready_at = now + u.latency;
-                }
-            }
-        }
-        // Issue: execute functionally now.
-        let gr_wait = info.class == UnitClass::GlobalRegs;
-        let before = m.threads[gid].pc;
-        // The issue cycle belongs to the stack and pc before execution (a call pushes,
-        // a return pops). A global-register op may turn out to be a semaphore retry, so
-        // its thread is snapshotted (rare ops, profiling only).
-        let snapshot = match (&self.profiler, gr_wait) {
-            (Some(_), true) => Some(m.threads[gid].clone()),
-            (Some(_), false) => {
-                self.charge(m, gid, CostKind::Issue);
-                None
-            }
-            (None, _) => None,
-        };
-        self.execute(m, gid, idx)?;
-        let t = &m.threads[gid];
-        let retry = gr_wait && t.pc == before && t.state == RunState::Running;
-        if let (Some(p), Some(snap)) = (self.profiler.as_mut(), snapshot) {
-            let kind = if retry {
-                CostKind::OtherStall
-            } else {
-                CostKind::Issue
-            };
-            p.charge(gid, &snap, kind, 1);
-        }
-        if retry {
-            // A semaphore that is not available: retry next cycle.
-            self.c.tc.sync_wait += 1;
-            return Ok(());
-        }
-        self.c.tc.issued += 1;
-        self.c.class_ops[info.class as usize] += 1;
-        self.c.reg_accesses +=
-            info.src.iter().filter(|&&r| r != 0).count() as u64 + (info.dst != 0) as u64;
-        let s = &mut self.sb[gid];
-        s.fetched = false;
-        if info.dst != 0 {
-            s.ready[info.dst as usize] = if pending_load { PENDING } else { ready_at };
-            s.producer[info.dst as usize] = idx as u32;
-        }
-        Ok(())
-    }
-
-    /// The profile kind of a data-dependence stall on producer word `p`: waiting for a
-    /// load's data is a memory stall, anything else a data stall.
-    #[inline(always)]
-    fn dep_kind(&self, p: usize) -> CostKind {
-        match self.info.get(p) {
-            Some(i) if i.mem.is_some_and(|mo| !mo.store) => CostKind::MemoryStall,
-            _ => CostKind::DataStall,
         }
     }
+}
 
-    /// Charges one cycle of `kind` to thread `gid` when profiling.
-    #[inline(always)]
-    fn charge(&mut self, m: &Machine, gid: usize, kind: CostKind) {
-        if let Some(p) = self.profiler.as_mut() {
-            p.charge(gid, &m.threads[gid], kind, 1);
+impl Counters {
+    /// Adds `o` into `self`.
+    fn add(&mut self, o: &Counters) {
+        let (a, b) = (&mut self.tc, &o.tc);
+        a.issued += b.issued;
+        a.data_dependence += b.data_dependence;
+        a.unit_conflict += b.unit_conflict;
+        a.icache_conflict += b.icache_conflict;
+        a.l1_bank_conflict += b.l1_bank_conflict;
+        a.l1_mshr_full += b.l1_mshr_full;
+        a.sync_wait += b.sync_wait;
+        a.global_sync += b.global_sync;
+        a.halted += b.halted;
+        for (x, y) in self.issued_at.iter_mut().zip(&o.issued_at) {
+            *x += y;
         }
-    }
-
-    /// Executes the thread's next instruction functionally.
-    fn execute(&mut self, m: &mut Machine, gid: usize, idx: usize) -> Result<(), Box<Crash>> {
-        let sh: &mut Shared = &mut m.shared;
-        let t: &mut Thread = &mut m.threads[gid];
-        let inst = if idx < self.info.len() {
-            Some(sh.program.insts[idx])
-        } else {
-            None
-        };
-        self.c.issued_at[idx] += 1;
-        match t.run(sh, 1) {
-            Stop::Budget | Stop::Blocked | Stop::Retry => {}
-            Stop::Halted => {
-                sh.live_threads -= 1;
-                release_barriers(sh);
-            }
-            Stop::Fault(fault) => return Err(Box::new(Crash::capture(t, fault))),
+        for (x, y) in self.dep_by_producer.iter_mut().zip(&o.dep_by_producer) {
+            *x += y;
         }
-        // `trax.clock` reads the cycle counter in the timing model.
-        if let Some(Inst::Trax {
-            op: TraxOp::Clock,
-            rd,
-            ..
-        }) = inst
-        {
-            if rd != 0 {
-                t.regs.gpr[rd as usize & 31] = self.now as u32;
-            }
+        for k in 0..NUM_CLASSES {
+            self.unit_conflicts[k] += o.unit_conflicts[k];
+            self.class_ops[k] += o.class_ops[k];
         }
-        Ok(())
+        self.reg_accesses += o.reg_accesses;
+        self.local_accesses += o.local_accesses;
+        self.fetches += o.fetches;
+        self.debug_ops += o.debug_ops;
     }
 }
 

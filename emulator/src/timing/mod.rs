@@ -7,20 +7,23 @@
 //! [`crate::memsys`]), [`operands`] (what each instruction reads, writes and uses),
 //! [`config`] (TOML chip configs and presets) and [`stats`] (summary and JSON).
 //!
-//! Determinism: TMs and threads are visited in a fixed rotating order and every shared
-//! resource is served in that order, so the same inputs give the same cycles and
-//! statistics. The loop currently runs on one host thread; `host_threads` is accepted so
-//! callers need not change when TMs are simulated in parallel, and results do not depend
-//! on it.
+//! Determinism and parallelism: time advances in quanta; within a quantum every TM is
+//! simulated on its own (TMs are spread over `host_threads` host threads), then chip-wide
+//! work (L2s, DRAM, global registers, stores to global memory, barriers) is done serially
+//! in a fixed order (see [`engine`]). The same inputs give the same cycles, statistics
+//! and output for any number of host threads.
 
 pub mod config;
 pub mod engine;
 pub mod operands;
 pub mod stats;
+mod tm;
+mod workers;
 
 use std::io::Write;
 
 pub use config::{ChipConfig, ConfigError, UnitConfig, CHIP_PRESETS};
+pub use engine::{Progress, ProgressFn};
 pub use stats::TimingStats;
 
 use crate::crash;
@@ -94,6 +97,17 @@ pub fn run_profiled(
     out: &mut dyn Write,
     profile: bool,
 ) -> Result<(TimingResult, Option<Profiler>), TimingError> {
+    run_with(req, chip, out, profile, None)
+}
+
+/// Like [`run_profiled`], reporting the run's [`Progress`] about every 100 ms to `progress`.
+pub fn run_with<'a>(
+    req: TimingRequest<'_>,
+    chip: &'a ChipConfig,
+    out: &mut dyn Write,
+    profile: bool,
+    progress: Option<ProgressFn<'a>>,
+) -> Result<(TimingResult, Option<Profiler>), TimingError> {
     chip.validate()?;
     let exe = Executable::parse(req.elf_path, req.elf)?;
     let segments = req.segments.clone().unwrap_or_else(|| exe.segments.clone());
@@ -105,8 +119,9 @@ pub fn run_profiled(
         max_instructions: None,
     };
     let mut machine = Machine::new(&segments, exe.text_start, exe.text_end, exe.entry, mcfg)?;
-    let mut engine =
-        engine::Engine::new(chip, &machine, req.max_cycles).map_err(TimingError::Memory)?;
+    let mut engine = engine::Engine::new(chip, &machine, req.max_cycles, req.host_threads)
+        .map_err(TimingError::Memory)?;
+    engine.progress = progress;
     if profile {
         engine.profiler = Some(Profiler::new(
             &machine.shared.program,

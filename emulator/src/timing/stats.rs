@@ -310,11 +310,9 @@ impl TimingStats {
             ("unit conflict", tc.unit_conflict),
             ("icache conflict", tc.icache_conflict),
             ("L1 bank conflict", tc.l1_bank_conflict),
-            ("L2 bank conflict", tc.l2_bank_conflict),
             ("L1 MSHRs full", tc.l1_mshr_full),
-            ("L2 MSHRs full", tc.l2_mshr_full),
-            ("DRAM queue full", tc.dram_queue_full),
             ("barrier/semaphore", tc.sync_wait),
+            ("chip-wide order", tc.global_sync),
             ("halted", tc.halted),
         ] {
             let _ = writeln!(s, "   {name:<18} {v:>14} ({:5.2}%)", pct(v, thread_cycles));
@@ -352,6 +350,13 @@ impl TimingStats {
             m.l1.stores,
             self.l2_hit_rate * 100.0,
             m.l2.len()
+        );
+        let l2_bank: u64 = m.l2.iter().map(|c| c.bank_conflicts).sum();
+        let l2_mshr: u64 = m.l2.iter().map(|c| c.mshr_full).sum();
+        let _ = writeln!(
+            s,
+            "L2 requests delayed (request-cycles): bank conflict {l2_bank}, MSHRs full {l2_mshr}, DRAM queue full {}",
+            m.dram_queue_full
         );
         let _ = writeln!(
             s,

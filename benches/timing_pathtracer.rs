@@ -1,0 +1,225 @@
+//! Timing-model speed on the real workload: the path tracer (`examples/pathtracer.rs`) on
+//! the embedded Cornell box, 128x128, 1 sample, depth 4, on 4 TMs x 32 threads with the
+//! thesis GDDR5 (detailed DRAM model), simulated with 1 and then 2 host threads.
+//!
+//! Prints simulated thread-instructions per host second (total and per host thread), the
+//! 2-thread / 1-thread ratio, DRAM requests served per host second, and the original
+//! simtrax's speed on this machine kind (`shared/reference/anchors.md`) as a ratio.
+//! Targets (issue 5): >= 20 M thread-instructions/s per host core; >= 1.8x with 2 host
+//! threads. The DRAM model alone is measured by `cargo bench -p trax-emulator --bench dram`.
+//!
+//! Run: `cargo bench --bench timing_pathtracer`. Environment: `TRAX_BENCH_SIZE` (image side,
+//! default 128), `TRAX_BENCH_MAX_CYCLES` (cycle cap, default 50,000,000), `TRAX_BENCH_REPEAT`
+//! (runs per host-thread count, the fastest counts; default 1). On a shared machine compare
+//! the printed CPU seconds with the wall seconds: other load slows the wall clock.
+
+use std::path::Path;
+use std::time::Instant;
+
+use trax_assembler::image::{build_image, RenderOptions};
+use trax_assembler::link::{link, Input, LinkOptions};
+use trax_assembler::scene::{load_scene, LoadOptions};
+use trax_compiler::{compile_file, CompileOptions, Emit, Prelude};
+use trax_emulator::memory::Segment;
+use trax_emulator::memsys::DramModel;
+use trax_emulator::timing::{self, ChipConfig, TimingRequest, TimingStats};
+use trax_emulator::Outcome;
+
+/// Original simtrax, one simulation thread, raycast on the Cornell box, 4 TMs x 32 threads,
+/// USIMM GDDR5 (anchors.md): 1.09 M instructions per host second. (Its instruction counts
+/// include delay-slot nops; two simulation threads made it 4.6-6.7x slower at 4 TMs.)
+const SIMTRAX_MIPS: f64 = 1.09;
+/// Target: simulated thread-instructions per host second per host core.
+const TARGET_PER_CORE: f64 = 20e6;
+/// Target: speedup with 2 host threads.
+const TARGET_SCALING: f64 = 1.8;
+
+fn env_u64(name: &str, default: u64) -> u64 {
+    match std::env::var(name) {
+        Ok(v) => v
+            .parse()
+            .unwrap_or_else(|_| panic!("{name}={v:?} is not a number")),
+        Err(_) => default,
+    }
+}
+
+/// Compiles and links the path tracer as `trax build` does.
+fn build_pathtracer(path: &Path) -> Vec<u8> {
+    let opts = CompileOptions {
+        opt_level: 2,
+        emit: Emit::Obj,
+        prelude: Some(Prelude::runtime()),
+    };
+    let obj =
+        compile_file(path, &opts).unwrap_or_else(|e| panic!("compiling {}: {e}", path.display()));
+    let input = Input {
+        name: path.display().to_string(),
+        bytes: obj.bytes,
+    };
+    link(&[input], &LinkOptions::default())
+        .unwrap_or_else(|e| panic!("linking {}: {e}", path.display()))
+        .elf
+}
+
+/// The machine's initial memory: program, Cornell box, header, framebuffer.
+fn memory_image(elf: &[u8], size: u32) -> Vec<Segment> {
+    let scene = load_scene("cornell", &LoadOptions::default()).expect("embedded scene");
+    let opts = RenderOptions {
+        width: size,
+        height: size,
+        spp: 1,
+        max_depth: 4,
+        ..RenderOptions::default()
+    };
+    let image = build_image(elf, &scene, &opts).expect("memory image");
+    image
+        .segments
+        .iter()
+        .map(|g| Segment {
+            addr: g.addr,
+            data: g.data.clone(),
+            mem_size: g.size,
+            writable: true,
+        })
+        .collect()
+}
+
+/// CPU seconds this process has used so far (all its threads, live or finished), from
+/// `/proc/self/stat` (Linux; `None` elsewhere). Fields 14 and 15 count user and system
+/// time in USER_HZ ticks, which Linux fixes at 100 per second for user space.
+fn process_cpu_seconds() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    // The command name (field 2) is parenthesised and may hold spaces: split after it.
+    let rest = &stat[stat.rfind(')')? + 1..];
+    let fields: Vec<&str> = rest.split_whitespace().collect();
+    // `rest` starts at field 3, so field n is fields[n - 3].
+    let utime: f64 = fields.get(11)?.parse().ok()?;
+    let stime: f64 = fields.get(12)?.parse().ok()?;
+    Some((utime + stime) / 100.0)
+}
+
+/// One measured run: statistics, host wall seconds and CPU seconds (if known).
+fn simulate(
+    name: &str,
+    elf: &[u8],
+    segments: &[Segment],
+    chip: &ChipConfig,
+    host_threads: usize,
+    max_cycles: u64,
+) -> (TimingStats, f64, Option<f64>) {
+    let req = TimingRequest {
+        elf_path: name,
+        elf,
+        segments: Some(segments.to_vec()),
+        host_threads,
+        max_cycles: Some(max_cycles),
+    };
+    let cpu0 = process_cpu_seconds();
+    let t = Instant::now();
+    let r = timing::run(req, chip, &mut std::io::sink()).expect("timing run starts");
+    let secs = t.elapsed().as_secs_f64();
+    let cpu = cpu0.zip(process_cpu_seconds()).map(|(a, b)| b - a);
+    if !matches!(r.outcome, Outcome::Finished) {
+        println!("{}", r.stats.summary());
+        panic!("path tracer did not finish: {:?}", r.report);
+    }
+    (r.stats, secs, cpu)
+}
+
+fn main() {
+    // `cargo bench` passes `--bench`; a filter argument that does not match skips the run.
+    if let Some(filter) = std::env::args().skip(1).find(|a| !a.starts_with('-')) {
+        if !"timing_pathtracer".contains(&filter) {
+            return;
+        }
+    }
+    let size = env_u64("TRAX_BENCH_SIZE", 128).clamp(1, 4096) as u32;
+    let max_cycles = env_u64("TRAX_BENCH_MAX_CYCLES", 50_000_000);
+    let repeat = env_u64("TRAX_BENCH_REPEAT", 1).max(1);
+    let kernel = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/pathtracer.rs");
+    let name = kernel.display().to_string();
+    let elf = build_pathtracer(&kernel);
+    let segments = memory_image(&elf, size);
+
+    let mut chip = ChipConfig::preset("baseline").expect("baseline preset");
+    chip.tms = 4;
+    chip.tms_per_l2 = 4;
+    chip.name = "baseline, 4 TMs".into();
+    assert_eq!(chip.memory.dram.model, DramModel::Detailed);
+    println!(
+        "timing_pathtracer: path tracer, Cornell box {size}x{size}, 1 spp, depth 4; {} TMs x {} threads; thesis GDDR5 (detailed DRAM, {:.0} GB/s peak)",
+        chip.tms,
+        chip.threads_per_tm,
+        chip.memory.dram.detailed.peak_gbps()
+    );
+
+    let mut rates = Vec::new();
+    let mut first: Option<String> = None;
+    let mut deterministic = true;
+    for host_threads in [1usize, 2] {
+        let mut best: Option<(TimingStats, f64, Option<f64>)> = None;
+        for _ in 0..repeat {
+            let run = simulate(&name, &elf, &segments, &chip, host_threads, max_cycles);
+            if best.as_ref().is_none_or(|b| run.1 < b.1) {
+                best = Some(run);
+            }
+        }
+        let (s, secs, cpu) = best.expect("at least one run");
+        let rate = s.instructions as f64 / secs;
+        let cpu_text = cpu.map_or(String::new(), |c| {
+            format!(
+                " ({c:.2} CPU s: {:.2} M thread-instr per CPU s)",
+                s.instructions as f64 / c.max(1e-9) / 1e6
+            )
+        });
+        let dram_requests = s.memory.dram.reads + s.memory.dram.writes;
+        println!(
+            "  {host_threads} host thread(s): {} thread-instructions, {} cycles in {secs:.3} s{cpu_text} = {:.2} M thread-instr/s ({:.2} M per host thread), {:.0} k cycles/s, {:.3} M DRAM requests/s ({dram_requests} requests), issue rate {:.1}%",
+            s.instructions,
+            s.cycles,
+            rate / 1e6,
+            rate / 1e6 / host_threads as f64,
+            s.cycles as f64 / secs / 1e3,
+            dram_requests as f64 / secs / 1e6,
+            s.issue_rate * 100.0,
+        );
+        rates.push(rate);
+        // Same inputs, same statistics for any number of host threads (the JSON form
+        // covers every counter).
+        let json = serde_json::to_string(&s).expect("stats serialize");
+        match &first {
+            None => first = Some(json),
+            Some(f) if *f != json => deterministic = false,
+            Some(_) => {}
+        }
+    }
+    let per_core = rates[0];
+    let scaling = rates[1] / rates[0];
+    println!(
+        "  1 host thread: {:.2} M thread-instr/s per host core (target >= {:.0} M): {}",
+        per_core / 1e6,
+        TARGET_PER_CORE / 1e6,
+        if per_core >= TARGET_PER_CORE {
+            "met"
+        } else {
+            "MISSED"
+        }
+    );
+    println!(
+        "  2 host threads / 1: {scaling:.2}x (target >= {TARGET_SCALING}x): {}",
+        if scaling >= TARGET_SCALING {
+            "met"
+        } else {
+            "MISSED"
+        }
+    );
+    println!(
+        "  vs original simtrax (raycast, Cornell, 4x32, USIMM, 1 thread: {SIMTRAX_MIPS} M instr/s): {:.1}x with 1 host thread, {:.1}x with 2",
+        rates[0] / 1e6 / SIMTRAX_MIPS,
+        rates[1] / 1e6 / SIMTRAX_MIPS
+    );
+    assert!(
+        deterministic,
+        "statistics differ between 1 and 2 host threads"
+    );
+}

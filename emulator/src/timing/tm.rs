@@ -1,0 +1,449 @@
+//! One TM during the parallel phase of a quantum: its thread processors, scoreboards,
+//! execution units, I-cache banks and L1, stepped cycle by cycle.
+//!
+//! A TM touches only its own state here (and reads the chip): its threads execute
+//! through a [`TmView`], so an instruction that would change chip-wide state (a store to
+//! global memory, a global-register, barrier, semaphore, stream or halt operation) claims
+//! its timing resources at its issue cycle but is *deferred*: it is recorded, its thread
+//! waits for the rest of the quantum, and the serial phase executes it in a fixed order
+//! ([`super::engine`]).
+
+use trax_runtime::isa::{TraxOp, UnitClass};
+
+use super::engine::{Counters, Shape};
+use super::operands::{classify, OpInfo, NUM_SLOTS, PC_BASE};
+use crate::chip::{Effects, TmView};
+use crate::decode::Inst;
+use crate::exec::Stop;
+use crate::machine::Crash;
+use crate::memsys::{Access, AccessKind, Completion, MemRequest, Stall, TmMem};
+use crate::profile::{CostKind, Profiler};
+use crate::thread::{RunState, Shared, Thread};
+
+/// Scoreboard of one thread.
+#[derive(Clone)]
+pub(crate) struct Sb {
+    pub ready: [u64; NUM_SLOTS],
+    pub producer: [u32; NUM_SLOTS],
+    pub fetched: bool,
+}
+
+/// A pending register (waits for a memory completion).
+pub(crate) const PENDING: u64 = u64::MAX;
+
+/// An instruction waiting for the serial phase.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Deferred {
+    /// Issue cycle.
+    pub cycle: u64,
+    /// TM and thread within it.
+    pub tm: u32,
+    pub tid: u32,
+    /// Text index of the instruction.
+    pub idx: u32,
+    /// Its timing facts.
+    pub info: OpInfo,
+    /// When its destination is ready, before chip-wide ordering (global-register ops are
+    /// given their service cycle in the serial phase).
+    pub ready_at: u64,
+    /// Not an instruction to run: the thread halted (executed already) and the chip's
+    /// live-thread count and barriers must learn it.
+    pub halted: bool,
+}
+
+/// A TM's simulation state.
+#[derive(Clone)]
+pub(crate) struct TmSim {
+    pub tm: usize,
+    pub threads: Vec<Thread>,
+    pub sb: Vec<Sb>,
+    /// Per thread: (cycle before which it stalls on a known data dependence, producer).
+    wake: Vec<(u64, u32)>,
+    /// Per thread: waiting for its deferred instruction (until the next quantum).
+    pub frozen: Vec<bool>,
+    /// Per unit class, per instance: first cycle the unit accepts an op.
+    unit_free: Vec<Vec<u64>>,
+    icache_use: Vec<u32>,
+    pub mem: TmMem,
+    pub fx: Effects,
+    pub deferred: Vec<Deferred>,
+    /// The first fault of this quantum: (cycle, thread, report).
+    pub crash: Option<(u64, usize, Box<Crash>)>,
+    completions: Vec<Completion>,
+}
+
+impl TmSim {
+    pub fn new(tm: usize, threads: Vec<Thread>, mem: TmMem, shape: &Shape) -> TmSim {
+        let n = threads.len();
+        let sb = Sb {
+            ready: [0; NUM_SLOTS],
+            producer: [u32::MAX; NUM_SLOTS],
+            fetched: false,
+        };
+        TmSim {
+            tm,
+            sb: vec![sb; n],
+            wake: vec![(0, 0); n],
+            frozen: vec![false; n],
+            unit_free: shape
+                .units
+                .iter()
+                .map(|u| vec![0; u.count as usize])
+                .collect(),
+            icache_use: vec![0; shape.icache_slots],
+            threads,
+            mem,
+            fx: Effects::default(),
+            deferred: Vec::new(),
+            crash: None,
+            completions: Vec::new(),
+        }
+    }
+
+    /// Simulates cycles `[from, to)`.
+    pub fn run_quantum(
+        &mut self,
+        shape: &Shape,
+        shared: &Shared,
+        c: &mut Counters,
+        mut prof: Option<&mut Profiler>,
+        from: u64,
+        to: u64,
+    ) {
+        // Line fills sent by the L2s in the last serial phase.
+        self.mem.apply_fills(&mut self.completions);
+        for comp in self.completions.drain(..) {
+            let tid = (comp.id >> 8) as usize % self.threads.len();
+            let slot = (comp.id & 0xFF) as usize;
+            let s = &mut self.sb[tid];
+            if s.ready[slot] == PENDING {
+                s.ready[slot] = comp.cycle.max(from);
+            }
+        }
+        self.frozen.iter_mut().for_each(|f| *f = false);
+        let n = self.threads.len();
+        for now in from..to {
+            self.icache_use.iter_mut().for_each(|x| *x = 0);
+            let first = (now % n as u64) as usize;
+            for j in 0..n {
+                let tid = (first + j) % n;
+                self.step_thread(shape, shared, c, prof.as_deref_mut(), tid, now);
+            }
+        }
+    }
+
+    fn step_thread(
+        &mut self,
+        shape: &Shape,
+        shared: &Shared,
+        c: &mut Counters,
+        mut prof: Option<&mut Profiler>,
+        tid: usize,
+        now: u64,
+    ) {
+        macro_rules! charge {
+            ($kind:expr) => {
+                if let Some(p) = prof.as_deref_mut() {
+                    let t = &self.threads[tid];
+                    p.charge(t.gid as usize, t, $kind, 1);
+                }
+            };
+        }
+        if self.frozen[tid] {
+            c.tc.global_sync += 1;
+            charge!(CostKind::OtherStall);
+            return;
+        }
+        if self.crash.as_ref().is_some_and(|(_, t, _)| *t == tid) {
+            return;
+        }
+        // Still waiting for a register with a known ready cycle: same stall as last cycle.
+        let (until, p) = self.wake[tid];
+        if now < until {
+            c.tc.data_dependence += 1;
+            c.dep_by_producer[p as usize] += 1;
+            charge!(dep_kind(&shape.info, p as usize));
+            return;
+        }
+        let t = &mut self.threads[tid];
+        match t.state {
+            RunState::Halted => {
+                c.tc.halted += 1;
+                return;
+            }
+            RunState::Barrier { reg, generation } => {
+                if shared.barrier_generation[reg as usize] > generation {
+                    t.state = RunState::Running;
+                } else {
+                    c.tc.sync_wait += 1;
+                    charge!(CostKind::OtherStall);
+                    return;
+                }
+            }
+            RunState::Running => {}
+        }
+        // Debug-class ops cost nothing: run them and look at the next instruction.
+        for _ in 0..64 {
+            let pc = self.threads[tid].pc;
+            let idx = shape.slot_idx(pc);
+            let info = if idx < shape.info.len() {
+                shape.info[idx]
+            } else {
+                match self.threads[tid].current_inst(shared) {
+                    Some(i) => classify(&i),
+                    // A fetch fault: let the functional core report it.
+                    None => classify(&Inst::Sync { stype: 0 }),
+                }
+            };
+            if info.class == UnitClass::Debug {
+                c.debug_ops += 1;
+                self.fx.at_cycle(now);
+                let stop = self.execute(shared, c, tid, idx, now);
+                // `trax.clock` (a debug op) reads the cycle counter.
+                patch_clock(&shared.program.insts, &mut self.threads[tid], idx, now);
+                match stop {
+                    Stop::Budget => {}
+                    Stop::Defer => {
+                        self.defer(tid, idx, info, now, now);
+                        return;
+                    }
+                    _ => return,
+                }
+                if self.threads[tid].state != RunState::Running {
+                    return;
+                }
+                continue;
+            }
+            self.try_issue(shape, shared, c, prof, tid, idx, pc, info, now);
+            return;
+        }
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn try_issue(
+        &mut self,
+        shape: &Shape,
+        shared: &Shared,
+        c: &mut Counters,
+        mut prof: Option<&mut Profiler>,
+        tid: usize,
+        idx: usize,
+        pc: u32,
+        mut info: OpInfo,
+        now: u64,
+    ) {
+        macro_rules! charge {
+            ($kind:expr) => {
+                if let Some(p) = prof.as_deref_mut() {
+                    let t = &self.threads[tid];
+                    p.charge(t.gid as usize, t, $kind, 1);
+                }
+            };
+        }
+        // Fetch.
+        if !self.sb[tid].fetched {
+            let cache = tid % shape.icaches;
+            let bank = (pc >> 2) as usize % shape.icache_banks;
+            let slot = &mut self.icache_use[cache * shape.icache_banks + bank];
+            if *slot >= shape.fetches_per_bank {
+                c.tc.icache_conflict += 1;
+                charge!(CostKind::ResourceStall);
+                return;
+            }
+            *slot += 1;
+            c.fetches += 1;
+            self.sb[tid].fetched = true;
+        }
+        // Scoreboard (slot 0, `$0`, is always ready: one branch for the common case).
+        let s = &self.sb[tid];
+        let rd = |r: u8| s.ready[r as usize];
+        let latest = rd(info.src[0])
+            .max(rd(info.src[1]))
+            .max(rd(info.src[2]))
+            .max(rd(info.src[3]))
+            .max(rd(info.dst));
+        if latest > now {
+            for r in info.src.into_iter().chain(std::iter::once(info.dst)) {
+                if r == 0 || s.ready[r as usize] <= now {
+                    continue;
+                }
+                c.tc.data_dependence += 1;
+                let p = (s.producer[r as usize] as usize).min(shape.info.len());
+                c.dep_by_producer[p] += 1;
+                let ready = s.ready[r as usize];
+                if ready != PENDING {
+                    self.wake[tid] = (ready, p as u32);
+                }
+                charge!(dep_kind(&shape.info, p));
+                return;
+            }
+        }
+        // Unit, memory or local store.
+        let t = &self.threads[tid];
+        let mut ready_at = now + 1;
+        let mut pending_load = false;
+        if let Some(mo) = info.mem {
+            let addr = if mo.base == PC_BASE {
+                pc.wrapping_add(mo.off as u32)
+            } else {
+                t.regs.gpr[mo.base as usize].wrapping_add(mo.off as u32)
+            };
+            if addr >= shared.mem.global_end() {
+                info.class = UnitClass::LocalStore;
+                c.local_accesses += 1;
+                ready_at = now + shape.local_latency;
+            } else {
+                let req = MemRequest {
+                    addr,
+                    kind: if mo.store {
+                        AccessKind::Write
+                    } else {
+                        AccessKind::Read
+                    },
+                    size: mo.size as u32,
+                    requester: t.gid,
+                    id: ((tid as u64) << 8) | info.dst as u64,
+                };
+                match self.mem.access(&req, now) {
+                    Access::Ready(r) => ready_at = r.max(now + 1),
+                    Access::Pending => pending_load = true,
+                    Access::Stall(st) => {
+                        let kind = match st {
+                            Stall::L1Bank => {
+                                c.tc.l1_bank_conflict += 1;
+                                CostKind::ResourceStall
+                            }
+                            Stall::L1Mshr => {
+                                c.tc.l1_mshr_full += 1;
+                                CostKind::MemoryStall
+                            }
+                        };
+                        charge!(kind);
+                        return;
+                    }
+                }
+            }
+        } else {
+            match info.class {
+                // Global-register throughput is chip-wide: the serial phase orders them.
+                UnitClass::RegFile | UnitClass::GlobalRegs => {}
+                class => {
+                    let u = &shape.units[class as usize];
+                    let cnt = u.count as usize;
+                    let inst = tid * cnt / self.threads.len();
+                    let free = &mut self.unit_free[class as usize][inst];
+                    if *free > now {
+                        c.tc.unit_conflict += 1;
+                        c.unit_conflicts[class as usize] += 1;
+                        charge!(CostKind::ResourceStall);
+                        return;
+                    }
+                    *free = if u.pipelined {
+                        now + 1
+                    } else {
+                        now + u.latency
+                    };
+                    ready_at = now + u.latency;
+                }
+            }
+        }
+        // Issue: execute functionally now. The issue cycle belongs to the stack and pc
+        // before execution (a call pushes, a return pops).
+        charge!(CostKind::Issue);
+        match self.execute(shared, c, tid, idx, now) {
+            Stop::Budget => {}
+            Stop::Halted => self.deferred.push(Deferred {
+                cycle: now,
+                tm: self.tm as u32,
+                tid: tid as u32,
+                idx: idx as u32,
+                info,
+                ready_at,
+                halted: true,
+            }),
+            Stop::Defer => {
+                self.defer(tid, idx, info, now, ready_at);
+                return;
+            }
+            // Barriers and semaphores are chip-wide (deferred); a fault was recorded.
+            _ => return,
+        }
+        c.tc.issued += 1;
+        c.class_ops[info.class as usize] += 1;
+        c.reg_accesses +=
+            info.src.iter().filter(|&&r| r != 0).count() as u64 + (info.dst != 0) as u64;
+        let s = &mut self.sb[tid];
+        s.fetched = false;
+        if info.dst != 0 {
+            s.ready[info.dst as usize] = if pending_load { PENDING } else { ready_at };
+            s.producer[info.dst as usize] = idx as u32;
+        }
+    }
+
+    /// Records a deferred instruction; its thread waits until the next quantum.
+    fn defer(&mut self, tid: usize, idx: usize, info: OpInfo, now: u64, ready_at: u64) {
+        self.deferred.push(Deferred {
+            cycle: now,
+            tm: self.tm as u32,
+            tid: tid as u32,
+            idx: idx as u32,
+            info,
+            ready_at,
+            halted: false,
+        });
+        self.frozen[tid] = true;
+    }
+
+    /// Executes the thread's next instruction functionally with this TM's view.
+    fn execute(
+        &mut self,
+        shared: &Shared,
+        c: &mut Counters,
+        tid: usize,
+        idx: usize,
+        now: u64,
+    ) -> Stop {
+        let t = &mut self.threads[tid];
+        let mut view = TmView {
+            shared,
+            fx: &mut self.fx,
+        };
+        let stop = t.run(&mut view, 1);
+        match &stop {
+            Stop::Defer => return stop,
+            Stop::Fault(f) => {
+                if self.crash.is_none() {
+                    self.crash = Some((now, tid, Box::new(Crash::capture(t, f.clone()))));
+                }
+                return stop;
+            }
+            _ => {}
+        }
+        c.issued_at[idx] += 1;
+        stop
+    }
+}
+
+/// `trax.clock` reads the cycle counter in the timing model.
+pub(crate) fn patch_clock(insts: &[Inst], t: &mut Thread, idx: usize, now: u64) {
+    if let Some(Inst::Trax {
+        op: TraxOp::Clock,
+        rd,
+        ..
+    }) = insts.get(idx)
+    {
+        if *rd != 0 {
+            t.regs.gpr[*rd as usize & 31] = now as u32;
+        }
+    }
+}
+
+/// The profile kind of a data-dependence stall on producer word `p`: waiting for a
+/// load's data is a memory stall, anything else a data stall.
+#[inline(always)]
+fn dep_kind(info: &[OpInfo], p: usize) -> CostKind {
+    match info.get(p) {
+        Some(i) if i.mem.is_some_and(|mo| !mo.store) => CostKind::MemoryStall,
+        _ => CostKind::DataStall,
+    }
+}

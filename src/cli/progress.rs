@@ -1,0 +1,50 @@
+//! The progress line of long runs: a spinner on stderr with what has been simulated so
+//! far. Hidden when stderr is not a terminal (tests, pipes, CI logs stay clean).
+
+use std::time::{Duration, Instant};
+
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use trax_emulator::timing::Progress;
+
+/// A live progress line.
+pub struct ProgressLine {
+    bar: ProgressBar,
+    start: Instant,
+    threads: u32,
+}
+
+impl ProgressLine {
+    /// Starts the line for a chip of `threads` hardware threads.
+    pub fn start(threads: u32) -> ProgressLine {
+        let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
+        bar.set_style(
+            ProgressStyle::with_template("{spinner} [{elapsed_precise}] {msg}")
+                .unwrap_or_else(|_| ProgressStyle::default_spinner()),
+        );
+        bar.enable_steady_tick(Duration::from_millis(200));
+        ProgressLine {
+            bar,
+            start: Instant::now(),
+            threads,
+        }
+    }
+
+    /// Shows a timing run's progress.
+    pub fn timing(&self, p: &Progress) {
+        let secs = self.start.elapsed().as_secs_f64().max(1e-9);
+        self.bar.set_message(format!(
+            "cycle {} | {} instructions ({:.1} M/s) | {} rays | {}/{} threads running",
+            p.cycles,
+            p.instructions,
+            p.instructions as f64 / secs / 1e6,
+            p.rays,
+            p.live_threads,
+            self.threads
+        ));
+    }
+
+    /// Removes the line.
+    pub fn finish(&self) {
+        self.bar.finish_and_clear();
+    }
+}

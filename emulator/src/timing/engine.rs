@@ -149,13 +149,12 @@ impl Shape {
     }
 }
 
-/// The TMs one host thread simulates, with its counters (aligned apart so two host
-/// threads never write the same cache line).
+/// One host thread's counters (aligned apart so two host threads never write the same
+/// cache line).
 #[repr(align(128))]
 struct Part {
-    tms: Vec<TmSim>,
     c: Counters,
-    /// Whether the state was reallocated by the host thread that runs it.
+    /// Whether the counters were reallocated by the host thread that uses them.
     local: bool,
 }
 
@@ -254,31 +253,31 @@ impl<'c> Engine<'c> {
         // Hand the threads and L1s to the TMs, the TMs to the host threads.
         let mut threads = std::mem::take(&mut m.threads).into_iter();
         let mut tm_mems = self.mem.take_tms().into_iter();
-        let mut parts: Vec<Part> = (0..workers)
-            .map(|_| Part {
-                tms: Vec::new(),
-                c: Counters {
-                    issued_at: vec![0; self.c.issued_at.len()],
-                    dep_by_producer: vec![0; self.c.issued_at.len()],
-                    ..Counters::default()
-                },
-                local: false,
+        let parts: Vec<Mutex<Part>> = (0..workers)
+            .map(|_| {
+                Mutex::new(Part {
+                    c: Counters {
+                        issued_at: vec![0; self.c.issued_at.len()],
+                        dep_by_producer: vec![0; self.c.issued_at.len()],
+                        ..Counters::default()
+                    },
+                    local: false,
+                })
             })
             .collect();
-        for tm in 0..tms {
-            let ts: Vec<Thread> = threads.by_ref().take(n).collect();
-            let mem = tm_mems.next().expect("one L1 per TM");
-            parts[tm * workers / tms]
-                .tms
-                .push(TmSim::new(tm, ts, mem, &self.shape));
-        }
-        let parts: Vec<Mutex<Part>> = parts.into_iter().map(Mutex::new).collect();
+        let sims: Vec<Mutex<TmSim>> = (0..tms)
+            .map(|tm| {
+                let ts: Vec<Thread> = threads.by_ref().take(n).collect();
+                let mem = tm_mems.next().expect("one L1 per TM");
+                Mutex::new(TmSim::new(tm, ts, mem, &self.shape))
+            })
+            .collect();
         let mut profiler = self.profiler.take();
         let mut progress = self.progress.take();
         let mut halted_excess = 0u64;
         let outcome = {
             let shared = RwLock::new(&mut m.shared);
-            let rounds = Rounds::new(workers - 1);
+            let rounds = Rounds::new(tms, workers);
             let window = (AtomicU64::new(0), AtomicU64::new(0));
             let Engine {
                 cfg,
@@ -289,39 +288,49 @@ impl<'c> Engine<'c> {
                 ..
             } = self;
             let (cfg, shape, max_cycles) = (*cfg, &*shape, *max_cycles);
-            let job = |w: usize| {
+            // Host thread `w` simulates TM `k` for the current window.
+            let job = |w: usize, k: usize, prof: Option<&mut Profiler>| {
                 let (from, to) = (
                     window.0.load(Ordering::Acquire),
                     window.1.load(Ordering::Acquire),
                 );
                 let sh = shared.read().unwrap_or_else(|e| e.into_inner());
                 let mut p = parts[w].lock().unwrap_or_else(|e| e.into_inner());
-                let Part { tms, c, local } = &mut *p;
-                if !*local {
-                    // Reallocate the TMs' state from this host thread (its own heap
-                    // arena), so no cache line is shared with another host thread's TMs.
-                    *local = true;
-                    *c = c.clone();
-                    for t in tms.iter_mut() {
-                        *t = t.clone();
-                    }
+                let mut t = sims[k].lock().unwrap_or_else(|e| e.into_inner());
+                // Reallocate state from the host thread that normally runs it (its own
+                // heap arena), so host threads do not write the same cache lines.
+                if !p.local {
+                    p.local = true;
+                    p.c = p.c.clone();
                 }
-                for t in tms {
-                    t.run_quantum(shape, &sh, c, None, from, to);
+                if !t.local && rounds.owner(k) == w {
+                    *t = t.clone();
+                    t.local = true;
                 }
+                t.run_quantum(shape, &sh, &mut p.c, prof, from, to);
             };
+            let member_job = |w: usize, k: usize| job(w, k, None);
             std::thread::scope(|scope| {
-                let crew = rounds.spawn(scope, &job);
+                let crew = rounds.spawn(scope, &member_job);
                 let mut d = Driver {
                     cfg,
-                    shape,
                     mem,
                     now,
                     max_cycles,
                     halted_excess: &mut halted_excess,
                     progress: progress.as_deref_mut(),
                 };
-                let outcome = d.drive(&shared, &parts, &rounds, &crew, &window, &mut profiler, out);
+                let mut leader_job = |k: usize| job(0, k, profiler.as_mut());
+                let outcome = d.drive(
+                    &shared,
+                    &parts,
+                    &sims,
+                    &rounds,
+                    &crew,
+                    &window,
+                    &mut leader_job,
+                    out,
+                );
                 rounds.finish(&crew);
                 outcome
             })
@@ -329,14 +338,15 @@ impl<'c> Engine<'c> {
         self.profiler = profiler;
         self.progress = progress;
         // Take everything back.
-        let mut tm_mems = Vec::with_capacity(tms);
         for p in parts {
             let p = p.into_inner().unwrap_or_else(|e| e.into_inner());
             self.c.add(&p.c);
-            for t in p.tms {
-                m.threads.extend(t.threads);
-                tm_mems.push(t.mem);
-            }
+        }
+        let mut tm_mems = Vec::with_capacity(tms);
+        for t in sims {
+            let t = t.into_inner().unwrap_or_else(|e| e.into_inner());
+            m.threads.extend(t.threads);
+            tm_mems.push(t.mem);
         }
         self.mem.restore_tms(tm_mems);
         self.c.tc.halted -= halted_excess.min(self.c.tc.halted);
@@ -348,7 +358,6 @@ impl<'c> Engine<'c> {
 /// What the leader thread changes while the TMs run.
 struct Driver<'a, 'p> {
     cfg: &'a ChipConfig,
-    shape: &'a Shape,
     mem: &'a mut MemSystem,
     now: &'a mut u64,
     max_cycles: Option<u64>,
@@ -370,10 +379,11 @@ impl Driver<'_, '_> {
         &mut self,
         shared: &RwLock<&mut Shared>,
         parts: &[Mutex<Part>],
+        tm_sims: &[Mutex<TmSim>],
         rounds: &Rounds,
         crew: &[std::thread::ScopedJoinHandle<'_, ()>],
         window: &(AtomicU64, AtomicU64),
-        profiler: &mut Option<Profiler>,
+        leader_job: &mut dyn FnMut(usize),
         out: &mut dyn Write,
     ) -> Outcome {
         let q = self.quantum();
@@ -404,16 +414,7 @@ impl Driver<'_, '_> {
             // Phase 1: the TMs, in parallel.
             window.0.store(from, Ordering::Release);
             window.1.store(to, Ordering::Release);
-            rounds.start(crew);
-            {
-                let sh = shared.read().unwrap_or_else(|e| e.into_inner());
-                let mut p = parts[0].lock().unwrap_or_else(|e| e.into_inner());
-                let Part { tms, c, .. } = &mut *p;
-                for t in tms {
-                    t.run_quantum(self.shape, &sh, c, profiler.as_mut(), from, to);
-                }
-            }
-            if !rounds.wait(crew) {
+            if !rounds.run(crew, leader_job) {
                 // A host thread died; the scope re-raises its panic.
                 return Outcome::Deadlock { waiting: 0 };
             }
@@ -422,18 +423,14 @@ impl Driver<'_, '_> {
                 .iter()
                 .map(|p| p.lock().unwrap_or_else(|e| e.into_inner()))
                 .collect();
+            let mut sim_guards: Vec<_> = tm_sims
+                .iter()
+                .map(|t| t.lock().unwrap_or_else(|e| e.into_inner()))
+                .collect();
             let mut sh_guard = shared.write().unwrap_or_else(|e| e.into_inner());
             let sh: &mut Shared = &mut sh_guard;
-            let mut sims: Vec<&mut TmSim> = Vec::with_capacity(tms as usize);
-            let mut c_first: Option<&mut Counters> = None;
-            for g in guards.iter_mut() {
-                let Part { tms, c, .. } = &mut **g;
-                if c_first.is_none() {
-                    c_first = Some(c);
-                }
-                sims.extend(tms.iter_mut());
-            }
-            let c = c_first.expect("at least one part");
+            let mut sims: Vec<&mut TmSim> = sim_guards.iter_mut().map(|g| &mut **g).collect();
+            let c = &mut guards[0].c;
             // The first fault, in (cycle, TM) order.
             let mut crash: Option<(u64, Box<Crash>)> = None;
             for t in sims.iter_mut() {

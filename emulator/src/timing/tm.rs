@@ -51,13 +51,17 @@ pub(crate) struct Deferred {
     pub halted: bool,
 }
 
-/// A TM's simulation state.
+/// A TM's simulation state (aligned apart: TMs run on different host threads).
 #[derive(Clone)]
+#[repr(align(128))]
 pub(crate) struct TmSim {
     pub tm: usize,
+    /// Whether the state was reallocated by the host thread that owns the TM.
+    pub local: bool,
     pub threads: Vec<Thread>,
     pub sb: Vec<Sb>,
-    /// Per thread: (cycle before which it stalls on a known data dependence, producer).
+    /// Per thread: (cycle before which it stalls on a data dependence, producer);
+    /// [`PENDING`] while it waits for a load whose completion has not arrived.
     wake: Vec<(u64, u32)>,
     /// Per thread: waiting for its deferred instruction (until the next quantum).
     pub frozen: Vec<bool>,
@@ -82,6 +86,7 @@ impl TmSim {
         };
         TmSim {
             tm,
+            local: false,
             sb: vec![sb; n],
             wake: vec![(0, 0); n],
             frozen: vec![false; n],
@@ -118,6 +123,10 @@ impl TmSim {
             let s = &mut self.sb[tid];
             if s.ready[slot] == PENDING {
                 s.ready[slot] = comp.cycle.max(from);
+                // Look at the scoreboard again on the thread's next turn.
+                if self.wake[tid].0 == PENDING {
+                    self.wake[tid] = (0, 0);
+                }
             }
         }
         self.frozen.iter_mut().for_each(|f| *f = false);
@@ -270,10 +279,7 @@ impl TmSim {
                 c.tc.data_dependence += 1;
                 let p = (s.producer[r as usize] as usize).min(shape.info.len());
                 c.dep_by_producer[p] += 1;
-                let ready = s.ready[r as usize];
-                if ready != PENDING {
-                    self.wake[tid] = (ready, p as u32);
-                }
+                self.wake[tid] = (s.ready[r as usize], p as u32);
                 charge!(dep_kind(&shape.info, p));
                 return;
             }

@@ -1,88 +1,95 @@
-//! Host threads for the parallel phase: a fixed crew that runs one job per round, started
-//! and awaited by the leader. A round lasts tens of microseconds, so waiting spins first
-//! and parks the host thread only when the wait drags on (a busy host with fewer free
-//! cores than simulation threads).
+//! Host threads for the parallel phase: a fixed crew that, each round, runs one job per TM.
 //!
-//! The leader publishes a round number; every member runs the round's job once and
-//! counts itself done. Data is handed over through the caller's own locks (each member
-//! locks what it works on), which also order memory between rounds.
+//! Every TM has an owner (TMs are split evenly), and each host thread runs its own TMs
+//! first, then takes any TM nobody has started yet: a host thread that the OS holds back
+//! (a busy host) delays the round by at most the TM it is running. A round lasts tens of
+//! microseconds, so waiting spins first and parks only when the wait drags on.
+//!
+//! Which host thread runs which TM never matters for results: the caller's jobs touch only
+//! the TM's own state and sums that commute.
 
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering::SeqCst};
 use std::thread::{Scope, ScopedJoinHandle, Thread};
+use std::time::Duration;
 
 /// Spins before parking while waiting.
 const SPINS_BEFORE_PARK: u32 = 1_000;
 
-/// The round protocol shared by the leader and the members.
+/// The round protocol shared by the leader (host thread 0) and the members.
 pub(crate) struct Rounds {
     round: AtomicU64,
+    /// Per TM: the last round that claimed it.
+    claimed: Vec<AtomicU64>,
+    /// TMs finished in the current round.
     done: AtomicUsize,
     stop: AtomicBool,
-    /// Per member (index 0 unused): parked, waiting for a round.
+    /// Host threads (leader included).
+    threads: usize,
+    /// Per host thread: parked, waiting for a round.
     parked: Vec<AtomicBool>,
     leader: Thread,
-    leader_parked: AtomicBool,
 }
 
 impl Rounds {
-    /// The protocol for a leader (the calling thread) and `members` members.
-    pub fn new(members: usize) -> Rounds {
+    /// The protocol for `tms` TMs on `threads` host threads (the caller is the leader).
+    pub fn new(tms: usize, threads: usize) -> Rounds {
         Rounds {
             round: AtomicU64::new(0),
+            claimed: (0..tms).map(|_| AtomicU64::new(0)).collect(),
             done: AtomicUsize::new(0),
             stop: AtomicBool::new(false),
-            parked: (0..=members).map(|_| AtomicBool::new(false)).collect(),
+            threads,
+            parked: (0..threads).map(|_| AtomicBool::new(false)).collect(),
             leader: std::thread::current(),
-            leader_parked: AtomicBool::new(false),
         }
     }
 
-    /// Starts the members in `scope`; member `i` (1-based) runs `job(i)` once per round
-    /// until [`Self::finish`].
+    /// The host thread that runs TM `tm` when nobody is late.
+    pub fn owner(&self, tm: usize) -> usize {
+        tm * self.threads / self.claimed.len()
+    }
+
+    /// Starts the members (host threads 1..) in `scope`; each round they run
+    /// `job(thread, tm)` for the TMs they claim, until [`Self::finish`].
     pub fn spawn<'s, 'e, F>(
         &'s self,
         scope: &'s Scope<'s, 'e>,
         job: &'s F,
     ) -> Vec<ScopedJoinHandle<'s, ()>>
     where
-        F: Fn(usize) + Sync,
+        F: Fn(usize, usize) + Sync,
     {
-        (1..self.parked.len())
-            .map(|i| {
+        (1..self.threads)
+            .map(|w| {
                 scope.spawn(move || {
                     let mut seen = 0;
                     loop {
                         let news = || self.round.load(SeqCst) != seen || self.stop.load(SeqCst);
-                        wait_for(news, &self.parked[i]);
+                        wait_for(news, &self.parked[w]);
                         if self.stop.load(SeqCst) {
                             return;
                         }
                         seen = self.round.load(SeqCst);
-                        job(i);
-                        self.done.fetch_add(1, SeqCst);
-                        if self.leader_parked.swap(false, SeqCst) {
-                            self.leader.unpark();
-                        }
+                        self.work(w, seen, &mut |k| job(w, k));
                     }
                 })
             })
             .collect()
     }
 
-    /// Starts a round (the leader then does its own share).
-    pub fn start(&self, crew: &[ScopedJoinHandle<'_, ()>]) {
+    /// Runs a round: wakes the members, runs `job(tm)` for the TMs the leader claims, and
+    /// waits until every TM is done. Returns false if a member died (it panicked; the scope
+    /// re-raises the panic when it joins).
+    pub fn run(&self, crew: &[ScopedJoinHandle<'_, ()>], job: &mut dyn FnMut(usize)) -> bool {
         self.done.store(0, SeqCst);
-        self.round.fetch_add(1, SeqCst);
+        let round = self.round.fetch_add(1, SeqCst) + 1;
         self.wake(crew);
-    }
-
-    /// Waits until every member finished the round. Returns false if a member thread
-    /// ended (it panicked; the scope re-raises the panic when it joins).
-    pub fn wait(&self, crew: &[ScopedJoinHandle<'_, ()>]) -> bool {
+        self.work(0, round, job);
+        let tms = self.claimed.len();
         loop {
-            let all_done = || self.done.load(SeqCst) >= crew.len();
+            let all_done = || self.done.load(SeqCst) >= tms;
             let died = || crew.iter().any(|h| h.is_finished());
-            wait_for(|| all_done() || died(), &self.leader_parked);
+            wait_for(|| all_done() || died(), &self.parked[0]);
             if all_done() {
                 return true;
             }
@@ -96,6 +103,25 @@ impl Rounds {
     pub fn finish(&self, crew: &[ScopedJoinHandle<'_, ()>]) {
         self.stop.store(true, SeqCst);
         self.wake(crew);
+    }
+
+    /// Claims and runs TMs of `round`: host thread `w`'s own first, then any left.
+    fn work(&self, w: usize, round: u64, job: &mut dyn FnMut(usize)) {
+        let tms = self.claimed.len();
+        let first = (0..tms).position(|k| self.owner(k) == w).unwrap_or(0);
+        for i in 0..tms {
+            let k = (first + i) % tms;
+            if self.claimed[k]
+                .compare_exchange(round - 1, round, SeqCst, SeqCst)
+                .is_err()
+            {
+                continue;
+            }
+            job(k);
+            if self.done.fetch_add(1, SeqCst) + 1 == tms && self.parked[0].swap(false, SeqCst) {
+                self.leader.unpark();
+            }
+        }
     }
 
     fn wake(&self, crew: &[ScopedJoinHandle<'_, ()>]) {
@@ -124,7 +150,7 @@ fn wait_for(ready: impl Fn() -> bool, parked: &AtomicBool) {
             return;
         }
         // A timeout, so a leader notices a member that died instead of waking it.
-        std::thread::park_timeout(std::time::Duration::from_millis(1));
+        std::thread::park_timeout(Duration::from_millis(1));
     }
     parked.store(false, SeqCst);
 }

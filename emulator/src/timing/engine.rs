@@ -129,6 +129,8 @@ pub(crate) struct Shape {
     pub units: Vec<UnitSpec>,
     pub icaches: usize,
     pub icache_banks: usize,
+    /// `icache_banks - 1` when it is a power of two.
+    pub icache_bank_mask: Option<usize>,
     pub fetches_per_bank: u32,
     /// I-cache bank slots per TM.
     pub icache_slots: usize,
@@ -218,6 +220,7 @@ impl<'c> Engine<'c> {
                 units,
                 icaches: ic.per_tm as usize,
                 icache_banks: ic.banks as usize,
+                icache_bank_mask: ic.banks.is_power_of_two().then(|| ic.banks as usize - 1),
                 fetches_per_bank: ic.fetches_per_bank,
                 icache_slots: (ic.per_tm * ic.banks) as usize,
                 local_latency: cfg.local_store.latency as u64,

@@ -67,7 +67,11 @@ pub(crate) struct TmSim {
     pub frozen: Vec<bool>,
     /// Per unit class, per instance: first cycle the unit accepts an op.
     unit_free: Vec<Vec<u64>>,
+    /// Per (unit class, thread): the unit instance wired to the thread.
+    unit_of: Vec<u32>,
     icache_use: Vec<u32>,
+    /// Per thread: index in `icache_use` of its I-cache's first bank.
+    icache_base: Vec<usize>,
     pub mem: TmMem,
     pub fx: Effects,
     pub deferred: Vec<Deferred>,
@@ -95,7 +99,15 @@ impl TmSim {
                 .iter()
                 .map(|u| vec![0; u.count as usize])
                 .collect(),
+            unit_of: shape
+                .units
+                .iter()
+                .flat_map(|u| (0..n).map(move |tid| (tid * u.count as usize / n) as u32))
+                .collect(),
             icache_use: vec![0; shape.icache_slots],
+            icache_base: (0..n)
+                .map(|tid| tid % shape.icaches * shape.icache_banks)
+                .collect(),
             threads,
             mem,
             fx: Effects::default(),
@@ -131,13 +143,13 @@ impl TmSim {
         }
         self.frozen.iter_mut().for_each(|f| *f = false);
         let n = self.threads.len();
+        let mut first = (from % n as u64) as usize;
         for now in from..to {
             self.icache_use.iter_mut().for_each(|x| *x = 0);
-            let first = (now % n as u64) as usize;
-            for j in 0..n {
-                let tid = (first + j) % n;
+            for tid in (first..n).chain(0..first) {
                 self.step_thread(shape, shared, c, prof.as_deref_mut(), tid, now);
             }
+            first = if first + 1 == n { 0 } else { first + 1 };
         }
     }
 
@@ -251,9 +263,11 @@ impl TmSim {
         }
         // Fetch.
         if !self.sb[tid].fetched {
-            let cache = tid % shape.icaches;
-            let bank = (pc >> 2) as usize % shape.icache_banks;
-            let slot = &mut self.icache_use[cache * shape.icache_banks + bank];
+            let bank = match shape.icache_bank_mask {
+                Some(mask) => (pc >> 2) as usize & mask,
+                None => (pc >> 2) as usize % shape.icache_banks,
+            };
+            let slot = &mut self.icache_use[self.icache_base[tid] + bank];
             if *slot >= shape.fetches_per_bank {
                 c.tc.icache_conflict += 1;
                 charge!(CostKind::ResourceStall);
@@ -335,8 +349,7 @@ impl TmSim {
                 UnitClass::RegFile | UnitClass::GlobalRegs => {}
                 class => {
                     let u = &shape.units[class as usize];
-                    let cnt = u.count as usize;
-                    let inst = tid * cnt / self.threads.len();
+                    let inst = self.unit_of[class as usize * self.threads.len() + tid] as usize;
                     let free = &mut self.unit_free[class as usize][inst];
                     if *free > now {
                         c.tc.unit_conflict += 1;

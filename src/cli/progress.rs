@@ -33,9 +33,9 @@ impl ProgressLine {
     pub fn timing(&self, p: &Progress) {
         let secs = self.start.elapsed().as_secs_f64().max(1e-9);
         self.bar.set_message(format!(
-            "cycle {} | {} instructions ({:.1} M/s) | {} rays | {}/{} threads running",
+            "cycle {} | {:.1} M instr ({:.1} M/s) | {} rays | {}/{} live",
             p.cycles,
-            p.instructions,
+            p.instructions as f64 / 1e6,
             p.instructions as f64 / secs / 1e6,
             p.rays,
             p.live_threads,

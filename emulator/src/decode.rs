@@ -738,7 +738,8 @@ fn decode_special3(w: u32) -> Inst {
             base: s,
             off: ((w as i32) << 16 >> 23) as i16,
         },
-        0x3B if w & 0x0000_0638 == 0 => Rdhwr {
+        // rs and bits 10..9 are zero; sel is bits 8..6.
+        0x3B if w & 0x03E0_0600 == 0 => Rdhwr {
             rt: t,
             rd: d,
             sel: (w >> 6 & 7) as u8,

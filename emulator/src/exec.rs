@@ -1,8 +1,12 @@
 //! The interpreter: executes a thread's predecoded instructions.
 //!
-//! [`Thread::run`] is the hot loop: fetch from the predecoded [`crate::program::Program`] (decoding on
-//! the fly only outside the text), one `match` on [`Inst`], no allocation and no dynamic
-//! dispatch. It performs no I/O: prints go to [`Shared::output`].
+//! [`Thread::run`] is the hot loop: it runs straight-line chunks of the predecoded
+//! [`crate::program::Program`] (fetch through a pointer, no per-instruction range check;
+//! decoding on the fly only outside the text), one `match` on [`Inst`] per instruction, no
+//! allocation and no dynamic dispatch. Per-instruction bookkeeping stays in registers: the
+//! retired count and the FPU's FCSR cause/flag bits are written back when the loop exits
+//! (or before an instruction that reads them). It performs no I/O: prints go to
+//! [`Shared::output`].
 //!
 //! Behaviour chosen where MIPS32r6 leaves it open (UNPREDICTABLE or implementation
 //! defined):
@@ -23,6 +27,8 @@ use crate::memory::MemFault;
 use crate::msa_glue::MsaStep;
 use crate::thread::{CallFrame, Fault, Shared, Thread, MAX_SHADOW_FRAMES};
 use crate::trax::{exec_trax, TraxFlow};
+use trax_runtime::fops;
+use trax_runtime::isa::TraxOp;
 
 /// Why [`Thread::run`] returned.
 #[derive(Clone, Debug, PartialEq)]
@@ -102,62 +108,149 @@ impl Thread {
     }
 
     /// Runs up to `budget` instructions.
+    ///
+    /// Inside the predecoded text the loop runs *straight-line chunks*: instructions are
+    /// fetched through a pointer into the text (no per-instruction range check or table
+    /// lookup) and retired instructions are counted in a register, added to
+    /// `self.retired` when the call ends. A chunk ends when control leaves the
+    /// fall-through path (taken branch or jump, after its delay slot) or at the end of
+    /// the text or budget; the next one starts with one range check of the new pc. An
+    /// instruction that reads the retired count (`rdhwr $2`, `trax.clock`,
+    /// `trax.profbegin/profend`) first brings `self.retired` up to date.
     pub fn run<C: Chip>(&mut self, sh: &mut C, budget: u64) -> Stop {
-        let end = self.retired.saturating_add(budget);
+        let mut left = budget;
+        // Retired since `self.retired` was last updated.
+        let mut done: u64 = 0;
         // pc and npc live in locals (registers) in the loop; `self` is updated on exit.
         let (mut pc, mut npc) = (self.pc, self.npc);
-        while self.retired < end {
-            let inst = match sh.shared().program.get(pc) {
-                Some(i) => *i,
-                None => match self.fetch_slow(sh.shared(), pc) {
-                    Ok(i) => i,
-                    Err(f) => {
-                        (self.pc, self.npc) = (pc, npc);
-                        return Stop::Fault(f);
+        // FCSR cause/flag updates, written to `regs.fcsr` on the way out.
+        let mut fp = FpPending::default();
+        let (text_base, text) = sh.shared().program.text();
+        let (text_ptr, text_len) = (text.as_ptr(), text.len());
+        while done < left {
+            let idx = pc.wrapping_sub(text_base).rotate_right(2) as usize;
+            if idx >= text_len {
+                // Outside the predecoded text (or a misaligned pc, rotated out of range).
+                self.retired += done;
+                left -= done;
+                done = 0;
+                fp.flush(&mut self.regs.fcsr);
+                match self.step_outside(sh, pc, npc) {
+                    Ok((p, n)) => (pc, npc) = (p, n),
+                    Err(stop) => return stop,
+                }
+                left -= 1;
+                continue;
+            }
+            let n = (left - done).min((text_len - idx) as u64) as usize;
+            // SAFETY: `idx < text_len` and `1 <= n <= text_len - idx`: `at` and `end` are
+            // inside (or one past) the text's instruction buffer.
+            let (mut at, end) = unsafe { (text_ptr.add(idx), text_ptr.add(idx + n)) };
+            loop {
+                // SAFETY: `at < end` (it advances by one until it reaches `end`), so it
+                // points into the text's instruction buffer. That buffer is owned by
+                // the chip's `Shared::program`, which `step` never writes (through any
+                // `Chip` view it touches memory, prints/counters and TRaX state only), so
+                // it stays allocated and unchanged while `step` holds `&mut C`; this
+                // shared reference ends with the iteration.
+                // Fetching through a pointer avoids a bounds check and a reload of the
+                // buffer's address per instruction.
+                let inst = unsafe { &*at };
+                let cur = pc;
+                match self.step(sh, cur, npc, inst, done == 0, &mut fp) {
+                    Ok((p, nn)) => {
+                        (pc, npc) = (p, nn);
+                        done += 1;
+                        // SAFETY: `at < end`, so `at + 1 <= end`.
+                        at = unsafe { at.add(1) };
+                        if at == end || p != cur.wrapping_add(4) {
+                            break;
+                        }
                     }
-                },
-            };
-            match self.step(sh, pc, npc, inst) {
-                Ok((p, n)) => (pc, npc) = (p, n),
-                Err(exit) => {
-                    return match exit {
-                        StepExit::Fault => {
-                            (self.pc, self.npc) = (pc, npc);
-                            match self.pending_fault.take() {
-                                Some(f) => Stop::Fault(f),
-                                None => Stop::Retry,
-                            }
-                        }
-                        StepExit::Defer => {
-                            (self.pc, self.npc) = (pc, npc);
-                            Stop::Defer
-                        }
-                        StepExit::Flow(TraxFlow::Retry) => {
-                            (self.pc, self.npc) = (pc, npc);
-                            Stop::Retry
-                        }
-                        // Halt and Block completed the instruction and set pc/npc.
-                        StepExit::Flow(TraxFlow::Halt) => Stop::Halted,
-                        StepExit::Flow(TraxFlow::Block | TraxFlow::Next | TraxFlow::Defer) => {
-                            Stop::Blocked
-                        }
-                    };
+                    // Needs an exact retired count: update it and run `cur` again.
+                    Err(StepExit::Sync) => {
+                        self.retired += done;
+                        left -= done;
+                        done = 0;
+                        break;
+                    }
+                    Err(exit) => {
+                        self.retired += done;
+                        fp.flush(&mut self.regs.fcsr);
+                        return self.stop_at(exit, cur, npc);
+                    }
                 }
             }
         }
+        self.retired += done;
+        fp.flush(&mut self.regs.fcsr);
         (self.pc, self.npc) = (pc, npc);
         Stop::Budget
     }
 
+    /// Executes (and retires) one instruction outside the predecoded text, decoding it on
+    /// the fly; kept out of line so the hot loop holds one copy of [`Thread::step`].
+    #[cold]
+    #[inline(never)]
+    fn step_outside<C: Chip>(&mut self, sh: &mut C, pc: u32, npc: u32) -> Result<(u32, u32), Stop> {
+        let inst = match self.fetch_slow(sh.shared(), pc) {
+            Ok(i) => i,
+            Err(f) => {
+                (self.pc, self.npc) = (pc, npc);
+                return Err(Stop::Fault(f));
+            }
+        };
+        let mut fp = FpPending::default();
+        let r = self.step(sh, pc, npc, &inst, true, &mut fp);
+        fp.flush(&mut self.regs.fcsr);
+        match r {
+            Ok(next) => {
+                self.retired += 1;
+                Ok(next)
+            }
+            Err(exit) => Err(self.stop_at(exit, pc, npc)),
+        }
+    }
+
+    /// The [`Stop`] for an early exit of the instruction at `pc` (followed by `npc`).
+    #[cold]
+    fn stop_at(&mut self, exit: StepExit, pc: u32, npc: u32) -> Stop {
+        match exit {
+            StepExit::Fault => {
+                (self.pc, self.npc) = (pc, npc);
+                match self.pending_fault.take() {
+                    Some(f) => Stop::Fault(f),
+                    None => Stop::Retry,
+                }
+            }
+            StepExit::Flow(TraxFlow::Retry) | StepExit::Sync => {
+                (self.pc, self.npc) = (pc, npc);
+                Stop::Retry
+            }
+            StepExit::Defer => {
+                (self.pc, self.npc) = (pc, npc);
+                Stop::Defer
+            }
+            // Halt and Block completed the instruction and set pc/npc.
+            StepExit::Flow(TraxFlow::Halt) => Stop::Halted,
+            StepExit::Flow(TraxFlow::Block | TraxFlow::Next | TraxFlow::Defer) => Stop::Blocked,
+        }
+    }
+
     /// Executes one instruction at `pc` (followed by `npc`). On `Ok` returns the new
-    /// `(pc, npc)`; on an error exit `self.pc`/`self.npc` are left for the caller.
+    /// `(pc, npc)` and the caller counts the instruction as retired; on an error exit
+    /// `self.pc`/`self.npc` are left for the caller. `exact` says `self.retired` is up to
+    /// date; if not, instructions that read it return [`StepExit::Sync`] unexecuted. FPU
+    /// cause/flag bits go to `fp` and reach `regs.fcsr` when the caller flushes it.
     #[inline(always)]
     fn step<C: Chip>(
         &mut self,
         sh: &mut C,
         pc: u32,
         npc: u32,
-        inst: Inst,
+        inst: &Inst,
+        exact: bool,
+        fp: &mut FpPending,
     ) -> Result<(u32, u32), StepExit> {
         use Inst::*;
         let mut next = npc.wrapping_add(4);
@@ -194,7 +287,6 @@ impl Thread {
                 cti!();
                 if $cond {
                     let t = pc.wrapping_add(4).wrapping_add($off as u32);
-                    self.retired += 1;
                     return Ok((t, t.wrapping_add(4)));
                 }
                 self.slot_pc = pc.wrapping_add(4);
@@ -224,12 +316,17 @@ impl Thread {
         }
         macro_rules! fcsr {
             ($exc:expr) => {
-                if let Err(t) = fpu::update(&mut self.regs.fcsr, $exc) {
+                let e: u32 = $exc;
+                if e & (self.regs.fcsr >> 7) & 0x1F != 0 {
+                    // An enabled exception: FCSR takes the cause now, then the trap.
+                    fp.flush(&mut self.regs.fcsr);
+                    let _ = fpu::update(&mut self.regs.fcsr, e);
                     fault!(Fault::FpException {
-                        cause: t.cause,
+                        cause: e,
                         msa: false
                     })
                 }
+                fp.record(e);
             };
         }
         macro_rules! fs32 {
@@ -260,6 +357,23 @@ impl Thread {
                 set32!(fd, v);
             }};
         }
+        // Each min/max arm passes constant flags, so the helper's branches on them fold.
+        macro_rules! minmax_s {
+            ($x:expr, $max:expr, $mag:expr) => {{
+                let F3 { fd, fs, ft } = $x;
+                let (v, e) = fpu::minmax::<f32>(fs32!(fs), fs32!(ft), $max, $mag);
+                fcsr!(e);
+                set32!(fd, v);
+            }};
+        }
+        macro_rules! minmax_d {
+            ($x:expr, $max:expr, $mag:expr) => {{
+                let F3 { fd, fs, ft } = $x;
+                let (v, e) = fpu::minmax::<f64>(fs64!(fs), fs64!(ft), $max, $mag);
+                fcsr!(e);
+                set64!(fd, v);
+            }};
+        }
         macro_rules! bin_d {
             ($op:expr, $x:expr) => {{
                 let F3 { fd, fs, ft } = $x;
@@ -268,8 +382,7 @@ impl Thread {
                 set64!(fd, v);
             }};
         }
-        let fcsr_now = self.regs.fcsr;
-        match inst {
+        match *inst {
             Add { rd, rs, rt } => match (g!(rs) as i32).checked_add(g!(rt) as i32) {
                 Some(v) => g!(rd) = v as u32,
                 None => fault!(Fault::IntegerOverflow),
@@ -446,6 +559,9 @@ impl Thread {
             Break { code } => fault!(Fault::Break(code)),
             Sdbbp { code } => fault!(Fault::DebugBreakpoint(code)),
             Rdhwr { rt, rd, sel: _ } => {
+                if rd == 2 && !exact {
+                    return Err(StepExit::Sync);
+                }
                 g!(rt) = match rd {
                     0 => self.gid,
                     2 => self.retired as u32,
@@ -527,7 +643,7 @@ impl Thread {
             | Bnezalc { rt, off } => {
                 cti!();
                 let v = g!(rt) as i32;
-                let cond = match inst {
+                let cond = match *inst {
                     Blezalc { .. } => v <= 0,
                     Bgezalc { .. } => v >= 0,
                     Bgtzalc { .. } => v > 0,
@@ -547,7 +663,6 @@ impl Thread {
                 cti!();
                 let t = g!(rt).wrapping_add(off as i32 as u32);
                 self.note_jump(t);
-                self.retired += 1;
                 return Ok((t, t.wrapping_add(4)));
             }
             Jialc { rt, off } => {
@@ -555,7 +670,6 @@ impl Thread {
                 let t = g!(rt).wrapping_add(off as i32 as u32);
                 g!(31) = pc.wrapping_add(4);
                 self.push_call(pc, pc.wrapping_add(4), t);
-                self.retired += 1;
                 return Ok((t, t.wrapping_add(4)));
             }
             AddS(x) => bin_s!(BinOp::Add, x),
@@ -567,12 +681,12 @@ impl Thread {
             MulD(x) => bin_d!(BinOp::Mul, x),
             DivD(x) => bin_d!(BinOp::Div, x),
             SqrtS(F2 { fd, fs }) => {
-                let (v, e) = fpu::sqrt_s(fs32!(fs), fcsr_now);
+                let (v, e) = fpu::sqrt_s(fs32!(fs), self.regs.fcsr);
                 fcsr!(e);
                 set32!(fd, v);
             }
             SqrtD(F2 { fd, fs }) => {
-                let (v, e) = fpu::sqrt_d(fs64!(fs), fcsr_now);
+                let (v, e) = fpu::sqrt_d(fs64!(fs), self.regs.fcsr);
                 fcsr!(e);
                 set64!(fd, v);
             }
@@ -583,106 +697,88 @@ impl Thread {
             MovS(F2 { fd, fs }) => set32!(fd, fs32!(fs)),
             MovD(F2 { fd, fs }) => set64!(fd, fs64!(fs)),
             RecipS(F2 { fd, fs }) => {
-                let (v, e) = fpu::bin_s(BinOp::Div, 1f32.to_bits(), fs32!(fs), fcsr_now);
+                let (v, e) = fpu::bin_s(BinOp::Div, 1f32.to_bits(), fs32!(fs), self.regs.fcsr);
                 fcsr!(e);
                 set32!(fd, v);
             }
             RecipD(F2 { fd, fs }) => {
-                let (v, e) = fpu::bin_d(BinOp::Div, 1f64.to_bits(), fs64!(fs), fcsr_now);
+                let (v, e) = fpu::bin_d(BinOp::Div, 1f64.to_bits(), fs64!(fs), self.regs.fcsr);
                 fcsr!(e);
                 set64!(fd, v);
             }
             RsqrtS(F2 { fd, fs }) => {
-                let (s, e1) = fpu::sqrt_s(fs32!(fs), fcsr_now);
-                let (v, e2) = fpu::bin_s(BinOp::Div, 1f32.to_bits(), s, fcsr_now);
+                let (s, e1) = fpu::sqrt_s(fs32!(fs), self.regs.fcsr);
+                let (v, e2) = fpu::bin_s(BinOp::Div, 1f32.to_bits(), s, self.regs.fcsr);
                 fcsr!(e1 | e2);
                 set32!(fd, v);
             }
             RsqrtD(F2 { fd, fs }) => {
-                let (s, e1) = fpu::sqrt_d(fs64!(fs), fcsr_now);
-                let (v, e2) = fpu::bin_d(BinOp::Div, 1f64.to_bits(), s, fcsr_now);
+                let (s, e1) = fpu::sqrt_d(fs64!(fs), self.regs.fcsr);
+                let (v, e2) = fpu::bin_d(BinOp::Div, 1f64.to_bits(), s, self.regs.fcsr);
                 fcsr!(e1 | e2);
                 set64!(fd, v);
             }
             RintS(F2 { fd, fs }) => {
-                let (v, e) = fpu::rint::<f32>(fs32!(fs), fcsr_now, |x| x as f64, |x| x as f32);
+                let (v, e) =
+                    fpu::rint::<f32>(fs32!(fs), self.regs.fcsr, |x| x as f64, |x| x as f32);
                 fcsr!(e);
                 set32!(fd, v);
             }
             RintD(F2 { fd, fs }) => {
-                let (v, e) = fpu::rint::<f64>(fs64!(fs), fcsr_now, |x| x, |x| x);
+                let (v, e) = fpu::rint::<f64>(fs64!(fs), self.regs.fcsr, |x| x, |x| x);
                 fcsr!(e);
                 set64!(fd, v);
             }
             ClassS(F2 { fd, fs }) => set32!(fd, fpu::class::<f32>(fs32!(fs))),
             ClassD(F2 { fd, fs }) => set64!(fd, fpu::class::<f64>(fs64!(fs)) as u64),
             MaddfS(F3 { fd, fs, ft }) | MsubfS(F3 { fd, fs, ft }) => {
-                let sub = matches!(inst, MsubfS(_));
-                let (v, e) = fpu::fma_s(fs32!(fd), fs32!(fs), fs32!(ft), sub, fcsr_now);
+                let sub = matches!(*inst, MsubfS(_));
+                let (v, e) = fpu::fma_s(fs32!(fd), fs32!(fs), fs32!(ft), sub, self.regs.fcsr);
                 fcsr!(e);
                 set32!(fd, v);
             }
             MaddfD(F3 { fd, fs, ft }) | MsubfD(F3 { fd, fs, ft }) => {
-                let sub = matches!(inst, MsubfD(_));
-                let (v, e) = fpu::fma_d(fs64!(fd), fs64!(fs), fs64!(ft), sub, fcsr_now);
+                let sub = matches!(*inst, MsubfD(_));
+                let (v, e) = fpu::fma_d(fs64!(fd), fs64!(fs), fs64!(ft), sub, self.regs.fcsr);
                 fcsr!(e);
                 set64!(fd, v);
             }
+            // Selects use masks, not branches: their conditions are data (ray tests).
             SelS(F3 { fd, fs, ft }) => {
-                let v = if fs32!(fd) & 1 != 0 {
-                    fs32!(ft)
-                } else {
-                    fs32!(fs)
-                };
-                set32!(fd, v);
+                let m = (fs32!(fd) & 1).wrapping_neg();
+                set32!(fd, (fs32!(ft) & m) | (fs32!(fs) & !m));
             }
             SelD(F3 { fd, fs, ft }) => {
-                let v = if fs64!(fd) & 1 != 0 {
-                    fs64!(ft)
-                } else {
-                    fs64!(fs)
-                };
-                set64!(fd, v);
+                let m = (fs64!(fd) & 1).wrapping_neg();
+                set64!(fd, (fs64!(ft) & m) | (fs64!(fs) & !m));
             }
             SeleqzS(F3 { fd, fs, ft }) => {
-                set32!(fd, if fs32!(ft) & 1 == 0 { fs32!(fs) } else { 0 })
+                set32!(fd, fs32!(fs) & (fs32!(ft) & 1).wrapping_sub(1))
             }
             SeleqzD(F3 { fd, fs, ft }) => {
-                set64!(fd, if fs64!(ft) & 1 == 0 { fs64!(fs) } else { 0 })
+                set64!(fd, fs64!(fs) & (fs64!(ft) & 1).wrapping_sub(1))
             }
             SelnezS(F3 { fd, fs, ft }) => {
-                set32!(fd, if fs32!(ft) & 1 != 0 { fs32!(fs) } else { 0 })
+                set32!(fd, fs32!(fs) & (fs32!(ft) & 1).wrapping_neg())
             }
             SelnezD(F3 { fd, fs, ft }) => {
-                set64!(fd, if fs64!(ft) & 1 != 0 { fs64!(fs) } else { 0 })
+                set64!(fd, fs64!(fs) & (fs64!(ft) & 1).wrapping_neg())
             }
-            MinS(F3 { fd, fs, ft })
-            | MaxS(F3 { fd, fs, ft })
-            | MinaS(F3 { fd, fs, ft })
-            | MaxaS(F3 { fd, fs, ft }) => {
-                let is_max = matches!(inst, MaxS(_) | MaxaS(_));
-                let mag = matches!(inst, MinaS(_) | MaxaS(_));
-                let (v, e) = fpu::minmax::<f32>(fs32!(fs), fs32!(ft), is_max, mag);
-                fcsr!(e);
-                set32!(fd, v);
-            }
-            MinD(F3 { fd, fs, ft })
-            | MaxD(F3 { fd, fs, ft })
-            | MinaD(F3 { fd, fs, ft })
-            | MaxaD(F3 { fd, fs, ft }) => {
-                let is_max = matches!(inst, MaxD(_) | MaxaD(_));
-                let mag = matches!(inst, MinaD(_) | MaxaD(_));
-                let (v, e) = fpu::minmax::<f64>(fs64!(fs), fs64!(ft), is_max, mag);
-                fcsr!(e);
-                set64!(fd, v);
-            }
+            MinS(x) => minmax_s!(x, false, false),
+            MaxS(x) => minmax_s!(x, true, false),
+            MinaS(x) => minmax_s!(x, false, true),
+            MaxaS(x) => minmax_s!(x, true, true),
+            MinD(x) => minmax_d!(x, false, false),
+            MaxD(x) => minmax_d!(x, true, false),
+            MinaD(x) => minmax_d!(x, false, true),
+            MaxaD(x) => minmax_d!(x, true, true),
             CmpS {
                 cond,
                 f: F3 { fd, fs, ft },
             } => {
                 let (v, e) = fpu::compare::<f32>(fs32!(fs), fs32!(ft), cond);
                 fcsr!(e);
-                set32!(fd, if v { u32::MAX } else { 0 });
+                set32!(fd, (v as u32).wrapping_neg());
             }
             CmpD {
                 cond,
@@ -690,12 +786,13 @@ impl Thread {
             } => {
                 let (v, e) = fpu::compare::<f64>(fs64!(fs), fs64!(ft), cond);
                 fcsr!(e);
-                set64!(fd, if v { u64::MAX } else { 0 });
+                set64!(fd, (v as u64).wrapping_neg());
             }
             Cvt {
                 op,
                 f: F2 { fd, fs },
             } => {
+                fp.flush(&mut self.regs.fcsr);
                 if let Err(f) = self.convert(op, fd, fs) {
                     fault!(f)
                 }
@@ -708,6 +805,7 @@ impl Thread {
                 set64!(fs, v);
             }
             Cfc1 { rt, fs } => {
+                fp.flush(&mut self.regs.fcsr);
                 let f = self.regs.fcsr;
                 g!(rt) = match fs {
                     0 => FIR,
@@ -721,6 +819,7 @@ impl Thread {
                 }
             }
             Ctc1 { rt, fs } => {
+                fp.flush(&mut self.regs.fcsr);
                 let v = g!(rt);
                 let f = &mut self.regs.fcsr;
                 match fs {
@@ -739,6 +838,37 @@ impl Thread {
             }
             Mfc2 { rt, rd, sel: _ } => g!(rt) = self.cop2[(rd & 31) as usize],
             Mtc2 { rt, rd, sel: _ } => self.cop2[(rd & 31) as usize] = g!(rt),
+            // The f32 helpers touch only registers: run them inline.
+            Trax {
+                op: op @ (TraxOp::FMin | TraxOp::FMax),
+                rd,
+                rs,
+                rt,
+                sa: _,
+            } => {
+                let (a, b) = (f32::from_bits(fs32!(rs)), f32::from_bits(fs32!(rt)));
+                let v = if a.is_nan() || b.is_nan() {
+                    let v = if op == TraxOp::FMin {
+                        fops::fmin(a, b)
+                    } else {
+                        fops::fmax(a, b)
+                    };
+                    v.to_bits()
+                } else {
+                    fminmax_num(a, b, op == TraxOp::FMax)
+                };
+                set32!(rd, v);
+            }
+            Trax {
+                op: TraxOp::InvSqrt,
+                rd,
+                rs,
+                ..
+            } => set32!(rd, fops::invsqrt(f32::from_bits(fs32!(rs))).to_bits()),
+            Trax {
+                op: TraxOp::Clock | TraxOp::ProfBegin | TraxOp::ProfEnd,
+                ..
+            } if !exact => return Err(StepExit::Sync),
             Trax { op, rd, rs, rt, sa } => match exec_trax(self, sh, op, rd, rs, rt, sa) {
                 Ok(TraxFlow::Next) => {}
                 Ok(TraxFlow::Retry) => return Err(StepExit::Flow(TraxFlow::Retry)),
@@ -765,7 +895,6 @@ impl Thread {
             Reserved(w) => fault!(Fault::ReservedInstruction(w)),
         }
         self.regs.gpr[0] = 0;
-        self.retired += 1;
         Ok((npc, next))
     }
 
@@ -830,6 +959,22 @@ impl Thread {
     }
 }
 
+/// `fops::fmin`/`fmax` of two numbers (no NaN), without data-dependent branches: the
+/// smaller (larger) operand, or for equal operands the OR (AND) of their bits, which
+/// picks -0 (+0) from a pair of zeros.
+#[inline(always)]
+fn fminmax_num(a: f32, b: f32, max: bool) -> u32 {
+    let (ab, bb) = (a.to_bits(), b.to_bits());
+    let first = if max { a > b } else { a < b };
+    let pick = if first { ab } else { bb };
+    let tie = if max { ab & bb } else { ab | bb };
+    if a == b {
+        tie
+    } else {
+        pick
+    }
+}
+
 fn int_round(op: Conv) -> IntRound {
     use Conv::*;
     match op {
@@ -841,6 +986,38 @@ fn int_round(op: Conv) -> IntRound {
     }
 }
 
+/// FCSR cause and flag bits of FPU operations not yet written to `RegFile::fcsr`.
+///
+/// Writing FCSR after every FPU operation chains the operations through one memory word;
+/// the hot loop keeps these bits in a register instead and folds them in before anything
+/// reads or writes FCSR (`cfc1`, `ctc1`, conversions, an FP trap) and when it returns.
+/// Bits 0..6: cause of the last operation; bits 8..14: flags raised since the last flush;
+/// bit 31: something to flush. (Flags only accumulate and cause is overwritten, so the
+/// fold equals the per-operation updates.)
+#[derive(Clone, Copy, Default)]
+struct FpPending(u32);
+
+impl FpPending {
+    const DIRTY: u32 = 1 << 31;
+
+    /// Records an operation that raised `exc` (no enabled exception among it).
+    #[inline(always)]
+    fn record(&mut self, exc: u32) {
+        self.0 = (self.0 & 0x3F00) | (exc << 8) | exc | Self::DIRTY;
+    }
+
+    /// Folds the pending bits into `fcsr`.
+    #[inline(always)]
+    fn flush(&mut self, fcsr: &mut u32) {
+        if self.0 & Self::DIRTY != 0 {
+            let cause = self.0 & 0x3F;
+            let flags = (self.0 >> 8) & 0x1F;
+            *fcsr = (*fcsr & !(0x3F << 12)) | (cause << 12) | (flags << 2);
+            self.0 = 0;
+        }
+    }
+}
+
 /// Internal early exit of [`Thread::step`] (small, so the hot path returns in registers;
 /// the fault itself waits in `Thread::pending_fault`).
 #[derive(Clone, Copy)]
@@ -848,6 +1025,8 @@ enum StepExit {
     Fault,
     Defer,
     Flow(TraxFlow),
+    /// Not executed: the instruction needs `Thread::retired` up to date.
+    Sync,
 }
 
 impl Thread {
@@ -866,8 +1045,9 @@ mod tests {
     use crate::program::Program;
     use crate::thread::{ChipShape, Shared};
 
-    /// Runs `words` (then `trax.halt`) on one thread with `init` applied to its registers.
-    fn run(words: &[u32], init: impl FnOnce(&mut Thread)) -> (Thread, Stop) {
+    /// A thread about to run `words` (then `trax.halt`); only the first `text` words (all
+    /// if `None`) are predecoded, the rest is decoded on the fly.
+    fn setup(words: &[u32], text: Option<usize>) -> (Thread, Shared) {
         let mut w = words.to_vec();
         w.push(0x7000_0007); // trax.halt
         let data: Vec<u8> = w.iter().flat_map(|x| x.to_le_bytes()).collect();
@@ -886,9 +1066,9 @@ mod tests {
             },
         ];
         let mem = Memory::new(&segs, 4096).unwrap();
-        let program =
-            Program::decode_range(&mem, 0x10_0000, 0x10_0000 + 4 * w.len() as u32, 0x10_0000);
-        let mut sh = Shared::new(
+        let n = text.unwrap_or(w.len()) as u32;
+        let program = Program::decode_range(&mem, 0x10_0000, 0x10_0000 + 4 * n, 0x10_0000);
+        let sh = Shared::new(
             mem,
             program,
             ChipShape {
@@ -896,10 +1076,72 @@ mod tests {
                 threads_per_tm: 1,
             },
         );
-        let mut t = Thread::new(0x10_0000, 0, 0, 0, 4096, 0);
+        (Thread::new(0x10_0000, 0, 0, 0, 4096, 0), sh)
+    }
+
+    /// Runs `words` (then `trax.halt`) on one thread with `init` applied to its registers.
+    fn run(words: &[u32], init: impl FnOnce(&mut Thread)) -> (Thread, Stop) {
+        let (mut t, mut sh) = setup(words, None);
         init(&mut t);
         let stop = t.run(&mut sh, 1000);
         (t, stop)
+    }
+
+    /// addiu $4,$0,1 ; beq $0,$0,+8 ; addiu $5,$0,1 (delay slot) ; addiu $6,$0,1
+    /// (skipped) ; addiu $7,$0,1 ; rdhwr $8,$2 ; mul.s $f2,$f0,$f1 (inexact)
+    const MIXED: [u32; 7] = [
+        0x2404_0001,
+        0x1000_0002,
+        0x2405_0001,
+        0x2406_0001,
+        0x2407_0001,
+        0x7C08_103B,
+        0x4601_0082,
+    ];
+
+    fn mixed_init(t: &mut Thread) {
+        t.regs.set_f32_bits(0, (1.0f32 / 3.0).to_bits());
+        t.regs.set_f32_bits(1, 3f32.to_bits());
+    }
+
+    #[test]
+    fn retired_count_is_exact_mid_chunk() {
+        let (t, stop) = run(&MIXED, mixed_init);
+        assert_eq!(stop, Stop::Halted);
+        let g = &t.regs.gpr;
+        assert_eq!((g[4], g[5], g[6], g[7]), (1, 1, 0, 1));
+        assert_eq!(g[8], 4, "rdhwr $2 counts the four instructions before it");
+        assert_eq!(t.retired, 7, "six instructions and the halt");
+    }
+
+    #[test]
+    fn budget_boundaries_and_code_outside_the_text_change_nothing() {
+        let (whole, _) = run(&MIXED, mixed_init);
+        // One instruction per call: every chunk is cut by the budget, including between a
+        // branch and its delay slot.
+        let (mut t, mut sh) = setup(&MIXED, None);
+        mixed_init(&mut t);
+        let mut calls = 0;
+        while t.run(&mut sh, 1) == Stop::Budget {
+            calls += 1;
+            assert_eq!(t.retired, calls, "one instruction per call");
+        }
+        assert_eq!(
+            (t.regs.clone(), t.retired),
+            (whole.regs.clone(), whole.retired)
+        );
+        // Only the first two words predecoded: the rest (delay slot included) is decoded
+        // on the fly.
+        for text in [0, 2, 5] {
+            let (mut t, mut sh) = setup(&MIXED, Some(text));
+            mixed_init(&mut t);
+            assert_eq!(t.run(&mut sh, 1000), Stop::Halted, "text {text}");
+            assert_eq!(
+                (t.regs.clone(), t.retired),
+                (whole.regs.clone(), whole.retired),
+                "text {text}"
+            );
+        }
     }
 
     #[test]
@@ -988,6 +1230,62 @@ mod tests {
         assert_eq!(stop, Stop::Halted);
         assert!(t.calls.is_empty(), "return popped the frame: {:?}", t.calls);
         assert_eq!(t.regs.gpr[31], 0x10_0004);
+    }
+
+    #[test]
+    fn fcsr_cause_is_the_last_operation_and_flags_accumulate() {
+        // mtc1 $2,$f0 ; mtc1 $3,$f1 ; mtc1 $5,$f4 ; mul.s $f2,$f0,$f1 (inexact) ;
+        // add.s $f3,$f4,$f4 (exact) ; cfc1 $4,$31
+        let words = [
+            0x4482_0000,
+            0x4483_0800,
+            0x4485_2000,
+            0x4601_0082,
+            0x4604_20C0,
+            0x4444_F800,
+        ];
+        let (t, stop) = run(&words, |t| {
+            t.regs.gpr[2] = (1.0f32 / 3.0).to_bits();
+            t.regs.gpr[3] = 3f32.to_bits();
+            t.regs.gpr[5] = 1f32.to_bits();
+        });
+        assert_eq!(stop, Stop::Halted);
+        assert_eq!((t.regs.gpr[4] >> 12) & 0x3F, 0, "cause of the exact add");
+        assert_eq!((t.regs.gpr[4] >> 2) & 0x1F, fpu::EX_INEXACT, "sticky flag");
+        assert_eq!(t.regs.fcsr, t.regs.gpr[4], "FCSR is written back on exit");
+        assert_eq!(t.regs.f32_bits(3), 2f32.to_bits());
+        // Without cfc1, the pending bits still reach FCSR when run returns.
+        let (t, _) = run(&words[..4], |t| {
+            t.regs.gpr[2] = (1.0f32 / 3.0).to_bits();
+            t.regs.gpr[3] = 3f32.to_bits();
+        });
+        assert_eq!((t.regs.fcsr >> 12) & 0x3F, fpu::EX_INEXACT);
+        assert_eq!((t.regs.fcsr >> 2) & 0x1F, fpu::EX_INEXACT);
+        // An enabled Inexact traps at the mul; the earlier flags are kept. ctc1 $6,$31
+        // enables Inexact after a div.s $f5,$f4,$f7 by zero (flag DivZero).
+        let words = [
+            0x4485_2000,
+            0x4600_0003 | 7 << 16 | 4 << 11 | 5 << 6,
+            0x44C6_F800,
+            0x4482_0000,
+            0x4483_0800,
+            0x4601_0082,
+        ];
+        let (t, stop) = run(&words, |t| {
+            t.regs.gpr[2] = (1.0f32 / 3.0).to_bits();
+            t.regs.gpr[3] = 3f32.to_bits();
+            t.regs.gpr[5] = 1f32.to_bits();
+            t.regs.gpr[6] = (1 << 7) | (fpu::EX_DIVZERO << 2);
+        });
+        assert_eq!(
+            stop,
+            Stop::Fault(Fault::FpException {
+                cause: fpu::EX_INEXACT,
+                msa: false
+            })
+        );
+        assert_eq!((t.regs.fcsr >> 12) & 0x3F, fpu::EX_INEXACT, "cause");
+        assert_eq!((t.regs.fcsr >> 2) & 0x1F, fpu::EX_DIVZERO, "flags");
     }
 
     #[test]

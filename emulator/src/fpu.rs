@@ -3,8 +3,10 @@
 //!
 //! Results are computed with the host's round-to-nearest arithmetic plus an exact
 //! residual sign (error-free transforms), from which inexact, overflow, underflow and the
-//! directed rounding modes are derived. NaN results are produced explicitly (never taken
-//! from the host), so they are bit-exact on every host:
+//! directed rounding modes are derived. Single-precision add/sub/mul/div take a fast path
+//! when the mode is round-to-nearest and the result is a normal number (only Inexact can
+//! arise then); everything else goes through the general code. NaN results are produced
+//! explicitly (never taken from the host), so they are bit-exact on every host:
 //! - operations on NaN inputs return the first signalling NaN (fs before ft), else the
 //!   first quiet NaN, quieted (QEMU's MIPS rule); an sNaN input raises Invalid;
 //! - invalid operations (inf - inf, 0 * inf, 0/0, inf/inf, sqrt(-x)) return the default
@@ -55,15 +57,13 @@ pub fn describe_exceptions(cause: u32) -> String {
 /// Writes the cause field; traps if an enabled exception is raised, else accumulates flags.
 #[inline(always)]
 pub fn update(fcsr: &mut u32, exc: u32) -> Result<(), FpTrap> {
-    *fcsr = (*fcsr & !CAUSE_MASK) | (exc << 12);
-    if exc == 0 {
-        return Ok(());
-    }
-    let enables = (*fcsr >> 7) & 0x1F;
-    if exc & enables != 0 {
+    // Branch-free on the common path: one store of cause and flags together.
+    let f = (*fcsr & !CAUSE_MASK) | (exc << 12);
+    if exc & (f >> 7) & 0x1F != 0 {
+        *fcsr = f;
         return Err(FpTrap { cause: exc });
     }
-    *fcsr |= exc << 2;
+    *fcsr = f | (exc << 2);
     Ok(())
 }
 
@@ -343,8 +343,39 @@ pub enum BinOp {
 }
 
 /// Single-precision binary arithmetic.
+///
+/// Fast path: in round-to-nearest (the host's mode) a normal result means no operand was
+/// a NaN or infinite and nothing overflowed, underflowed or divided by zero, so the host
+/// result is the answer and only Inexact needs an exactness test.
 #[inline(always)]
 pub fn bin_s(op: BinOp, a: u32, b: u32, fcsr: u32) -> FpResult<u32> {
+    let (x, y) = (f32::from_bits(a), f32::from_bits(b));
+    let r = match op {
+        BinOp::Add => x + y,
+        BinOp::Sub => x - y,
+        BinOp::Mul => x * y,
+        BinOp::Div => x / y,
+    };
+    if fcsr & 3 == 0 && r.is_normal() {
+        let inexact = match op {
+            // TwoSum: the exact error of the rounded sum.
+            BinOp::Add | BinOp::Sub => {
+                let yy = if op == BinOp::Add { y } else { -y };
+                let bb = r - x;
+                (x - (r - bb)) + (yy - bb) != 0.0
+            }
+            // Products of two f32 significands are exact in f64.
+            BinOp::Mul => x as f64 * y as f64 != r as f64,
+            BinOp::Div => r as f64 * y as f64 != x as f64,
+        };
+        return (r.to_bits(), if inexact { EX_INEXACT } else { 0 });
+    }
+    bin_s_slow(op, a, b, fcsr)
+}
+
+/// [`bin_s`] for special operands and results and the directed rounding modes.
+#[inline(never)]
+fn bin_s_slow(op: BinOp, a: u32, b: u32, fcsr: u32) -> FpResult<u32> {
     let (x, y) = (f32::from_bits(a), f32::from_bits(b));
     if x.is_nan() || y.is_nan() {
         return nan2::<f32>(a, b);
@@ -676,18 +707,12 @@ pub fn minmax<F: Float>(a: F::Bits, b: F::Bits, is_max: bool, mag: bool) -> FpRe
             return (if is_max { a } else { b }, 0);
         }
     }
-    let pick_a = if x == y {
-        // Equal (incl. +0 == -0): min prefers the negative, max the positive.
-        if is_max {
-            !x.neg_sign()
-        } else {
-            x.neg_sign()
-        }
-    } else if is_max {
-        x > y
-    } else {
-        x < y
-    };
+    // Equal (incl. +0 == -0): min prefers the negative, max the positive. Non-short-
+    // circuit operators: the comparisons are data, better as flags than branches.
+    let eq = x == y;
+    let by_sign = is_max != x.neg_sign();
+    let by_order = if is_max { x > y } else { x < y };
+    let pick_a = (eq & by_sign) | (!eq & by_order);
     (if pick_a { a } else { b }, 0)
 }
 
@@ -695,15 +720,16 @@ pub fn minmax<F: Float>(a: F::Bits, b: F::Bits, is_max: bool, mag: bool) -> FpRe
 /// any NaN with the signalling conditions (`cond & 8`).
 pub fn compare<F: Float>(a: F::Bits, b: F::Bits, cond: u8) -> (bool, u32) {
     let (x, y) = (F::from_b(a), F::from_b(b));
-    let un = x.nan() || y.nan();
-    let exc = if un && (cond & 8 != 0 || F::snan_bits(a) || F::snan_bits(b)) {
+    // Non-short-circuit operators: the outcome is data, better as flags than branches.
+    let un = x.nan() | y.nan();
+    let exc = if un & ((cond & 8 != 0) | F::snan_bits(a) | F::snan_bits(b)) {
         EX_INVALID
     } else {
         0
     };
-    let eq = !un && x == y;
-    let lt = !un && x < y;
-    let v = (cond & 1 != 0 && un) || (cond & 2 != 0 && eq) || (cond & 4 != 0 && lt);
+    let eq = !un & (x == y);
+    let lt = !un & (x < y);
+    let v = ((cond & 1 != 0) & un) | ((cond & 2 != 0) & eq) | ((cond & 4 != 0) & lt);
     (v ^ (cond & 16 != 0), exc)
 }
 
@@ -886,6 +912,54 @@ pub fn i64_to_f32(v: i64, fcsr: u32) -> FpResult<u32> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn bin_s_fast_path_matches_the_general_path() {
+        // Edge values (zeros, subnormals, the normal boundary, near overflow, NaNs,
+        // infinities) plus pseudo-random bit patterns, every operation and rounding mode.
+        let mut vals: Vec<u32> = vec![
+            0,
+            0x8000_0000,
+            1,
+            0x8000_0001,
+            0x007F_FFFF,
+            0x0080_0000,
+            0x0080_0001,
+            0x3F80_0000,
+            0x3F80_0001,
+            0xBF80_0000,
+            0x3EAA_AAAB,
+            0x4040_0000,
+            0x7F7F_FFFF,
+            0xFF7F_FFFF,
+            0x7F00_0000,
+            0x0100_0000,
+            0x7F80_0000,
+            0xFF80_0000,
+            0x7FC0_0000,
+            0x7F80_0001,
+        ];
+        let mut x = 0x1234_5678_9ABC_DEF0u64;
+        for _ in 0..300 {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            vals.push((x >> 32) as u32);
+        }
+        for &a in &vals {
+            for &b in &vals {
+                for op in [BinOp::Add, BinOp::Sub, BinOp::Mul, BinOp::Div] {
+                    for rm in 0..4 {
+                        assert_eq!(
+                            bin_s(op, a, b, rm),
+                            bin_s_slow(op, a, b, rm),
+                            "{op:?} {a:#010x} {b:#010x} rm {rm}"
+                        );
+                    }
+                }
+            }
+        }
+    }
 
     #[test]
     fn nan_rules() {

@@ -35,6 +35,13 @@ impl Program {
         self.insts.get(idx)
     }
 
+    /// The text's base address and its predecoded instructions (one per word from the
+    /// base), for the interpreter's fetch loop.
+    #[inline(always)]
+    pub fn text(&self) -> (u32, &[Inst]) {
+        (self.base, &self.insts)
+    }
+
     /// One past the last text address.
     pub fn end(&self) -> u32 {
         self.base.wrapping_add(4 * self.insts.len() as u32)

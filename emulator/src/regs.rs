@@ -51,12 +51,32 @@ impl RegFile {
     /// are also UNPREDICTABLE; here they are preserved.
     #[inline(always)]
     pub fn set_f32_bits(&mut self, n: usize, v: u32) {
-        self.fpr[n] = (self.fpr[n] & !0xFFFF_FFFFu128) | v as u128;
+        let r = &mut self.fpr[n];
+        #[cfg(target_endian = "little")]
+        // SAFETY: `r` is a valid, exclusively borrowed `u128`; on a little-endian host its
+        // first 4 bytes are its low 32 bits, and `u32` needs no more alignment than `u128`.
+        // (One 32-bit store: the masked 128-bit form compiles to two read-modify-writes.)
+        unsafe {
+            *(r as *mut u128 as *mut u32) = v
+        };
+        #[cfg(not(target_endian = "little"))]
+        {
+            *r = (*r & !0xFFFF_FFFFu128) | v as u128;
+        }
     }
 
     /// Writes a double to FPU register `n` (the MSA upper half is preserved).
     #[inline(always)]
     pub fn set_f64_bits(&mut self, n: usize, v: u64) {
-        self.fpr[n] = (self.fpr[n] & !(u64::MAX as u128)) | v as u128;
+        let r = &mut self.fpr[n];
+        #[cfg(target_endian = "little")]
+        // SAFETY: as in `set_f32_bits`, for the low 8 bytes.
+        unsafe {
+            *(r as *mut u128 as *mut u64) = v
+        };
+        #[cfg(not(target_endian = "little"))]
+        {
+            *r = (*r & !(u64::MAX as u128)) | v as u128;
+        }
     }
 }

@@ -11,7 +11,7 @@
 use std::io::Write;
 
 use crate::memory::{LayoutError, Memory, Segment};
-use crate::profile::sched::{Driven, PlainExec, Scheduler};
+use crate::profile::sched::{Driven, Executor, PlainExec, Scheduler};
 use crate::program::Program;
 use crate::thread::{CallFrame, ChipShape, Fault, Shared, Thread};
 use crate::RegFile;
@@ -191,9 +191,14 @@ impl Machine {
     /// The interleaving (TM-major round robin, `quantum` instructions per turn) is
     /// [`Scheduler`]'s, shared with the profiler and the debugger so their runs equal this one.
     pub fn run(&mut self, out: &mut dyn Write) -> RunSummary {
+        self.run_with(out, &mut PlainExec)
+    }
+
+    /// Like [`Self::run`], executing each thread's turn with `e` (e.g. to watch progress).
+    pub fn run_with(&mut self, out: &mut dyn Write, e: &mut dyn Executor) -> RunSummary {
         let mut sched = Scheduler::new(self);
         let outcome = loop {
-            if let Driven::Done(o) = sched.run(self, out, &mut PlainExec) {
+            if let Driven::Done(o) = sched.run(self, out, e) {
                 break o;
             }
         };

@@ -6,8 +6,11 @@ use std::io::Write;
 use crate::crash;
 use crate::debuginfo::{DebugInfo, DebugInfoError};
 use crate::elf::{ElfError, Executable};
+use crate::exec::Stop;
 use crate::machine::{Machine, MachineConfig, Outcome, RunSummary, SetupError};
 use crate::memory::Segment;
+use crate::profile::sched::Executor;
+use crate::thread::{Shared, Thread};
 
 /// Errors before the program starts.
 #[derive(Debug, thiserror::Error)]
@@ -46,8 +49,57 @@ pub struct RunResult {
     pub exe: Executable,
 }
 
+/// How far a functional run has got (for progress displays).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Progress {
+    /// Instructions retired by all threads.
+    pub instructions: u64,
+    /// Rays counted so far (`trax.stat 0`).
+    pub rays: u64,
+    /// Threads not yet halted.
+    pub live_threads: u32,
+}
+
+/// Plain execution that reports [`Progress`] about every 100 ms of host time.
+struct Watched<'a> {
+    report: &'a mut dyn FnMut(&Progress),
+    retired: u64,
+    turns: u32,
+    last: std::time::Instant,
+}
+
+impl Executor for Watched<'_> {
+    fn exec(&mut self, _idx: usize, t: &mut Thread, sh: &mut Shared, budget: u64) -> Stop {
+        let before = t.retired;
+        let stop = t.run(sh, budget);
+        self.retired += t.retired - before;
+        self.turns += 1;
+        if self.turns >= 64 {
+            self.turns = 0;
+            if self.last.elapsed().as_millis() >= 100 {
+                self.last = std::time::Instant::now();
+                (self.report)(&Progress {
+                    instructions: self.retired,
+                    rays: sh.stats[0],
+                    live_threads: sh.live_threads,
+                });
+            }
+        }
+        stop
+    }
+}
+
 /// Loads and runs a program; print output goes to `out` as it is produced.
 pub fn run(req: RunRequest<'_>, out: &mut dyn Write) -> Result<RunResult, RunError> {
+    run_with(req, out, None)
+}
+
+/// Like [`run`], reporting the run's [`Progress`] about every 100 ms to `progress`.
+pub fn run_with(
+    req: RunRequest<'_>,
+    out: &mut dyn Write,
+    progress: Option<&mut dyn FnMut(&Progress)>,
+) -> Result<RunResult, RunError> {
     let exe = Executable::parse(req.elf_path, req.elf)?;
     let segments = req.segments.clone().unwrap_or_else(|| exe.segments.clone());
     let mut machine = Machine::new(
@@ -57,7 +109,18 @@ pub fn run(req: RunRequest<'_>, out: &mut dyn Write) -> Result<RunResult, RunErr
         exe.entry,
         req.config,
     )?;
-    let summary = machine.run(out);
+    let summary = match progress {
+        Some(report) => {
+            let mut w = Watched {
+                report,
+                retired: 0,
+                turns: 0,
+                last: std::time::Instant::now(),
+            };
+            machine.run_with(out, &mut w)
+        }
+        None => machine.run(out),
+    };
     let report = match &summary.outcome {
         Outcome::Finished => None,
         Outcome::Crashed(c) => {

@@ -18,7 +18,7 @@ use trax_emulator::elf::Executable;
 use trax_emulator::machine::{Machine, MachineConfig};
 use trax_emulator::memory::Segment;
 use trax_emulator::profile::{profile_run, Profile};
-use trax_emulator::session::{load_debug, run as run_session, RunRequest};
+use trax_emulator::session::{self, load_debug, RunRequest};
 use trax_emulator::timing::{self, ChipConfig, TimingRequest};
 use trax_emulator::{crash, gdb, Outcome};
 use trax_runtime::host::framebuffer_rgb8;
@@ -280,7 +280,11 @@ pub fn execute(a: &ExecArgs, extras: &Extras) -> Result<Executed, String> {
                 segments: Some(segments),
                 config,
             };
-            let r = run_session(req, &mut out).map_err(|e| format!("{}: {e}", prepared.name))?;
+            let line = ProgressLine::start(threads);
+            let mut show = |p: &session::Progress| line.functional(p);
+            let r = session::run_with(req, &mut out, Some(&mut show));
+            line.finish();
+            let r = r.map_err(|e| format!("{}: {e}", prepared.name))?;
             FunctionalRun {
                 outcome: r.summary.outcome,
                 instructions: r.summary.instructions,

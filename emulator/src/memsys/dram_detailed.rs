@@ -7,6 +7,15 @@
 //! constraint; the earliest candidate wins, ties broken by row hits first, then age (FR-FCFS).
 //! Cycles in which nothing can issue are skipped, and idle channels cost nothing (refreshes are
 //! caught up when the channel is next used or its stats are read).
+//!
+//! Speed: each channel caches its last decision (the winning command, valid up to the next
+//! refresh due time) and every bank's bank-local next command. A decision is recomputed only
+//! after a command issues, when a refresh falls due, or when a new request changes the winning
+//! bank's next command; other new requests are folded in with one comparison or leave the
+//! decision untouched. A decision scans the queued banks grouped by rank and command kind and
+//! skips a group whose rank-wide earliest time already lies after the best candidate found.
+//! `advance_to` skips channels whose cached decision issues nothing before the target; their
+//! clock and queue-occupancy integrals are caught up lazily.
 
 use super::dram_config::{AddressMapping, DetailedDramConfig, DramTiming};
 use super::{Completion, Cycle};
@@ -87,7 +96,8 @@ pub(crate) struct ChanCounters {
 }
 
 struct Channel {
-    /// First DRAM cycle at which the command bus is free (and up to which time is simulated).
+    /// First DRAM cycle at which the command bus is free (and up to which time is simulated;
+    /// lags behind [`DetailedDram::now`] while the channel is skipped).
     now: u64,
     banks: Vec<Bank>,
     ranks: Vec<Rank>,
@@ -102,34 +112,59 @@ struct Channel {
     last_write: bool,
     occ_t: u64,
     low_wm: u32,
-    local: Vec<Local>,
+    /// Cached bank-local next commands.
+    local: Box<Locals>,
     local_writes: bool,
-    /// No command can issue before this DRAM cycle unless a request arrives.
-    wake: u64,
+    /// The last FR-FCFS decision, still valid (nothing issued or queued since, except what
+    /// [`DetailedDram::submit`] folded in) for every target up to `horizon`.
+    decided: Decision,
     c: ChanCounters,
 }
 
-/// The bank-local part of a bank's next command (what only that bank's state decides),
-/// cached until the bank, its queue or the read/write mode changes.
+/// A cached scheduling decision of one channel.
 #[derive(Clone, Copy)]
-struct Local {
+struct Decision {
     valid: bool,
-    cmd: Cmd,
-    /// Earliest time by the bank's own constraints.
-    t: u64,
-    seq: u64,
-    idx: usize,
+    best: Option<Cand>,
+    /// The decision holds for targets `<= horizon` (the next refresh due time not yet
+    /// considered: a later target makes that refresh a candidate).
+    horizon: u64,
+    /// Whether the decision considered write requests (drain mode or no reads).
+    writes: bool,
 }
 
-const INVALID: Local = Local {
+const UNDECIDED: Decision = Decision {
     valid: false,
-    cmd: Cmd::Act,
-    t: 0,
-    seq: 0,
-    idx: 0,
+    best: None,
+    horizon: 0,
+    writes: false,
 };
 
-#[derive(Clone, Copy)]
+/// Index of a command kind in [`Locals::kind`] and in a rank's floor array.
+const K_COL: u8 = 0;
+const K_PRE: u8 = 1;
+const K_ACT: u8 = 2;
+
+/// The bank-local part of every bank's next command (what only that bank's state decides),
+/// cached until the bank, its queue or the read/write mode changes; one slot per bank
+/// (at most 64 per channel), laid out for the scheduler's scan.
+#[derive(Clone)]
+struct Locals {
+    /// Bit i set = slot i is current.
+    valid: u64,
+    /// Earliest time by the bank's own constraints.
+    t: [u64; 64],
+    /// Priority within a time: class (1 = column, 2 = ACT/PRE) << 62 | request sequence.
+    ord: [u64; 64],
+    /// Index of the request in the bank's queue (column commands).
+    idx: [u32; 64],
+    /// `K_COL`, `K_PRE` or `K_ACT`.
+    kind: [u8; 64],
+    /// Per kind, the banks whose current slot has that kind (stale slots may linger).
+    kind_mask: [u64; 3],
+}
+
+#[derive(Clone, Copy, Debug)]
 enum Cmd {
     Act,
     Pre,
@@ -138,7 +173,7 @@ enum Cmd {
     Refresh,
 }
 
-#[derive(Clone, Copy)]
+#[derive(Clone, Copy, Debug)]
 struct Cand {
     t: u64,
     /// 0 = refresh, 1 = column (row hit), 2 = ACT/PRE.
@@ -151,8 +186,75 @@ struct Cand {
 }
 
 impl Cand {
-    fn better(&self, o: &Cand) -> bool {
-        (self.t, self.class, self.seq) < (o.t, o.class, o.seq)
+    /// FR-FCFS priority as one number: earliest time, then refresh before column (row hit)
+    /// before ACT/PRE, then oldest. Smaller is better; distinct candidates never tie (bank
+    /// commands carry distinct request sequence numbers, refreshes have distinct ranks and the
+    /// earlier rank is examined first and kept on equal keys).
+    fn key(&self) -> u128 {
+        (u128::from(self.t) << 64) | (u128::from(self.class) << 62) | u128::from(self.seq)
+    }
+}
+
+/// Core/DRAM clock conversion, exact (the ratio is reduced so that common clock pairs
+/// convert without a division).
+#[derive(Clone, Copy)]
+struct Clocks {
+    dram_mhz: u64,
+    core_mhz: u64,
+    /// dram_mhz / gcd and core_mhz / gcd.
+    dram_red: u64,
+    core_red: u64,
+}
+
+fn gcd(mut a: u64, mut b: u64) -> u64 {
+    while b != 0 {
+        (a, b) = (b, a % b);
+    }
+    a
+}
+
+impl Clocks {
+    fn new(dram_mhz: u64, core_mhz: u64) -> Self {
+        let g = gcd(dram_mhz, core_mhz).max(1);
+        Clocks {
+            dram_mhz,
+            core_mhz,
+            dram_red: dram_mhz / g,
+            core_red: core_mhz / g,
+        }
+    }
+
+    /// Core cycle -> DRAM cycle: `floor(core * dram_mhz / core_mhz)` (truncated to 64 bits).
+    fn to_dram(self, core: Cycle) -> u64 {
+        match core.checked_mul(self.dram_red) {
+            Some(p) if self.core_red.is_power_of_two() => p >> self.core_red.trailing_zeros(),
+            Some(p) => p / self.core_red,
+            None => {
+                (u128::from(core) * u128::from(self.dram_mhz) / u128::from(self.core_mhz)) as u64
+            }
+        }
+    }
+
+    /// DRAM cycle -> core cycle: `ceil(dram * core_mhz / dram_mhz)` (truncated to 64 bits).
+    fn to_core(self, dram: u64) -> Cycle {
+        match dram.checked_mul(self.core_red) {
+            Some(p) if self.dram_red.is_power_of_two() => {
+                let sh = self.dram_red.trailing_zeros();
+                (p >> sh) + u64::from(p & (self.dram_red - 1) != 0)
+            }
+            Some(p) => p.div_ceil(self.dram_red),
+            None => (u128::from(dram) * u128::from(self.core_mhz))
+                .div_ceil(u128::from(self.dram_mhz)) as u64,
+        }
+    }
+}
+
+/// Bits of the banks of rank `ri` (`bpr` banks per rank, `bpr * ranks <= 64`).
+fn rank_bits(ri: usize, bpr: usize) -> u64 {
+    if bpr >= 64 {
+        u64::MAX
+    } else {
+        ((1u64 << bpr) - 1) << (ri * bpr)
     }
 }
 
@@ -162,15 +264,15 @@ pub struct DetailedDram {
     t: DramTiming,
     channels: Vec<Channel>,
     banks_per_rank: usize,
-    col_bits: u32,
-    chan_bits: u32,
-    bank_bits: u32,
-    rank_bits: u32,
-    row_mask: u32,
+    /// Where the address fields lie in a line number.
+    fields: Fields,
     line_shift: u32,
-    /// DRAM cycles per core cycle = dram_mhz / core_mhz.
-    dram_mhz: u64,
-    core_mhz: u64,
+    clocks: Clocks,
+    /// Per channel: advancing to any DRAM cycle up to this one issues nothing (the channel's
+    /// `now` and occupancy then lag behind [`Self::now`] and are caught up lazily).
+    wake: Vec<u64>,
+    /// The smallest of `wake`.
+    min_wake: u64,
     seq: u64,
     /// DRAM cycle up to which all channels have been advanced.
     now: u64,
@@ -178,6 +280,42 @@ pub struct DetailedDram {
 
 fn log2(v: u32) -> u32 {
     v.trailing_zeros()
+}
+
+/// (shift, mask) of each address field within a line number.
+#[derive(Clone, Copy)]
+struct Fields {
+    chan: (u32, u32),
+    bank: (u32, u32),
+    rank: (u32, u32),
+    row: (u32, u32),
+}
+
+impl Fields {
+    fn new(cfg: &DetailedDramConfig) -> Self {
+        let mask = |n: u32| n - 1;
+        let (col, chan, bank, rank) = (
+            log2(cfg.columns),
+            log2(cfg.channels),
+            log2(cfg.banks),
+            log2(cfg.ranks),
+        );
+        // Field offsets from the least significant end, in mapping order.
+        let (chan_sh, bank_sh, rank_sh, row_sh) = match cfg.mapping {
+            AddressMapping::RowRankBankChannelColumn => {
+                (col, col + chan, col + chan + bank, col + chan + bank + rank)
+            }
+            AddressMapping::RowColumnRankBankChannel => {
+                (0, chan, chan + bank, chan + bank + rank + col)
+            }
+        };
+        Fields {
+            chan: (chan_sh, mask(cfg.channels)),
+            bank: (bank_sh, mask(cfg.banks)),
+            rank: (rank_sh, mask(cfg.ranks)),
+            row: (row_sh, mask(cfg.rows)),
+        }
+    }
 }
 
 impl DetailedDram {
@@ -225,9 +363,16 @@ impl DetailedDram {
             last_write: false,
             occ_t: 0,
             low_wm: cfg.write_low_watermark,
-            local: vec![INVALID; nb],
+            local: Box::new(Locals {
+                valid: 0,
+                t: [0; 64],
+                ord: [0; 64],
+                idx: [0; 64],
+                kind: [K_ACT; 64],
+                kind_mask: [0; 3],
+            }),
             local_writes: false,
-            wake: 0,
+            decided: UNDECIDED,
             c: ChanCounters::default(),
         };
         DetailedDram {
@@ -235,14 +380,11 @@ impl DetailedDram {
             t,
             channels: (0..cfg.channels).map(|_| mk_chan()).collect(),
             banks_per_rank: cfg.banks as usize,
-            col_bits: log2(cfg.columns),
-            chan_bits: log2(cfg.channels),
-            bank_bits: log2(cfg.banks),
-            rank_bits: log2(cfg.ranks),
-            row_mask: cfg.rows - 1,
+            fields: Fields::new(cfg),
             line_shift: log2(cfg.line_bytes),
-            dram_mhz: u64::from(cfg.clock_mhz),
-            core_mhz: u64::from(core_mhz.max(1)),
+            clocks: Clocks::new(u64::from(cfg.clock_mhz), u64::from(core_mhz.max(1))),
+            wake: vec![0; cfg.channels as usize],
+            min_wake: 0,
             seq: 0,
             now: 0,
         }
@@ -255,7 +397,7 @@ impl DetailedDram {
 
     /// The core clock in MHz.
     pub fn core_mhz(&self) -> u64 {
-        self.core_mhz
+        self.clocks.core_mhz
     }
 
     /// Timing resolved to DRAM cycles.
@@ -265,48 +407,25 @@ impl DetailedDram {
 
     /// Core cycle -> DRAM cycle (floor).
     pub fn to_dram(&self, core: Cycle) -> u64 {
-        (u128::from(core) * u128::from(self.dram_mhz) / u128::from(self.core_mhz)) as u64
+        self.clocks.to_dram(core)
     }
 
     /// DRAM cycle -> core cycle (ceil: data is usable at the first core edge after it arrives).
     pub fn to_core(&self, dram: u64) -> Cycle {
-        let n = u128::from(dram) * u128::from(self.core_mhz);
-        let d = u128::from(self.dram_mhz);
-        n.div_ceil(d) as u64
+        self.clocks.to_core(dram)
     }
 
     /// Splits a byte address into (channel, rank, bank index within channel, row).
     pub fn decode(&self, addr: u32) -> (usize, usize, usize, u32) {
         let line = addr >> self.line_shift;
-        let take = |v: &mut u32, bits: u32| {
-            let f = *v & ((1u32 << bits) - 1);
-            *v = v.checked_shr(bits).unwrap_or(0);
-            f
-        };
-        let mut v = line;
-        let (chan, rank, bank, row);
-        match self.cfg.mapping {
-            AddressMapping::RowRankBankChannelColumn => {
-                let _col = take(&mut v, self.col_bits);
-                chan = take(&mut v, self.chan_bits);
-                bank = take(&mut v, self.bank_bits);
-                rank = take(&mut v, self.rank_bits);
-                row = v & self.row_mask;
-            }
-            AddressMapping::RowColumnRankBankChannel => {
-                chan = take(&mut v, self.chan_bits);
-                bank = take(&mut v, self.bank_bits);
-                rank = take(&mut v, self.rank_bits);
-                let _col = take(&mut v, self.col_bits);
-                row = v & self.row_mask;
-            }
-        }
-        let r = rank as usize;
+        let f = &self.fields;
+        let field = |(sh, mask): (u32, u32)| line.checked_shr(sh).unwrap_or(0) & mask;
+        let r = field(f.rank) as usize;
         (
-            chan as usize,
+            field(f.chan) as usize,
             r,
-            r * self.banks_per_rank + bank as usize,
-            row,
+            r * self.banks_per_rank + field(f.bank) as usize,
+            field(f.row),
         )
     }
 
@@ -338,14 +457,12 @@ impl DetailedDram {
         let cap_r = self.cfg.read_queue;
         let cap_w = self.cfg.write_queue;
         let hi = self.cfg.write_high_watermark;
-        let to_core = |d: u64| -> Cycle {
-            let n = u128::from(d) * u128::from(self.core_mhz);
-            n.div_ceil(u128::from(self.dram_mhz)) as u64
-        };
+        let clocks = self.clocks;
+        let t = &self.t;
+        let bpr = self.banks_per_rank;
         let c = &mut self.channels[ch];
-        c.catch_up_occupancy(arrival);
-        c.local[b].valid = false;
-        c.wake = 0;
+        c.now = c.now.max(self.now);
+        let was_empty = c.n_reads + c.n_writes == 0;
         if write {
             if c.banks[b].writes.iter().any(|r| r.line == line) {
                 c.c.writes_merged += 1;
@@ -354,6 +471,7 @@ impl DetailedDram {
             if c.n_writes >= cap_w {
                 return false;
             }
+            c.catch_up_occupancy(arrival);
             self.seq += 1;
             c.banks[b].writes.push(Req {
                 id,
@@ -377,13 +495,14 @@ impl DetailedDram {
                 c.c.read_latency_sum += 1;
                 out.push(Completion {
                     id,
-                    cycle: to_core(arrival + 1),
+                    cycle: clocks.to_core(arrival + 1),
                 });
                 return true;
             }
             if c.n_reads >= cap_r {
                 return false;
             }
+            c.catch_up_occupancy(arrival);
             self.seq += 1;
             c.banks[b].reads.push(Req {
                 id,
@@ -397,6 +516,9 @@ impl DetailedDram {
             c.n_reads += 1;
             c.c.max_reads = c.c.max_reads.max(c.n_reads);
         }
+        c.queued(b, row, write, was_empty, t, bpr);
+        self.wake[ch] = c.wake();
+        self.min_wake = self.min_wake.min(self.wake[ch]);
         true
     }
 
@@ -407,9 +529,31 @@ impl DetailedDram {
         if target <= self.now {
             return;
         }
-        for ch in 0..self.channels.len() {
-            self.advance_channel(ch, target, out);
+        let t = self.t;
+        let bpr = self.banks_per_rank;
+        let clocks = self.clocks;
+        let before = self.now;
+        if target <= self.min_wake {
+            self.now = target;
+            return;
         }
+        let mut min_wake = u64::MAX;
+        for (c, wake) in self.channels.iter_mut().zip(self.wake.iter_mut()) {
+            if target <= *wake {
+                min_wake = min_wake.min(*wake);
+                continue;
+            }
+            c.now = c.now.max(before);
+            c.advance(target, &t, bpr, |id, d| {
+                out.push(Completion {
+                    id,
+                    cycle: clocks.to_core(d),
+                })
+            });
+            *wake = c.wake();
+            min_wake = min_wake.min(*wake);
+        }
+        self.min_wake = min_wake;
         self.now = target;
     }
 
@@ -426,47 +570,19 @@ impl DetailedDram {
         self.channels
             .iter()
             .filter(|c| c.n_reads + c.n_writes > 0)
-            .map(|c| self.to_core(c.now))
+            .map(|c| self.to_core(c.now.max(self.now)))
             .min()
     }
 
-    fn advance_channel(&mut self, ch: usize, target: u64, out: &mut Vec<Completion>) {
-        let t = self.t;
-        let bpr = self.banks_per_rank;
-        let core_mhz = self.core_mhz;
-        let dram_mhz = self.dram_mhz;
-        let c = &mut self.channels[ch];
-        if target <= c.wake {
-            c.now = c.now.max(target);
-            c.catch_up_occupancy(target);
-            return;
-        }
-        loop {
-            let next_ref = c.ranks.iter().map(|r| r.next_ref).min().unwrap_or(u64::MAX);
-            let Some(best) = c.best_candidate(&t, bpr, target) else {
-                c.wake = next_ref;
-                break;
-            };
-            if best.t >= target {
-                c.wake = best.t.min(next_ref);
-                break;
-            }
-            c.issue(best, &t, bpr, |id, d| {
-                let n = u128::from(d) * u128::from(core_mhz);
-                out.push(Completion {
-                    id,
-                    cycle: n.div_ceil(u128::from(dram_mhz)) as u64,
-                });
-            });
-        }
-        if c.now < target {
-            c.now = target;
-        }
-        c.catch_up_occupancy(target);
-    }
-
-    pub(crate) fn counters(&self) -> impl Iterator<Item = &ChanCounters> {
-        self.channels.iter().map(|c| &c.c)
+    /// Per-channel counters, with queue occupancy integrated up to now.
+    pub(crate) fn counters(&self) -> impl Iterator<Item = ChanCounters> + '_ {
+        self.channels.iter().map(|c| {
+            let mut k = c.c.clone();
+            let dt = u128::from(self.now.saturating_sub(c.occ_t));
+            k.read_occupancy_integral += u128::from(c.n_reads) * dt;
+            k.write_occupancy_integral += u128::from(c.n_writes) * dt;
+            k
+        })
     }
 
     /// DRAM cycles simulated so far.
@@ -493,34 +609,64 @@ impl DetailedDram {
     }
 }
 
-/// The bank's next command for the oldest request it can serve (FR: a row hit first).
-fn bank_local(bank: &Bank, writes: bool) -> Local {
+/// Bank `bi`'s next command for the oldest request it can serve (FR: a row hit first), into
+/// slot `bi` of `l`.
+#[inline(always)]
+fn bank_local(l: &mut Locals, bi: usize, bank: &Bank, writes: bool) {
     let list = if writes { &bank.writes } else { &bank.reads };
-    if bank.open_row != NO_ROW {
-        if let Some(idx) = list.iter().position(|r| r.row == bank.open_row) {
-            return Local {
-                valid: true,
-                cmd: Cmd::Col,
-                t: bank.col_ok,
-                seq: list[idx].seq,
-                idx,
-            };
+    let (t, idx, kind) = match bank.open_row {
+        NO_ROW => (bank.act_ok, 0, K_ACT),
+        open => match list.iter().position(|r| r.row == open) {
+            Some(idx) => (bank.col_ok, idx, K_COL),
+            None => (bank.pre_ok, 0, K_PRE),
+        },
+    };
+    let class: u64 = if kind == K_COL { 1 } else { 2 };
+    l.t[bi] = t;
+    l.ord[bi] = (class << 62) | list[idx].seq;
+    l.idx[bi] = idx as u32;
+    l.kind[bi] = kind;
+    l.valid |= 1 << bi;
+    for m in &mut l.kind_mask {
+        *m &= !(1 << bi);
+    }
+    l.kind_mask[usize::from(kind)] |= 1 << bi;
+}
+
+/// Folds the banks in `mask` (all with current `local` slots) whose next command is of one
+/// kind into the FR-FCFS choice so far (`best`, a [`Cand::key`], and its bank): a bank's
+/// command can issue at the later of its bank-local time and `floor`, the rank-wide earliest
+/// time for that kind of command, unless its rank's refresh is due by then (`next_ref`).
+#[inline]
+fn scan(
+    local: &Locals,
+    mut mask: u64,
+    floor: u64,
+    next_ref: u64,
+    best: &mut u128,
+    best_bank: &mut usize,
+) {
+    // Every candidate of the group is at `floor` or later, and its key above `floor << 64`.
+    if mask == 0 || floor >= next_ref || *best <= u128::from(floor) << 64 {
+        return;
+    }
+    let (mut key_min, mut bank) = (*best, *best_bank);
+    while mask != 0 {
+        let bi = mask.trailing_zeros() as usize & 63;
+        mask &= mask - 1;
+        let tc = local.t[bi].max(floor);
+        // From a rank's refresh due time on, only the refresh may issue to it.
+        if tc >= next_ref {
+            continue;
         }
-        return Local {
-            valid: true,
-            cmd: Cmd::Pre,
-            t: bank.pre_ok,
-            seq: list[0].seq,
-            idx: 0,
-        };
+        let key = (u128::from(tc) << 64) | u128::from(local.ord[bi]);
+        if key < key_min {
+            key_min = key;
+            bank = bi;
+        }
     }
-    Local {
-        valid: true,
-        cmd: Cmd::Act,
-        t: bank.act_ok,
-        seq: list[0].seq,
-        idx: 0,
-    }
+    *best = key_min;
+    *best_bank = bank;
 }
 
 impl Channel {
@@ -533,12 +679,115 @@ impl Channel {
         }
     }
 
-    /// The FR-FCFS choice among all ready-able commands (None if nothing to do before `target`).
-    fn best_candidate(&mut self, t: &DramTiming, bpr: usize, target: u64) -> Option<Cand> {
+    /// Issues every command the FR-FCFS controller issues before DRAM cycle `target`.
+    fn advance(&mut self, target: u64, t: &DramTiming, bpr: usize, mut done: impl FnMut(u64, u64)) {
+        loop {
+            if !(self.decided.valid && target <= self.decided.horizon) {
+                self.decide(t, bpr, target);
+            }
+            match self.decided.best {
+                Some(best) if best.t < target => {
+                    self.decided.valid = false;
+                    self.issue(best, t, bpr, &mut done);
+                }
+                _ => break,
+            }
+        }
+        if self.now < target {
+            self.now = target;
+        }
+    }
+
+    /// The last DRAM cycle up to which advancing issues nothing (0: a decision is needed).
+    fn wake(&self) -> u64 {
+        let d = &self.decided;
+        if !d.valid {
+            return 0;
+        }
+        d.best.map_or(d.horizon, |b| b.t.min(d.horizon))
+    }
+
+    /// The read/write mode of the next decision (ends a drain at the low watermark).
+    fn mode(&mut self) -> bool {
+        if self.drain && self.n_writes <= self.low_wm {
+            self.drain = false;
+        }
+        self.drain || self.n_reads == 0
+    }
+
+    /// Per rank: the earliest column/PRE/ACT time by rank- and channel-wide constraints, and
+    /// the refresh due time (from then on only the refresh may issue to the rank).
+    fn rank_floor(&self, ri: usize, writes: bool, t: &DramTiming) -> [u64; 4] {
+        let rank = &self.ranks[ri];
+        let turn = if ri as u32 != self.last_rank {
+            t.t_rtrs
+        } else {
+            0
+        };
+        let col = if writes {
+            let turn = if !self.last_write { t.t_rtrs } else { turn };
+            // Write data starts at tc + tCWD; must follow the bus.
+            self.now
+                .max(rank.col_ok)
+                .max((self.bus_free + turn).saturating_sub(t.t_cwd))
+        } else {
+            self.now
+                .max(rank.col_ok)
+                .max(rank.rd_ok)
+                .max((self.bus_free + turn).saturating_sub(t.t_cas))
+        };
+        let act = self.now.max(rank.act_ok).max(rank.faw[rank.faw_pos]);
+        [col, self.now, act, rank.next_ref]
+    }
+
+    /// Bank `bi`'s candidate given its rank's floors; None if a due refresh blocks it.
+    fn bank_cand(&mut self, bi: usize, ri: usize, writes: bool, fl: &[u64; 4]) -> Option<Cand> {
+        self.refresh_locals(1 << bi, writes);
+        let tc = self.local.t[bi].max(fl[usize::from(self.local.kind[bi])]);
+        if tc >= fl[3] {
+            return None;
+        }
+        Some(self.local_cand(bi, ri, tc))
+    }
+
+    /// The candidate of bank `bi` (rank `ri`, current slot) issuing at `tc`.
+    fn local_cand(&self, bi: usize, ri: usize, tc: u64) -> Cand {
+        let l = &self.local;
+        Cand {
+            t: tc,
+            class: (l.ord[bi] >> 62) as u8,
+            seq: l.ord[bi] & ((1 << 62) - 1),
+            bank: bi,
+            rank: ri,
+            idx: l.idx[bi] as usize,
+            cmd: match l.kind[bi] {
+                K_COL => Cmd::Col,
+                K_PRE => Cmd::Pre,
+                _ => Cmd::Act,
+            },
+        }
+    }
+
+    /// Recomputes the stale bank-local slots among `mask`.
+    #[inline(always)]
+    fn refresh_locals(&mut self, mask: u64, writes: bool) {
+        let mut stale = mask & !self.local.valid;
+        while stale != 0 {
+            let bi = stale.trailing_zeros() as usize;
+            stale &= stale - 1;
+            bank_local(&mut self.local, bi, &self.banks[bi], writes);
+        }
+    }
+
+    /// Makes the FR-FCFS choice among all commands that could issue (refreshes due before
+    /// `target`, every queued bank's next command) and caches it in `decided`.
+    fn decide(&mut self, t: &DramTiming, bpr: usize, target: u64) {
         let mut best: Option<Cand> = None;
+        let mut horizon = u64::MAX;
         // Refreshes.
         for (ri, rank) in self.ranks.iter().enumerate() {
             if rank.next_ref >= target {
+                horizon = horizon.min(rank.next_ref);
                 continue;
             }
             // Precharge-all first if a bank is open, then REF once every bank may activate.
@@ -564,108 +813,124 @@ impl Channel {
                 idx: 0,
                 cmd,
             };
-            if best.as_ref().is_none_or(|b| cand.better(b)) {
+            if best.is_none_or(|b| cand.key() < b.key()) {
                 best = Some(cand);
             }
         }
-        if self.n_reads + self.n_writes == 0 {
-            return best;
-        }
-        // Write drain mode.
-        if self.drain && self.n_writes <= self.cfg_low() {
-            self.drain = false;
-        }
-        let writes = self.drain || self.n_reads == 0;
-        if writes != self.local_writes {
-            self.local_writes = writes;
-            self.local.iter_mut().for_each(|l| l.valid = false);
-        }
-        let mut mask = if writes {
-            self.write_mask
-        } else {
-            self.read_mask
-        };
-        while mask != 0 {
-            let bi = mask.trailing_zeros() as usize;
-            mask &= mask - 1;
-            let ri = bi / bpr;
-            if !self.local[bi].valid {
-                self.local[bi] = bank_local(&self.banks[bi], writes);
+        let mut writes = self.local_writes;
+        if self.n_reads + self.n_writes > 0 {
+            writes = self.mode();
+            if writes != self.local_writes {
+                self.local_writes = writes;
+                self.local.valid = 0;
             }
-            let l = self.local[bi];
-            // Every candidate time is at least the bank-local one: prune hopeless banks.
-            if best.as_ref().is_some_and(|b| l.t > b.t) {
-                continue;
-            }
-            let rank = &self.ranks[ri];
-            let cand = match l.cmd {
-                Cmd::Col => {
-                    let mut tc = self.now.max(l.t).max(rank.col_ok);
-                    let turn = if ri as u32 != self.last_rank {
-                        t.t_rtrs
-                    } else {
-                        0
-                    };
-                    if writes {
-                        let turn = if !self.last_write { t.t_rtrs } else { turn };
-                        // Write data starts at tc + tCWD; must follow the bus.
-                        tc = tc.max((self.bus_free + turn).saturating_sub(t.t_cwd));
-                    } else {
-                        tc = tc.max(rank.rd_ok);
-                        tc = tc.max((self.bus_free + turn).saturating_sub(t.t_cas));
-                    }
-                    Cand {
-                        t: tc,
-                        class: 1,
-                        seq: l.seq,
-                        bank: bi,
-                        rank: ri,
-                        idx: l.idx,
-                        cmd: Cmd::Col,
-                    }
-                }
-                Cmd::Pre => {
-                    let tp = self.now.max(l.t);
-                    Cand {
-                        t: tp,
-                        class: 2,
-                        seq: l.seq,
-                        bank: bi,
-                        rank: ri,
-                        idx: 0,
-                        cmd: Cmd::Pre,
-                    }
-                }
-                _ => {
-                    let ta = self
-                        .now
-                        .max(l.t)
-                        .max(rank.act_ok)
-                        .max(rank.faw[rank.faw_pos]);
-                    Cand {
-                        t: ta,
-                        class: 2,
-                        seq: l.seq,
-                        bank: bi,
-                        rank: ri,
-                        idx: 0,
-                        cmd: Cmd::Act,
-                    }
-                }
+            let mask = if writes {
+                self.write_mask
+            } else {
+                self.read_mask
             };
-            // From a rank's refresh due time on, only the refresh may issue to it.
-            if cand.t >= self.ranks[ri].next_ref {
-                continue;
+            self.refresh_locals(mask, writes);
+            let mut best_key = best.map_or(u128::MAX, |b| b.key());
+            let mut best_bank = usize::MAX;
+            let l = &self.local;
+            for ri in 0..self.ranks.len() {
+                let in_rank = mask & rank_bits(ri, bpr);
+                if in_rank == 0 {
+                    continue;
+                }
+                let fl = self.rank_floor(ri, writes, t);
+                let (k, nr) = (&l.kind_mask, fl[3]);
+                // PRE first: its floor is the lowest, which prunes the other kinds best.
+                let (pre, col, act) = (usize::from(K_PRE), usize::from(K_COL), usize::from(K_ACT));
+                scan(
+                    l,
+                    in_rank & k[pre],
+                    fl[pre],
+                    nr,
+                    &mut best_key,
+                    &mut best_bank,
+                );
+                scan(
+                    l,
+                    in_rank & k[col],
+                    fl[col],
+                    nr,
+                    &mut best_key,
+                    &mut best_bank,
+                );
+                scan(
+                    l,
+                    in_rank & k[act],
+                    fl[act],
+                    nr,
+                    &mut best_key,
+                    &mut best_bank,
+                );
             }
-            if best.as_ref().is_none_or(|b| cand.better(b)) {
-                best = Some(cand);
+            if best_bank != usize::MAX {
+                let tc = (best_key >> 64) as u64;
+                best = Some(self.local_cand(best_bank, best_bank / bpr, tc));
             }
         }
-        best
+        self.decided = Decision {
+            valid: true,
+            best,
+            horizon,
+            writes,
+        };
     }
 
-    fn cfg_low(&self) -> u32 {
-        self.low_wm
+    /// Folds a request just queued to bank `b` into the cached decision, or drops the
+    /// decision when that needs a full [`Self::decide`].
+    fn queued(
+        &mut self,
+        b: usize,
+        row: u32,
+        write: bool,
+        was_empty: bool,
+        t: &DramTiming,
+        bpr: usize,
+    ) {
+        let bit = 1u64 << b;
+        if write == self.local_writes && self.local.valid & bit != 0 {
+            // A newer request changes the bank's next command only if it turns a PRE into a
+            // row hit; otherwise the slot, and with it any cached decision, stays as it is
+            // (a current slot means the bank's queue was non-empty, so the mode is unchanged).
+            if self.local.kind[b] != K_PRE || self.banks[b].open_row != row {
+                return;
+            }
+        }
+        self.local.valid &= !bit;
+        if !self.decided.valid || was_empty {
+            self.decided.valid = false;
+            return;
+        }
+        // The last decision left drain mode consistent (it ends a drain when queues are
+        // non-empty), and queueing only adds requests: the mode changes only by this request.
+        let writes = self.drain || self.n_reads == 0;
+        if writes != self.decided.writes {
+            self.decided.valid = false;
+            return;
+        }
+        if write != writes {
+            // A queue the scheduler does not look at now.
+            return;
+        }
+        match self.decided.best {
+            Some(best) if best.class != 0 && best.bank == b => {
+                // The best bank's command may change: needs the runner-up.
+                self.decided.valid = false;
+            }
+            best => {
+                let ri = b / bpr;
+                let fl = self.rank_floor(ri, writes, t);
+                if let Some(cand) = self.bank_cand(b, ri, writes, &fl) {
+                    if best.is_none_or(|x| cand.key() < x.key()) {
+                        self.decided.best = Some(cand);
+                    }
+                }
+            }
+        }
     }
 
     fn issue(&mut self, cand: Cand, t: &DramTiming, bpr: usize, mut done: impl FnMut(u64, u64)) {
@@ -674,10 +939,9 @@ impl Channel {
         let writes = self.drain || self.n_reads == 0;
         match cand.cmd {
             Cmd::PreAll | Cmd::Refresh => {
-                let r = cand.rank * bpr..(cand.rank + 1) * bpr;
-                self.local[r].iter_mut().for_each(|l| l.valid = false);
+                self.local.valid &= !rank_bits(cand.rank, bpr);
             }
-            _ => self.local[cand.bank].valid = false,
+            _ => self.local.valid &= !(1u64 << cand.bank),
         }
         match cand.cmd {
             Cmd::PreAll => {

@@ -84,6 +84,8 @@ pub struct Effects {
     pub profile: [u64; 32],
     /// (cycle, offset in `output` where that cycle's prints start), in cycle order.
     cycle_starts: Vec<(u64, usize)>,
+    /// Whether anything was recorded since the last merge.
+    pub dirty: bool,
 }
 
 impl Default for Effects {
@@ -93,13 +95,14 @@ impl Default for Effects {
             stats: [0; NUM_STATS],
             profile: [0; 32],
             cycle_starts: Vec::new(),
+            dirty: false,
         }
     }
 }
 
 impl Effects {
     /// Notes that what is printed from now on is printed at `cycle` (non-decreasing).
-    pub fn at_cycle(&mut self, cycle: u64) {
+    fn at_cycle(&mut self, cycle: u64) {
         if self.cycle_starts.last().is_none_or(|&(c, _)| c != cycle) {
             self.cycle_starts.push((cycle, self.output.len()));
         }
@@ -114,6 +117,7 @@ impl Effects {
             }
         }
         self.cycle_starts.clear();
+        self.dirty = false;
         sh.output.append(&mut self.output);
         for (d, s) in sh.stats.iter_mut().zip(&mut self.stats) {
             *d += std::mem::take(s);
@@ -130,6 +134,8 @@ pub struct TmView<'a> {
     pub shared: &'a Shared,
     /// Where this TM's prints and counters go.
     pub fx: &'a mut Effects,
+    /// The current cycle (prints are stamped with it).
+    pub cycle: u64,
 }
 
 impl Chip for TmView<'_> {
@@ -155,12 +161,16 @@ impl Chip for TmView<'_> {
         None
     }
     fn output(&mut self) -> &mut Vec<u8> {
+        self.fx.dirty = true;
+        self.fx.at_cycle(self.cycle);
         &mut self.fx.output
     }
     fn stats(&mut self) -> &mut [u64; NUM_STATS] {
+        self.fx.dirty = true;
         &mut self.fx.stats
     }
     fn profile(&mut self) -> &mut [u64; 32] {
+        self.fx.dirty = true;
         &mut self.fx.profile
     }
 }

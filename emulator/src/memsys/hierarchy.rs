@@ -152,6 +152,9 @@ impl TmMem {
     /// Installs the line fills received from the L2 and appends the completions of the
     /// loads waiting for them to `out`.
     pub fn apply_fills(&mut self, out: &mut Vec<Completion>) {
+        if self.fills.is_empty() {
+            return;
+        }
         let hit = self.l1.hit_latency();
         for (line, at) in self.fills.drain(..) {
             self.waiters.clear();
@@ -205,7 +208,7 @@ impl ChipMem {
     /// request refused (L2 bank taken, L2 MSHRs or the DRAM queue full) is retried the next
     /// cycle.
     pub fn serve_until(&mut self, end: Cycle, tms: &mut [&mut TmMem]) {
-        for t in tms.iter_mut() {
+        for t in tms.iter_mut().filter(|t| !t.sent.is_empty()) {
             self.queue.append(&mut t.sent);
         }
         let n = self.tms as u64;

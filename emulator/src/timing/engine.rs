@@ -392,7 +392,6 @@ impl Driver<'_, '_> {
         let q = self.quantum();
         let tms = self.cfg.tms as u64;
         let mut idle_cycles = 0u64;
-        let mut progress_before = 0u64;
         let mut deferred: Vec<Deferred> = Vec::new();
         let mut gr = (0u64, 0u32); // global registers: (cycle, ops served in it)
         let mut quanta = 0u64;
@@ -422,10 +421,9 @@ impl Driver<'_, '_> {
                 return Outcome::Deadlock { waiting: 0 };
             }
             // Phase 2: chip-wide, serial.
-            let mut guards: Vec<_> = parts
-                .iter()
-                .map(|p| p.lock().unwrap_or_else(|e| e.into_inner()))
-                .collect();
+            // Only the leader's own counters and each TM's summary line are touched unless
+            // there is work: other state stays in its host thread's cache.
+            let mut part0 = parts[0].lock().unwrap_or_else(|e| e.into_inner());
             let mut sim_guards: Vec<_> = tm_sims
                 .iter()
                 .map(|t| t.lock().unwrap_or_else(|e| e.into_inner()))
@@ -433,10 +431,20 @@ impl Driver<'_, '_> {
             let mut sh_guard = shared.write().unwrap_or_else(|e| e.into_inner());
             let sh: &mut Shared = &mut sh_guard;
             let mut sims: Vec<&mut TmSim> = sim_guards.iter_mut().map(|g| &mut **g).collect();
-            let c = &mut guards[0].c;
-            // The first fault, in (cycle, TM) order.
+            let c = &mut part0.c;
+            let issued_before = c.tc.issued;
+            let mut progressed = false;
             let mut crash: Option<(u64, Box<Crash>)> = None;
+            let (mut any_fx, mut any_deferred) = (false, false);
             for t in sims.iter_mut() {
+                let sum = t.summary;
+                progressed |= sum.progressed;
+                any_fx |= sum.effects;
+                any_deferred |= sum.deferred;
+                if !sum.crash {
+                    continue;
+                }
+                // The first fault, in (cycle, TM) order.
                 if let Some((cyc, _, cr)) = t.crash.take() {
                     if crash.as_ref().is_none_or(|(c0, _)| cyc < *c0) {
                         crash = Some((cyc, cr));
@@ -445,16 +453,20 @@ impl Driver<'_, '_> {
             }
             // Prints and counters, in TM order (prints after a fault's cycle are dropped).
             let until = crash.as_ref().map(|(c0, _)| *c0);
-            for t in sims.iter_mut() {
-                t.fx.merge_into(sh, until);
+            if any_fx {
+                for t in sims.iter_mut().filter(|t| t.summary.effects) {
+                    t.fx.merge_into(sh, until);
+                }
             }
             if !sh.output.is_empty() {
                 drain(&mut sh.output, out);
             }
             // Deferred chip-wide instructions.
             deferred.clear();
-            for t in sims.iter_mut() {
-                deferred.append(&mut t.deferred);
+            if any_deferred {
+                for t in sims.iter_mut().filter(|t| t.summary.deferred) {
+                    deferred.append(&mut t.deferred);
+                }
             }
             deferred.sort_by_key(|d| (d.cycle, (u64::from(d.tm) + tms - d.cycle % tms) % tms));
             let mut last_halt = None;
@@ -527,7 +539,8 @@ impl Driver<'_, '_> {
             // The L2s and DRAM serve what the L1s sent.
             let mut l1s: Vec<&mut TmMem> = sims.iter_mut().map(|t| &mut t.mem).collect();
             self.mem.chip_mut().serve_until(to, &mut l1s);
-            let progress: u64 = guards.iter().map(|g| g.c.tc.issued + g.c.debug_ops).sum();
+            progressed |= c.tc.issued != issued_before;
+            drop(part0);
             if let Some(h) = last_halt {
                 if sh.live_threads == 0 {
                     // The run ends after the last halt; every thread was halted in the
@@ -537,21 +550,27 @@ impl Driver<'_, '_> {
                     return Outcome::Finished;
                 }
             }
-            if progress == progress_before {
-                idle_cycles += to - from;
-            } else {
+            if progressed {
                 idle_cycles = 0;
+            } else {
+                idle_cycles += to - from;
             }
-            progress_before = progress;
             *self.now = to;
             quanta += 1;
             if quanta.is_multiple_of(PROGRESS_EVERY) {
                 if let Some(report) = self.progress.as_deref_mut() {
                     if last_report.elapsed().as_millis() >= 100 {
                         last_report = std::time::Instant::now();
+                        let instructions = parts
+                            .iter()
+                            .map(|p| {
+                                let p = p.lock().unwrap_or_else(|e| e.into_inner());
+                                p.c.tc.issued + p.c.debug_ops
+                            })
+                            .sum();
                         report(&Progress {
                             cycles: to,
-                            instructions: progress,
+                            instructions,
                             rays: sh.stats[0],
                             live_threads: sh.live_threads,
                         });

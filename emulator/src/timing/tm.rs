@@ -51,6 +51,22 @@ pub(crate) struct Deferred {
     pub halted: bool,
 }
 
+/// What a TM's quantum left for the serial phase, in one cache line (the serial phase
+/// reads it instead of touching the TM's other state, which stays in its host thread's
+/// cache).
+#[derive(Clone, Copy, Debug, Default)]
+#[repr(align(64))]
+pub(crate) struct Summary {
+    /// An instruction issued.
+    pub progressed: bool,
+    /// Prints or counters to merge.
+    pub effects: bool,
+    /// Deferred instructions to run.
+    pub deferred: bool,
+    /// A thread faulted.
+    pub crash: bool,
+}
+
 /// A TM's simulation state (aligned apart: TMs run on different host threads).
 #[derive(Clone)]
 #[repr(align(128))]
@@ -58,6 +74,8 @@ pub(crate) struct TmSim {
     pub tm: usize,
     /// Whether the state was reallocated by the host thread that owns the TM.
     pub local: bool,
+    /// The last quantum's results.
+    pub summary: Summary,
     pub threads: Vec<Thread>,
     pub sb: Vec<Sb>,
     /// Per thread: (cycle before which it stalls on a data dependence, producer);
@@ -91,6 +109,7 @@ impl TmSim {
         TmSim {
             tm,
             local: false,
+            summary: Summary::default(),
             sb: vec![sb; n],
             wake: vec![(0, 0); n],
             frozen: vec![false; n],
@@ -142,6 +161,7 @@ impl TmSim {
             }
         }
         self.frozen.iter_mut().for_each(|f| *f = false);
+        let issued_before = c.tc.issued + c.debug_ops;
         let n = self.threads.len();
         let mut first = (from % n as u64) as usize;
         for now in from..to {
@@ -151,6 +171,12 @@ impl TmSim {
             }
             first = if first + 1 == n { 0 } else { first + 1 };
         }
+        self.summary = Summary {
+            progressed: c.tc.issued + c.debug_ops != issued_before,
+            effects: self.fx.dirty,
+            deferred: !self.deferred.is_empty(),
+            crash: self.crash.is_some(),
+        };
     }
 
     fn step_thread(
@@ -218,7 +244,6 @@ impl TmSim {
             };
             if info.class == UnitClass::Debug {
                 c.debug_ops += 1;
-                self.fx.at_cycle(now);
                 let stop = self.execute(shared, c, tid, idx, now);
                 // `trax.clock` (a debug op) reads the cycle counter.
                 patch_clock(&shared.program.insts, &mut self.threads[tid], idx, now);
@@ -426,6 +451,7 @@ impl TmSim {
         let mut view = TmView {
             shared,
             fx: &mut self.fx,
+            cycle: now,
         };
         let stop = t.run(&mut view, 1);
         match &stop {

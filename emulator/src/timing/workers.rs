@@ -15,18 +15,29 @@ use std::time::Duration;
 /// Spins before parking while waiting.
 const SPINS_BEFORE_PARK: u32 = 1_000;
 
+/// A value alone in its cache lines (host threads write different ones without ping-pong).
+#[repr(align(128))]
+struct Padded<T>(T);
+
+impl<T> std::ops::Deref for Padded<T> {
+    type Target = T;
+    fn deref(&self) -> &T {
+        &self.0
+    }
+}
+
 /// The round protocol shared by the leader (host thread 0) and the members.
 pub(crate) struct Rounds {
-    round: AtomicU64,
+    round: Padded<AtomicU64>,
     /// Per TM: the last round that claimed it.
-    claimed: Vec<AtomicU64>,
-    /// TMs finished in the current round.
-    done: AtomicUsize,
-    stop: AtomicBool,
+    claimed: Vec<Padded<AtomicU64>>,
+    /// Per host thread: TMs it finished in the current round.
+    done: Vec<Padded<AtomicUsize>>,
+    stop: Padded<AtomicBool>,
     /// Host threads (leader included).
     threads: usize,
     /// Per host thread: parked, waiting for a round.
-    parked: Vec<AtomicBool>,
+    parked: Vec<Padded<AtomicBool>>,
     leader: Thread,
 }
 
@@ -34,12 +45,14 @@ impl Rounds {
     /// The protocol for `tms` TMs on `threads` host threads (the caller is the leader).
     pub fn new(tms: usize, threads: usize) -> Rounds {
         Rounds {
-            round: AtomicU64::new(0),
-            claimed: (0..tms).map(|_| AtomicU64::new(0)).collect(),
-            done: AtomicUsize::new(0),
-            stop: AtomicBool::new(false),
+            round: Padded(AtomicU64::new(0)),
+            claimed: (0..tms).map(|_| Padded(AtomicU64::new(0))).collect(),
+            done: (0..threads).map(|_| Padded(AtomicUsize::new(0))).collect(),
+            stop: Padded(AtomicBool::new(false)),
             threads,
-            parked: (0..threads).map(|_| AtomicBool::new(false)).collect(),
+            parked: (0..threads)
+                .map(|_| Padded(AtomicBool::new(false)))
+                .collect(),
             leader: std::thread::current(),
         }
     }
@@ -81,13 +94,15 @@ impl Rounds {
     /// waits until every TM is done. Returns false if a member died (it panicked; the scope
     /// re-raises the panic when it joins).
     pub fn run(&self, crew: &[ScopedJoinHandle<'_, ()>], job: &mut dyn FnMut(usize)) -> bool {
-        self.done.store(0, SeqCst);
+        for d in &self.done {
+            d.store(0, SeqCst);
+        }
         let round = self.round.fetch_add(1, SeqCst) + 1;
         self.wake(crew);
         self.work(0, round, job);
         let tms = self.claimed.len();
         loop {
-            let all_done = || self.done.load(SeqCst) >= tms;
+            let all_done = || self.done.iter().map(|d| d.load(SeqCst)).sum::<usize>() >= tms;
             let died = || crew.iter().any(|h| h.is_finished());
             wait_for(|| all_done() || died(), &self.parked[0]);
             if all_done() {
@@ -118,7 +133,8 @@ impl Rounds {
                 continue;
             }
             job(k);
-            if self.done.fetch_add(1, SeqCst) + 1 == tms && self.parked[0].swap(false, SeqCst) {
+            self.done[w].fetch_add(1, SeqCst);
+            if self.parked[0].load(SeqCst) && self.parked[0].swap(false, SeqCst) {
                 self.leader.unpark();
             }
         }
@@ -126,7 +142,7 @@ impl Rounds {
 
     fn wake(&self, crew: &[ScopedJoinHandle<'_, ()>]) {
         for (i, h) in crew.iter().enumerate() {
-            if self.parked[i + 1].swap(false, SeqCst) {
+            if self.parked[i + 1].load(SeqCst) && self.parked[i + 1].swap(false, SeqCst) {
                 h.thread().unpark();
             }
         }

@@ -108,9 +108,9 @@ impl Effects {
         }
     }
 
-    /// Adds these effects to the chip and clears them; with `until`, prints made after that
+    /// Adds these effects to `into` and clears them; with `until`, prints made after that
     /// cycle are dropped (the run ended there).
-    pub fn merge_into(&mut self, sh: &mut Shared, until: Option<u64>) {
+    pub fn merge_into(&mut self, into: &mut Effects, until: Option<u64>) {
         if let Some(limit) = until {
             if let Some(&(_, at)) = self.cycle_starts.iter().find(|(c, _)| *c > limit) {
                 self.output.truncate(at);
@@ -118,6 +118,17 @@ impl Effects {
         }
         self.cycle_starts.clear();
         self.dirty = false;
+        into.output.append(&mut self.output);
+        for (d, s) in into.stats.iter_mut().zip(&mut self.stats) {
+            *d += std::mem::take(s);
+        }
+        for (d, s) in into.profile.iter_mut().zip(&mut self.profile) {
+            *d += std::mem::take(s);
+        }
+    }
+
+    /// Adds these counters and prints to the chip and clears them.
+    pub fn fold_into(&mut self, sh: &mut Shared) {
         sh.output.append(&mut self.output);
         for (d, s) in sh.stats.iter_mut().zip(&mut self.stats) {
             *d += std::mem::take(s);

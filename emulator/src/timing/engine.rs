@@ -34,6 +34,7 @@ use super::config::ChipConfig;
 use super::operands::{classify, OpInfo};
 use super::tm::{patch_clock, Deferred, TmSim};
 use super::workers::Rounds;
+use crate::chip::Effects;
 use crate::exec::Stop;
 use crate::machine::{drain, release_barriers, Crash, Machine, Outcome};
 use crate::memsys::{MemSystem, TmMem};
@@ -291,28 +292,30 @@ impl<'c> Engine<'c> {
                 ..
             } = self;
             let (cfg, shape, max_cycles) = (*cfg, &*shape, *max_cycles);
-            // Host thread `w` simulates TM `k` for the current window.
-            let job = |w: usize, k: usize, prof: Option<&mut Profiler>| {
+            // Host thread `w` simulates TMs `ks` for the current window.
+            let job = |w: usize, ks: &[usize], mut prof: Option<&mut Profiler>| {
                 let (from, to) = (
                     window.0.load(Ordering::Acquire),
                     window.1.load(Ordering::Acquire),
                 );
                 let sh = shared.read().unwrap_or_else(|e| e.into_inner());
                 let mut p = parts[w].lock().unwrap_or_else(|e| e.into_inner());
-                let mut t = sims[k].lock().unwrap_or_else(|e| e.into_inner());
                 // Reallocate state from the host thread that normally runs it (its own
                 // heap arena), so host threads do not write the same cache lines.
                 if !p.local {
                     p.local = true;
                     p.c = p.c.clone();
                 }
-                if !t.local && rounds.owner(k) == w {
-                    *t = t.clone();
-                    t.local = true;
+                for &k in ks {
+                    let mut t = sims[k].lock().unwrap_or_else(|e| e.into_inner());
+                    if !t.local && rounds.owner(k) == w {
+                        *t = t.clone();
+                        t.local = true;
+                    }
+                    t.run_quantum(shape, &sh, &mut p.c, prof.as_deref_mut(), from, to);
                 }
-                t.run_quantum(shape, &sh, &mut p.c, prof, from, to);
             };
-            let member_job = |w: usize, k: usize| job(w, k, None);
+            let member_job = |w: usize, ks: &[usize]| job(w, ks, None);
             std::thread::scope(|scope| {
                 let crew = rounds.spawn(scope, &member_job);
                 let mut d = Driver {
@@ -322,8 +325,9 @@ impl<'c> Engine<'c> {
                     max_cycles,
                     halted_excess: &mut halted_excess,
                     progress: progress.as_deref_mut(),
+                    fx: Effects::default(),
                 };
-                let mut leader_job = |k: usize| job(0, k, profiler.as_mut());
+                let mut leader_job = |ks: &[usize]| job(0, ks, profiler.as_mut());
                 let outcome = d.drive(
                     &shared,
                     &parts,
@@ -335,9 +339,11 @@ impl<'c> Engine<'c> {
                     out,
                 );
                 rounds.finish(&crew);
-                outcome
+                (outcome, d.fx)
             })
         };
+        let (outcome, mut fx) = outcome;
+        fx.fold_into(&mut m.shared);
         self.profiler = profiler;
         self.progress = progress;
         // Take everything back.
@@ -367,6 +373,9 @@ struct Driver<'a, 'p> {
     /// Halted thread-cycles counted after the end of the run (subtracted at the end).
     halted_excess: &'a mut u64,
     progress: Option<&'a mut (dyn FnMut(&Progress) + 'p)>,
+    /// Counters and prints of the TMs, merged each quantum; folded into the chip at the
+    /// end (the chip's own lines stay unwritten, so TMs keep reading them from cache).
+    fx: Effects,
 }
 
 impl Driver<'_, '_> {
@@ -386,7 +395,7 @@ impl Driver<'_, '_> {
         rounds: &Rounds,
         crew: &[std::thread::ScopedJoinHandle<'_, ()>],
         window: &(AtomicU64, AtomicU64),
-        leader_job: &mut dyn FnMut(usize),
+        leader_job: &mut dyn FnMut(&[usize]),
         out: &mut dyn Write,
     ) -> Outcome {
         let q = self.quantum();
@@ -455,11 +464,11 @@ impl Driver<'_, '_> {
             let until = crash.as_ref().map(|(c0, _)| *c0);
             if any_fx {
                 for t in sims.iter_mut().filter(|t| t.summary.effects) {
-                    t.fx.merge_into(sh, until);
+                    t.fx.merge_into(&mut self.fx, until);
                 }
-            }
-            if !sh.output.is_empty() {
-                drain(&mut sh.output, out);
+                if !self.fx.output.is_empty() {
+                    drain(&mut self.fx.output, out);
+                }
             }
             // Deferred chip-wide instructions.
             deferred.clear();
@@ -571,7 +580,7 @@ impl Driver<'_, '_> {
                         report(&Progress {
                             cycles: to,
                             instructions,
-                            rays: sh.stats[0],
+                            rays: sh.stats[0] + self.fx.stats[0],
                             live_threads: sh.live_threads,
                         });
                     }

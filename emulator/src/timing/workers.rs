@@ -70,7 +70,7 @@ impl Rounds {
         job: &'s F,
     ) -> Vec<ScopedJoinHandle<'s, ()>>
     where
-        F: Fn(usize, usize) + Sync,
+        F: Fn(usize, &[usize]) + Sync,
     {
         (1..self.threads)
             .map(|w| {
@@ -83,7 +83,7 @@ impl Rounds {
                             return;
                         }
                         seen = self.round.load(SeqCst);
-                        self.work(w, seen, &mut |k| job(w, k));
+                        self.work(w, seen, &mut |ks| job(w, ks));
                     }
                 })
             })
@@ -93,7 +93,7 @@ impl Rounds {
     /// Runs a round: wakes the members, runs `job(tm)` for the TMs the leader claims, and
     /// waits until every TM is done. Returns false if a member died (it panicked; the scope
     /// re-raises the panic when it joins).
-    pub fn run(&self, crew: &[ScopedJoinHandle<'_, ()>], job: &mut dyn FnMut(usize)) -> bool {
+    pub fn run(&self, crew: &[ScopedJoinHandle<'_, ()>], job: &mut dyn FnMut(&[usize])) -> bool {
         for d in &self.done {
             d.store(0, SeqCst);
         }
@@ -121,21 +121,31 @@ impl Rounds {
     }
 
     /// Claims and runs TMs of `round`: host thread `w`'s own first, then any left.
-    fn work(&self, w: usize, round: u64, job: &mut dyn FnMut(usize)) {
+    fn work(&self, w: usize, round: u64, job: &mut dyn FnMut(&[usize])) {
         let tms = self.claimed.len();
-        let first = (0..tms).position(|k| self.owner(k) == w).unwrap_or(0);
-        for i in 0..tms {
-            let k = (first + i) % tms;
-            if self.claimed[k]
+        let claim = |k: usize| {
+            self.claimed[k]
                 .compare_exchange(round - 1, round, SeqCst, SeqCst)
-                .is_err()
-            {
-                continue;
-            }
-            job(k);
-            self.done[w].fetch_add(1, SeqCst);
+                .is_ok()
+        };
+        let finished = |n: usize| {
+            self.done[w].fetch_add(n, SeqCst);
             if self.parked[0].load(SeqCst) && self.parked[0].swap(false, SeqCst) {
                 self.leader.unpark();
+            }
+        };
+        // Own TMs in one batch (one set of locks), then any left, one at a time.
+        let own: Vec<usize> = (0..tms)
+            .filter(|&k| self.owner(k) == w && claim(k))
+            .collect();
+        if !own.is_empty() {
+            job(&own);
+            finished(own.len());
+        }
+        for k in 0..tms {
+            if self.owner(k) != w && claim(k) {
+                job(&[k]);
+                finished(1);
             }
         }
     }

@@ -190,10 +190,7 @@ impl TmSim {
     ) {
         macro_rules! charge {
             ($kind:expr) => {
-                if let Some(p) = prof.as_deref_mut() {
-                    let t = &self.threads[tid];
-                    p.charge(t.gid as usize, t, $kind, 1);
-                }
+                charge(&mut prof, &self.threads[tid], $kind)
             };
         }
         if self.frozen[tid] {
@@ -280,10 +277,7 @@ impl TmSim {
     ) {
         macro_rules! charge {
             ($kind:expr) => {
-                if let Some(p) = prof.as_deref_mut() {
-                    let t = &self.threads[tid];
-                    p.charge(t.gid as usize, t, $kind, 1);
-                }
+                charge(&mut prof, &self.threads[tid], $kind)
             };
         }
         // Fetch.
@@ -466,6 +460,14 @@ impl TmSim {
         }
         c.issued_at[idx] += 1;
         stop
+    }
+}
+
+/// Charges one cycle of `kind` to thread `t` when profiling.
+#[inline(always)]
+fn charge(prof: &mut Option<&mut Profiler>, t: &Thread, kind: CostKind) {
+    if let Some(p) = prof.as_deref_mut() {
+        p.charge(t.gid as usize, t, kind, 1);
     }
 }
 

@@ -188,6 +188,27 @@ impl Thread {
         Stop::Budget
     }
 
+    /// Runs exactly one instruction: the same as `run(sh, 1)` without the chunk set-up
+    /// (the timing model issues one instruction per call).
+    pub fn step_once<C: Chip>(&mut self, sh: &mut C) -> Stop {
+        let (pc, npc) = (self.pc, self.npc);
+        let inst = match sh.shared().program.get(pc) {
+            Some(i) => *i,
+            None => return self.run(sh, 1),
+        };
+        let mut fp = FpPending::default();
+        let r = self.step(sh, pc, npc, &inst, true, &mut fp);
+        fp.flush(&mut self.regs.fcsr);
+        match r {
+            Ok((p, n)) => {
+                self.retired += 1;
+                (self.pc, self.npc) = (p, n);
+                Stop::Budget
+            }
+            Err(exit) => self.stop_at(exit, pc, npc),
+        }
+    }
+
     /// Executes (and retires) one instruction outside the predecoded text, decoding it on
     /// the fly; kept out of line so the hot loop holds one copy of [`Thread::step`].
     #[cold]

@@ -492,7 +492,7 @@ impl Driver<'_, '_> {
                     continue;
                 }
                 let t = &mut sim.threads[tid];
-                let stop = t.run(sh, 1);
+                let stop = t.step_once(sh);
                 let idx = d.idx as usize;
                 match stop {
                     Stop::Fault(f) => {

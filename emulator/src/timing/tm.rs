@@ -447,7 +447,7 @@ impl TmSim {
             fx: &mut self.fx,
             cycle: now,
         };
-        let stop = t.run(&mut view, 1);
+        let stop = t.step_once(&mut view);
         match &stop {
             Stop::Defer => return stop,
             Stop::Fault(f) => {

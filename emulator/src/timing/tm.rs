@@ -67,6 +67,19 @@ pub(crate) struct Summary {
     pub crash: bool,
 }
 
+/// How an instruction executed in the parallel phase ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Executed {
+    /// Executed.
+    Done,
+    /// Executed `trax.halt`.
+    Halted,
+    /// Not executed: chip-wide, for the serial phase.
+    Defer,
+    /// Faulted (recorded) or waits.
+    Stopped,
+}
+
 /// A TM's simulation state (aligned apart: TMs run on different host threads).
 #[derive(Clone)]
 #[repr(align(128))]
@@ -241,12 +254,12 @@ impl TmSim {
             };
             if info.class == UnitClass::Debug {
                 c.debug_ops += 1;
-                let stop = self.execute(shared, c, tid, idx, now);
+                let done = self.execute(shared, c, tid, idx, now);
                 // `trax.clock` (a debug op) reads the cycle counter.
                 patch_clock(&shared.program.insts, &mut self.threads[tid], idx, now);
-                match stop {
-                    Stop::Budget => {}
-                    Stop::Defer => {
+                match done {
+                    Executed::Done => {}
+                    Executed::Defer => {
                         self.defer(tid, idx, info, now, now);
                         return;
                     }
@@ -389,8 +402,8 @@ impl TmSim {
         // before execution (a call pushes, a return pops).
         charge!(CostKind::Issue);
         match self.execute(shared, c, tid, idx, now) {
-            Stop::Budget => {}
-            Stop::Halted => self.deferred.push(Deferred {
+            Executed::Done => {}
+            Executed::Halted => self.deferred.push(Deferred {
                 cycle: now,
                 tm: self.tm as u32,
                 tid: tid as u32,
@@ -399,12 +412,12 @@ impl TmSim {
                 ready_at,
                 halted: true,
             }),
-            Stop::Defer => {
+            Executed::Defer => {
                 self.defer(tid, idx, info, now, ready_at);
                 return;
             }
             // Barriers and semaphores are chip-wide (deferred); a fault was recorded.
-            _ => return,
+            Executed::Stopped => return,
         }
         c.tc.issued += 1;
         c.class_ops[info.class as usize] += 1;
@@ -433,6 +446,7 @@ impl TmSim {
     }
 
     /// Executes the thread's next instruction functionally with this TM's view.
+    #[inline(always)]
     fn execute(
         &mut self,
         shared: &Shared,
@@ -440,26 +454,27 @@ impl TmSim {
         tid: usize,
         idx: usize,
         now: u64,
-    ) -> Stop {
+    ) -> Executed {
         let t = &mut self.threads[tid];
         let mut view = TmView {
             shared,
             fx: &mut self.fx,
             cycle: now,
         };
-        let stop = t.step_once(&mut view);
-        match &stop {
-            Stop::Defer => return stop,
+        let done = match t.step_once(&mut view) {
+            Stop::Budget => Executed::Done,
+            Stop::Halted => Executed::Halted,
+            Stop::Defer => return Executed::Defer,
             Stop::Fault(f) => {
                 if self.crash.is_none() {
-                    self.crash = Some((now, tid, Box::new(Crash::capture(t, f.clone()))));
+                    self.crash = Some((now, tid, Box::new(Crash::capture(t, f))));
                 }
-                return stop;
+                return Executed::Stopped;
             }
-            _ => {}
-        }
+            Stop::Blocked | Stop::Retry => Executed::Stopped,
+        };
         c.issued_at[idx] += 1;
-        stop
+        done
     }
 }
 

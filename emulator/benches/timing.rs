@@ -1,6 +1,7 @@
-//! Timing-model speed: simulated thread-instructions per host second on an FP-heavy
-//! ray/box slab-test kernel (C via clang-14 until the path tracer is wired in), 4 TMs x 32
-//! threads, detailed GDDR5 DRAM, with 1 and 2 host threads.
+//! Timing-model speed on a C microkernel: simulated thread-instructions per host second on
+//! an FP-heavy ray/box slab-test kernel (C via clang-14), 4 TMs x 32 threads, detailed GDDR5
+//! DRAM, with 1 and 2 host threads. The workload (the path tracer) is measured by the
+//! root package's `cargo bench --bench timing_pathtracer`.
 //!
 //! Run: `cargo bench -p trax-emulator --bench timing`. Target: >= 20 M thread-instr/s per core.
 

@@ -32,7 +32,7 @@ use trax_runtime::isa::UnitClass;
 
 use super::config::ChipConfig;
 use super::operands::{classify, OpInfo};
-use super::tm::{patch_clock, Deferred, TmSim};
+use super::tm::{retire, Deferred, TmSim};
 use super::workers::Rounds;
 use crate::chip::Effects;
 use crate::exec::Stop;
@@ -485,33 +485,33 @@ impl Driver<'_, '_> {
                 }
                 let sim = &mut *sims[d.tm as usize];
                 let tid = d.tid as usize;
-                if d.halted {
+                // A halt (executed in the parallel phase, or here: it is never deferred
+                // today) ends its thread.
+                let halted = d.halted || {
+                    let t = &mut sim.threads[tid];
+                    match t.step_once(sh) {
+                        Stop::Fault(f) => {
+                            crash = Some((d.cycle, Box::new(Crash::capture(t, f))));
+                            break;
+                        }
+                        // A semaphore that is not available: retry next quantum.
+                        Stop::Retry | Stop::Defer => {
+                            c.tc.sync_wait += 1;
+                            continue;
+                        }
+                        Stop::Halted => true,
+                        Stop::Budget | Stop::Blocked => false,
+                    }
+                };
+                if halted {
                     sh.live_threads -= 1;
                     release_barriers(sh);
                     last_halt = Some(d.cycle);
+                }
+                if d.halted {
                     continue;
                 }
-                let t = &mut sim.threads[tid];
-                let stop = t.step_once(sh);
                 let idx = d.idx as usize;
-                match stop {
-                    Stop::Fault(f) => {
-                        crash = Some((d.cycle, Box::new(Crash::capture(t, f))));
-                        break;
-                    }
-                    // A semaphore that is not available: retry next quantum.
-                    Stop::Retry | Stop::Defer => {
-                        c.tc.sync_wait += 1;
-                        continue;
-                    }
-                    Stop::Halted => {
-                        sh.live_threads -= 1;
-                        release_barriers(sh);
-                        last_halt = Some(d.cycle);
-                    }
-                    Stop::Budget | Stop::Blocked => {}
-                }
-                patch_clock(&sh.program.insts, t, idx, d.cycle);
                 let last = c.issued_at.len() - 1;
                 c.issued_at[idx.min(last)] += 1;
                 let info = d.info;
@@ -528,18 +528,9 @@ impl Driver<'_, '_> {
                     c.unit_conflicts[UnitClass::GlobalRegs as usize] += gr.0 - d.cycle;
                     ready = gr.0 + g.latency as u64;
                 }
-                c.tc.issued += 1;
-                c.class_ops[info.class as usize] += 1;
-                c.reg_accesses +=
-                    info.src.iter().filter(|&&r| r != 0).count() as u64 + (info.dst != 0) as u64;
-                let s = &mut sim.sb[tid];
-                s.fetched = false;
-                if info.dst != 0 {
-                    s.ready[info.dst as usize] = ready.max(to);
-                    s.producer[info.dst as usize] = d.idx;
-                }
+                retire(c, &mut sim.sb[tid], &info, idx, ready.max(to));
             }
-            // Drain prints of deferred instructions (none today) and stop on a fault.
+            // Stop on a fault.
             if let Some((cyc, cr)) = crash {
                 *self.now = cyc;
                 drop(sims);

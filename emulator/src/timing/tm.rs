@@ -403,15 +403,7 @@ impl TmSim {
         charge!(CostKind::Issue);
         match self.execute(shared, c, tid, idx, now) {
             Executed::Done => {}
-            Executed::Halted => self.deferred.push(Deferred {
-                cycle: now,
-                tm: self.tm as u32,
-                tid: tid as u32,
-                idx: idx as u32,
-                info,
-                ready_at,
-                halted: true,
-            }),
+            Executed::Halted => self.record(tid, idx, info, now, ready_at, true),
             Executed::Defer => {
                 self.defer(tid, idx, info, now, ready_at);
                 return;
@@ -419,20 +411,26 @@ impl TmSim {
             // Barriers and semaphores are chip-wide (deferred); a fault was recorded.
             Executed::Stopped => return,
         }
-        c.tc.issued += 1;
-        c.class_ops[info.class as usize] += 1;
-        c.reg_accesses +=
-            info.src.iter().filter(|&&r| r != 0).count() as u64 + (info.dst != 0) as u64;
-        let s = &mut self.sb[tid];
-        s.fetched = false;
-        if info.dst != 0 {
-            s.ready[info.dst as usize] = if pending_load { PENDING } else { ready_at };
-            s.producer[info.dst as usize] = idx as u32;
-        }
+        let ready = if pending_load { PENDING } else { ready_at };
+        retire(c, &mut self.sb[tid], &info, idx, ready);
     }
 
     /// Records a deferred instruction; its thread waits until the next quantum.
     fn defer(&mut self, tid: usize, idx: usize, info: OpInfo, now: u64, ready_at: u64) {
+        self.record(tid, idx, info, now, ready_at, false);
+        self.frozen[tid] = true;
+    }
+
+    /// Leaves an instruction (or a halt) for the serial phase.
+    fn record(
+        &mut self,
+        tid: usize,
+        idx: usize,
+        info: OpInfo,
+        now: u64,
+        ready_at: u64,
+        halted: bool,
+    ) {
         self.deferred.push(Deferred {
             cycle: now,
             tm: self.tm as u32,
@@ -440,9 +438,8 @@ impl TmSim {
             idx: idx as u32,
             info,
             ready_at,
-            halted: false,
+            halted,
         });
-        self.frozen[tid] = true;
     }
 
     /// Executes the thread's next instruction functionally with this TM's view.
@@ -478,6 +475,19 @@ impl TmSim {
     }
 }
 
+/// Counts an issued instruction (text word `idx`) and makes its destination ready at
+/// `ready` ([`PENDING`] for a load waiting for memory).
+pub(crate) fn retire(c: &mut Counters, s: &mut Sb, info: &OpInfo, idx: usize, ready: u64) {
+    c.tc.issued += 1;
+    c.class_ops[info.class as usize] += 1;
+    c.reg_accesses += info.src.iter().filter(|&&r| r != 0).count() as u64 + (info.dst != 0) as u64;
+    s.fetched = false;
+    if info.dst != 0 {
+        s.ready[info.dst as usize] = ready;
+        s.producer[info.dst as usize] = idx as u32;
+    }
+}
+
 /// Charges one cycle of `kind` to thread `t` when profiling.
 #[inline(always)]
 fn charge(prof: &mut Option<&mut Profiler>, t: &Thread, kind: CostKind) {
@@ -487,7 +497,7 @@ fn charge(prof: &mut Option<&mut Profiler>, t: &Thread, kind: CostKind) {
 }
 
 /// `trax.clock` reads the cycle counter in the timing model.
-pub(crate) fn patch_clock(insts: &[Inst], t: &mut Thread, idx: usize, now: u64) {
+fn patch_clock(insts: &[Inst], t: &mut Thread, idx: usize, now: u64) {
     if let Some(Inst::Trax {
         op: TraxOp::Clock,
         rd,

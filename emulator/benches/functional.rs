@@ -7,6 +7,9 @@
 //! Run: `cargo bench -p trax-emulator --bench functional`. Target: >= 300 M instr/s and
 //! faster than qemu.
 
+#[path = "common/mod.rs"]
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
@@ -48,16 +51,6 @@ void trax_main(void) {
 }
 "#;
 
-const TRAX_START: &str = "
-    .text
-    .globl __trax_start
-__trax_start:
-    lui $sp, 0x8000
-    jal trax_main
-    nop
-    .word 0x70000007
-";
-
 const LINUX_START: &str = "
     .text
     .globl __start
@@ -69,52 +62,23 @@ __start:
     syscall
 ";
 
-fn sh(cmd: &mut Command) -> bool {
-    cmd.output().map(|o| o.status.success()).unwrap_or(false)
-}
-
 fn build(dir: &Path, start: &str, entry: &str, name: &str, nrays: u32) -> Option<PathBuf> {
-    std::fs::write(dir.join("k.c"), KERNEL).ok()?;
-    std::fs::write(dir.join(format!("{name}.s")), start).ok()?;
-    let flags = [
-        "--target=mipsel-unknown-linux-gnu",
-        "-march=mips32r6",
-        "-mfp64",
-        "-O2",
-        "-fno-pic",
-        "-mno-abicalls",
-        "-G0",
-        "-nostdlib",
-        "-c",
-    ];
     let nr = format!("-DNRAYS={nrays}");
-    let ok = sh(Command::new("clang-14")
-        .args(flags)
-        .arg(&nr)
-        .arg(dir.join("k.c"))
-        .arg("-o")
-        .arg(dir.join("k.o")))
-        && sh(Command::new("clang-14")
-            .args(flags)
-            .arg(dir.join(format!("{name}.s")))
-            .arg("-o")
-            .arg(dir.join(format!("{name}.o"))));
-    let elf = dir.join(format!("{name}.elf"));
-    let ok = ok
-        && sh(Command::new("ld.lld-14")
-            .args(["-static", "-e", entry, "-Ttext=0x100000"])
-            .arg(dir.join(format!("{name}.o")))
-            .arg(dir.join("k.o"))
-            .arg("-o")
-            .arg(&elf));
-    ok.then_some(elf)
+    let start_file = format!("{name}.s");
+    common::build(
+        dir,
+        name,
+        entry,
+        &common::FLAGS,
+        &[(&start_file, start, &[]), ("k.c", KERNEL, &[&nr])],
+    )
 }
 
 fn main() {
     let dir = std::env::temp_dir().join(format!("trax-bench-functional-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let nrays = 40_000;
-    let Some(elf) = build(&dir, TRAX_START, "__trax_start", "trax", nrays) else {
+    let Some(elf) = build(&dir, common::TRAX_START, "__trax_start", "trax", nrays) else {
         println!("functional bench: clang-14/ld.lld-14 not available; skipped");
         return;
     };
@@ -155,9 +119,11 @@ fn main() {
             let mut qbest = f64::MAX;
             for _ in 0..3 {
                 let t = Instant::now();
-                let ok = sh(Command::new("qemu-mipsel")
-                    .args(["-cpu", "mips32r6-generic"])
-                    .arg(&q));
+                let ok = common::succeeds(
+                    Command::new("qemu-mipsel")
+                        .args(["-cpu", "mips32r6-generic"])
+                        .arg(&q),
+                );
                 if !ok {
                     println!("  qemu-mipsel failed to run the loop");
                     return;

@@ -4,8 +4,10 @@
 //!
 //! Run: `cargo bench -p trax-emulator --bench profile`.
 
+#[path = "common/mod.rs"]
+mod common;
+
 use std::path::{Path, PathBuf};
-use std::process::Command;
 use std::time::Instant;
 
 use trax_emulator::debuginfo::DebugInfo;
@@ -51,56 +53,18 @@ void trax_main(void) {
 }
 "#;
 
-const START: &str = "
-    .text
-    .globl __trax_start
-__trax_start:
-    lui $sp, 0x8000
-    jal trax_main
-    nop
-    .word 0x70000007
-";
-
-fn sh(cmd: &mut Command) -> bool {
-    cmd.output().map(|o| o.status.success()).unwrap_or(false)
-}
-
 fn build(dir: &Path, nrays: u32) -> Option<PathBuf> {
-    std::fs::write(dir.join("k.c"), KERNEL).ok()?;
-    std::fs::write(dir.join("start.s"), START).ok()?;
-    let flags = [
-        "--target=mipsel-unknown-linux-gnu",
-        "-march=mips32r6",
-        "-mfp64",
-        "-O2",
-        "-g",
-        "-fno-pic",
-        "-mno-abicalls",
-        "-G0",
-        "-nostdlib",
-        "-c",
-    ];
     let nr = format!("-DNRAYS={nrays}");
-    let ok = sh(Command::new("clang-14")
-        .args(flags)
-        .arg(&nr)
-        .arg(dir.join("k.c"))
-        .arg("-o")
-        .arg(dir.join("k.o")))
-        && sh(Command::new("clang-14")
-            .args(flags)
-            .arg(dir.join("start.s"))
-            .arg("-o")
-            .arg(dir.join("start.o")));
-    let elf = dir.join("k.elf");
-    let ok = ok
-        && sh(Command::new("ld.lld-14")
-            .args(["-static", "-e", "__trax_start", "-Ttext=0x100000"])
-            .arg(dir.join("start.o"))
-            .arg(dir.join("k.o"))
-            .arg("-o")
-            .arg(&elf));
-    ok.then_some(elf)
+    common::build(
+        dir,
+        "k",
+        "__trax_start",
+        &[&common::FLAGS[..], &["-g"]].concat(),
+        &[
+            ("start.s", common::TRAX_START, &[]),
+            ("k.c", KERNEL, &[&nr]),
+        ],
+    )
 }
 
 fn main() {

@@ -5,8 +5,10 @@
 //!
 //! Run: `cargo bench -p trax-emulator --bench timing`. Target: >= 20 M thread-instr/s per core.
 
-use std::path::PathBuf;
-use std::process::Command;
+#[path = "common/mod.rs"]
+mod common;
+
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use trax_emulator::timing::{self, ChipConfig, TimingRequest};
@@ -72,10 +74,8 @@ __trax_start:
     .word 0x70000007
 ";
 
-fn build(dir: &PathBuf) -> PathBuf {
-    std::fs::create_dir_all(dir).unwrap();
-    std::fs::write(dir.join("k.c"), KERNEL).unwrap();
-    std::fs::write(dir.join("s.s"), START).unwrap();
+fn build(dir: &Path) -> PathBuf {
+    // Its own flags: `$gp`-relative small data (the stub sets `$gp`), freestanding.
     let flags = [
         "--target=mipsel-unknown-linux-gnu",
         "-march=mips32r6",
@@ -90,28 +90,14 @@ fn build(dir: &PathBuf) -> PathBuf {
         "-DNRAYS=512",
         "-Wno-unused-command-line-argument",
     ];
-    for (src, obj) in [("k.c", "k.o"), ("s.s", "s.o")] {
-        let st = Command::new("clang-14")
-            .args(flags)
-            .arg("-c")
-            .arg(dir.join(src))
-            .arg("-o")
-            .arg(dir.join(obj))
-            .status()
-            .expect("clang-14");
-        assert!(st.success());
-    }
-    let elf = dir.join("k.elf");
-    let st = Command::new("ld.lld-14")
-        .args(["-static", "-e", "__trax_start", "-Ttext=0x100000"])
-        .arg(dir.join("s.o"))
-        .arg(dir.join("k.o"))
-        .arg("-o")
-        .arg(&elf)
-        .status()
-        .expect("ld.lld-14");
-    assert!(st.success());
-    elf
+    common::build(
+        dir,
+        "k",
+        "__trax_start",
+        &flags,
+        &[("s.s", START, &[]), ("k.c", KERNEL, &[])],
+    )
+    .expect("clang-14 and ld.lld-14 build the kernel")
 }
 
 fn probe_detailed(c: &ChipConfig) -> bool {

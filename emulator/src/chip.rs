@@ -119,21 +119,21 @@ impl Effects {
         self.cycle_starts.clear();
         self.dirty = false;
         into.output.append(&mut self.output);
-        for (d, s) in into.stats.iter_mut().zip(&mut self.stats) {
-            *d += std::mem::take(s);
-        }
-        for (d, s) in into.profile.iter_mut().zip(&mut self.profile) {
-            *d += std::mem::take(s);
-        }
+        self.move_counts(&mut into.stats, &mut into.profile);
     }
 
     /// Adds these counters and prints to the chip and clears them.
     pub fn fold_into(&mut self, sh: &mut Shared) {
         sh.output.append(&mut self.output);
-        for (d, s) in sh.stats.iter_mut().zip(&mut self.stats) {
+        self.move_counts(&mut sh.stats, &mut sh.profile);
+    }
+
+    /// Adds the counters to `stats` and `profile` and zeroes them here.
+    fn move_counts(&mut self, stats: &mut [u64; NUM_STATS], profile: &mut [u64; 32]) {
+        for (d, s) in stats.iter_mut().zip(&mut self.stats) {
             *d += std::mem::take(s);
         }
-        for (d, s) in sh.profile.iter_mut().zip(&mut self.profile) {
+        for (d, s) in profile.iter_mut().zip(&mut self.profile) {
             *d += std::mem::take(s);
         }
     }

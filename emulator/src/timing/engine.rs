@@ -25,15 +25,14 @@
 //! and output are identical for any `host_threads`.
 
 use std::io::Write;
-use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::{Mutex, RwLock};
+use std::sync::Mutex;
 
 use trax_runtime::isa::UnitClass;
 
 use super::config::ChipConfig;
 use super::operands::{classify, OpInfo};
 use super::tm::{retire, Deferred, TmSim};
-use super::workers::Rounds;
+use super::workers::{rebalance, RoundCell, Rounds};
 use crate::chip::Effects;
 use crate::exec::Stop;
 use crate::machine::{drain, release_barriers, Crash, Machine, Outcome};
@@ -111,6 +110,13 @@ pub type ProgressFn<'a> = &'a mut dyn FnMut(&Progress);
 
 /// Quanta between checks of the host clock for progress reports.
 const PROGRESS_EVERY: u64 = 1024;
+
+/// Quanta between rebalancings of TMs over host threads (tens of host milliseconds: long
+/// enough to measure loads and to repay moving a TM's state to another core).
+const REBALANCE_EVERY: u64 = 4096;
+
+/// A rebalancing must cut the busiest host thread's load by this fraction.
+const REBALANCE_MIN_GAIN: f64 = 0.01;
 
 /// Timing facts of one execution-unit class.
 #[derive(Clone, Copy, Debug)]
@@ -269,20 +275,19 @@ impl<'c> Engine<'c> {
                 })
             })
             .collect();
-        let sims: Vec<Mutex<TmSim>> = (0..tms)
+        let sims: Vec<RoundCell<TmSim>> = (0..tms)
             .map(|tm| {
                 let ts: Vec<Thread> = threads.by_ref().take(n).collect();
                 let mem = tm_mems.next().expect("one L1 per TM");
-                Mutex::new(TmSim::new(tm, ts, mem, &self.shape))
+                RoundCell::new(TmSim::new(tm, ts, mem, &self.shape))
             })
             .collect();
         let mut profiler = self.profiler.take();
         let mut progress = self.progress.take();
         let mut halted_excess = 0u64;
         let outcome = {
-            let shared = RwLock::new(&mut m.shared);
+            let shared = RoundCell::new(&mut m.shared);
             let rounds = Rounds::new(tms, workers);
-            let window = (AtomicU64::new(0), AtomicU64::new(0));
             let Engine {
                 cfg,
                 shape,
@@ -292,13 +297,10 @@ impl<'c> Engine<'c> {
                 ..
             } = self;
             let (cfg, shape, max_cycles) = (*cfg, &*shape, *max_cycles);
-            // Host thread `w` simulates TMs `ks` for the current window.
-            let job = |w: usize, ks: &[usize], mut prof: Option<&mut Profiler>| {
-                let (from, to) = (
-                    window.0.load(Ordering::Acquire),
-                    window.1.load(Ordering::Acquire),
-                );
-                let sh = shared.read().unwrap_or_else(|e| e.into_inner());
+            // Host thread `w` simulates TM `k` over the window `from..to`.
+            let job = |w: usize, k: usize, (from, to): (u64, u64), prof: Option<&mut Profiler>| {
+                // SAFETY: a round job; the chip state is only read during rounds.
+                let sh: &Shared = unsafe { shared.get() };
                 let mut p = parts[w].lock().unwrap_or_else(|e| e.into_inner());
                 // Reallocate state from the host thread that normally runs it (its own
                 // heap arena), so host threads do not write the same cache lines.
@@ -306,16 +308,15 @@ impl<'c> Engine<'c> {
                     p.local = true;
                     p.c = p.c.clone();
                 }
-                for &k in ks {
-                    let mut t = sims[k].lock().unwrap_or_else(|e| e.into_inner());
-                    if !t.local && rounds.owner(k) == w {
-                        *t = t.clone();
-                        t.local = true;
-                    }
-                    t.run_quantum(shape, &sh, &mut p.c, prof.as_deref_mut(), from, to);
+                // SAFETY: the round job of TM `k`: this host thread claimed it.
+                let t = unsafe { sims[k].get_mut() };
+                if !t.local && rounds.owner(k) == w {
+                    *t = t.clone();
+                    t.local = true;
                 }
+                t.run_quantum(shape, sh, &mut p.c, prof, from, to);
             };
-            let member_job = |w: usize, ks: &[usize]| job(w, ks, None);
+            let member_job = |w: usize, k: usize, window: (u64, u64)| job(w, k, window, None);
             std::thread::scope(|scope| {
                 let crew = rounds.spawn(scope, &member_job);
                 let mut d = Driver {
@@ -327,17 +328,8 @@ impl<'c> Engine<'c> {
                     progress: progress.as_deref_mut(),
                     fx: Effects::default(),
                 };
-                let mut leader_job = |ks: &[usize]| job(0, ks, profiler.as_mut());
-                let outcome = d.drive(
-                    &shared,
-                    &parts,
-                    &sims,
-                    &rounds,
-                    &crew,
-                    &window,
-                    &mut leader_job,
-                    out,
-                );
+                let mut leader_job = |k: usize, window| job(0, k, window, profiler.as_mut());
+                let outcome = d.drive(&shared, &parts, &sims, &rounds, &crew, &mut leader_job, out);
                 rounds.finish(&crew);
                 (outcome, d.fx)
             })
@@ -353,7 +345,7 @@ impl<'c> Engine<'c> {
         }
         let mut tm_mems = Vec::with_capacity(tms);
         for t in sims {
-            let t = t.into_inner().unwrap_or_else(|e| e.into_inner());
+            let t = t.into_inner();
             m.threads.extend(t.threads);
             tm_mems.push(t.mem);
         }
@@ -389,13 +381,12 @@ impl Driver<'_, '_> {
     #[allow(clippy::too_many_arguments)]
     fn drive(
         &mut self,
-        shared: &RwLock<&mut Shared>,
+        shared: &RoundCell<&mut Shared>,
         parts: &[Mutex<Part>],
-        tm_sims: &[Mutex<TmSim>],
+        tm_sims: &[RoundCell<TmSim>],
         rounds: &Rounds,
         crew: &[std::thread::ScopedJoinHandle<'_, ()>],
-        window: &(AtomicU64, AtomicU64),
-        leader_job: &mut dyn FnMut(&[usize]),
+        leader_job: &mut dyn FnMut(usize, (u64, u64)),
         out: &mut dyn Write,
     ) -> Outcome {
         let q = self.quantum();
@@ -404,13 +395,13 @@ impl Driver<'_, '_> {
         let mut deferred: Vec<Deferred> = Vec::new();
         let mut gr = (0u64, 0u32); // global registers: (cycle, ops served in it)
         let mut quanta = 0u64;
+        // Per TM: its work at the last rebalancing.
+        let mut work_at = vec![0u64; tm_sims.len()];
         let mut last_report = std::time::Instant::now();
         loop {
-            {
-                let sh = shared.read().unwrap_or_else(|e| e.into_inner());
-                if sh.live_threads == 0 {
-                    return Outcome::Finished;
-                }
+            // SAFETY: the leader between rounds.
+            if unsafe { shared.get() }.live_threads == 0 {
+                return Outcome::Finished;
             }
             if let Some(max) = self.max_cycles {
                 if *self.now >= max {
@@ -423,9 +414,7 @@ impl Driver<'_, '_> {
                 None => from + q,
             };
             // Phase 1: the TMs, in parallel.
-            window.0.store(from, Ordering::Release);
-            window.1.store(to, Ordering::Release);
-            if !rounds.run(crew, leader_job) {
+            if !rounds.run(crew, (from, to), leader_job) {
                 // A host thread died; the scope re-raises its panic.
                 return Outcome::Deadlock { waiting: 0 };
             }
@@ -433,13 +422,11 @@ impl Driver<'_, '_> {
             // Only the leader's own counters and each TM's summary line are touched unless
             // there is work: other state stays in its host thread's cache.
             let mut part0 = parts[0].lock().unwrap_or_else(|e| e.into_inner());
-            let mut sim_guards: Vec<_> = tm_sims
-                .iter()
-                .map(|t| t.lock().unwrap_or_else(|e| e.into_inner()))
-                .collect();
-            let mut sh_guard = shared.write().unwrap_or_else(|e| e.into_inner());
-            let sh: &mut Shared = &mut sh_guard;
-            let mut sims: Vec<&mut TmSim> = sim_guards.iter_mut().map(|g| &mut **g).collect();
+            // SAFETY: the leader between rounds (every TM of the round reported done).
+            let sh: &mut Shared = unsafe { shared.get_mut() };
+            // SAFETY: as above.
+            let mut sims: Vec<&mut TmSim> =
+                tm_sims.iter().map(|t| unsafe { t.get_mut() }).collect();
             let c = &mut part0.c;
             let issued_before = c.tc.issued;
             let mut progressed = false;
@@ -539,6 +526,19 @@ impl Driver<'_, '_> {
             // The L2s and DRAM serve what the L1s sent.
             let mut l1s: Vec<&mut TmMem> = sims.iter_mut().map(|t| &mut t.mem).collect();
             self.mem.chip_mut().serve_until(to, &mut l1s);
+            if rounds.threads() > 1 && (quanta + 1).is_multiple_of(REBALANCE_EVERY) {
+                let loads: Vec<u64> = sims
+                    .iter()
+                    .zip(&mut work_at)
+                    .map(|(t, at)| t.work - std::mem::replace(at, t.work))
+                    .collect();
+                let owner: Vec<usize> = (0..sims.len()).map(|k| rounds.owner(k)).collect();
+                for (k, w) in rebalance(&loads, &owner, rounds.threads(), REBALANCE_MIN_GAIN) {
+                    rounds.set_owner(k, w);
+                    // The new owner reallocates it from its own heap.
+                    sims[k].local = false;
+                }
+            }
             progressed |= c.tc.issued != issued_before;
             drop(part0);
             if let Some(h) = last_halt {

@@ -89,6 +89,8 @@ pub(crate) struct TmSim {
     pub local: bool,
     /// The last quantum's results.
     pub summary: Summary,
+    /// Instructions issued so far (the host's work, for balancing TMs over host threads).
+    pub work: u64,
     pub threads: Vec<Thread>,
     pub sb: Vec<Sb>,
     /// Per thread: (cycle before which it stalls on a data dependence, producer);
@@ -123,6 +125,7 @@ impl TmSim {
             tm,
             local: false,
             summary: Summary::default(),
+            work: 0,
             sb: vec![sb; n],
             wake: vec![(0, 0); n],
             frozen: vec![false; n],
@@ -184,8 +187,10 @@ impl TmSim {
             }
             first = if first + 1 == n { 0 } else { first + 1 };
         }
+        let issued = c.tc.issued + c.debug_ops - issued_before;
+        self.work += issued;
         self.summary = Summary {
-            progressed: c.tc.issued + c.debug_ops != issued_before,
+            progressed: issued != 0,
             effects: self.fx.dirty,
             deferred: !self.deferred.is_empty(),
             crash: self.crash.is_some(),

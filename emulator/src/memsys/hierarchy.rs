@@ -171,9 +171,20 @@ impl TmMem {
         &self.l1.stats
     }
 
+    /// Whether requests were sent since the chip side last collected them.
+    pub fn has_sent(&self) -> bool {
+        !self.sent.is_empty()
+    }
+
     /// Whether requests or fills are in flight between this L1 and its L2.
     pub fn busy(&self) -> bool {
         !self.sent.is_empty() || !self.fills.is_empty()
+    }
+}
+
+impl AsMut<TmMem> for TmMem {
+    fn as_mut(&mut self) -> &mut TmMem {
+        self
     }
 }
 
@@ -193,8 +204,10 @@ pub struct ChipMem {
     l1_line_shift: u32,
     /// First core cycle not yet served.
     clock: Cycle,
-    /// Requests not yet served, oldest first.
+    /// Requests not yet served, oldest first (once sorted).
     queue: Vec<L2Request>,
+    /// Requests were collected since the queue was last sorted.
+    unsorted: bool,
     dram_out: Vec<Completion>,
     waiters_l2: Vec<u64>,
     /// Request-cycles a DRAM channel queue was full.
@@ -202,18 +215,26 @@ pub struct ChipMem {
 }
 
 impl ChipMem {
-    /// Serves, cycle by cycle up to `end` (exclusive), the requests the TMs sent (taken from
-    /// `tms`) and the DRAM; line fills go back to the TMs' [`TmMem::apply_fills`]. Requests
+    /// Takes the requests `tm` sent, to be served by [`Self::serve_until`].
+    pub fn collect(&mut self, tm: &mut TmMem) {
+        if !tm.sent.is_empty() {
+            self.queue.append(&mut tm.sent);
+            self.unsorted = true;
+        }
+    }
+
+    /// Serves, cycle by cycle up to `end` (exclusive), the requests collected from the TMs
+    /// ([`Self::collect`]) and the DRAM; line fills go back to the TMs' [`TmMem::apply_fills`]. Requests
     /// of one cycle are served oldest first, then in TM order rotating with the cycle; a
     /// request refused (L2 bank taken, L2 MSHRs or the DRAM queue full) is retried the next
     /// cycle.
-    pub fn serve_until(&mut self, end: Cycle, tms: &mut [&mut TmMem]) {
-        for t in tms.iter_mut().filter(|t| !t.sent.is_empty()) {
-            self.queue.append(&mut t.sent);
+    pub fn serve_until<T: AsMut<TmMem>>(&mut self, end: Cycle, tms: &mut [T]) {
+        if self.unsorted {
+            self.unsorted = false;
+            let n = self.tms as u64;
+            self.queue
+                .sort_by_key(|r| (r.cycle, (u64::from(r.tm) + n - r.cycle % n) % n));
         }
-        let n = self.tms as u64;
-        self.queue
-            .sort_by_key(|r| (r.cycle, (u64::from(r.tm) + n - r.cycle % n) % n));
         while self.clock < end {
             let c = self.clock;
             self.dram.advance_to(c, &mut self.dram_out);
@@ -232,7 +253,7 @@ impl ChipMem {
     }
 
     /// Serves one request at cycle `c`; false if refused.
-    fn serve(&mut self, r: &L2Request, c: Cycle, tms: &mut [&mut TmMem]) -> bool {
+    fn serve<T: AsMut<TmMem>>(&mut self, r: &L2Request, c: Cycle, tms: &mut [T]) -> bool {
         let tm = r.tm as usize;
         let g = tm / self.tms_per_l2;
         let l2 = &mut self.l2[g];
@@ -273,12 +294,12 @@ impl ChipMem {
             Lookup::Hit(at) => {
                 l2.stats.hits += 1;
                 l2.touch(line);
-                tms[tm].fills.push((line, at));
+                tms[tm].as_mut().fills.push((line, at));
             }
             Lookup::Merged(at) => {
                 l2.stats.misses += 1;
                 l2.stats.merged += 1;
-                tms[tm].fills.push((line, at));
+                tms[tm].as_mut().fills.push((line, at));
             }
             Lookup::Pending(j) => {
                 l2.stats.misses += 1;
@@ -301,7 +322,7 @@ impl ChipMem {
     }
 
     /// Routes DRAM read completions through the L2 MSHRs to the TMs' L1s.
-    fn route_dram(&mut self, tms: &mut [&mut TmMem]) {
+    fn route_dram<T: AsMut<TmMem>>(&mut self, tms: &mut [T]) {
         for c in self.dram_out.drain(..) {
             let g = (c.id >> 32) as usize;
             let line = c.id as u32;
@@ -310,7 +331,7 @@ impl ChipMem {
             l2.fill(line, c.cycle, &mut self.waiters_l2);
             let l1_fill = c.cycle + l2.hit_latency();
             for &tm in &self.waiters_l2 {
-                tms[tm as usize].fills.push((line, l1_fill));
+                tms[tm as usize].as_mut().fills.push((line, l1_fill));
             }
         }
     }
@@ -401,6 +422,7 @@ impl MemSystem {
                 l1_line_shift: cfg.l1.line_bytes.trailing_zeros(),
                 clock: 0,
                 queue: Vec::new(),
+                unsorted: false,
                 dram_out: Vec::new(),
                 waiters_l2: Vec::new(),
                 dram_queue_full: 0,
@@ -459,8 +481,10 @@ impl MemSystem {
     /// so far to `out`. A completion's cycle is when the load's data is ready; it may lie
     /// after `now` (a DRAM read's return time is known once it is scheduled).
     pub fn advance_to(&mut self, now: Cycle, out: &mut Vec<Completion>) {
-        let mut tms: Vec<&mut TmMem> = self.tm.iter_mut().collect();
-        self.chip.serve_until(now, &mut tms);
+        for t in &mut self.tm {
+            self.chip.collect(t);
+        }
+        self.chip.serve_until(now, &mut self.tm);
         for t in &mut self.tm {
             t.apply_fills(out);
         }

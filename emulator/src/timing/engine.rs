@@ -31,12 +31,12 @@ use trax_runtime::isa::UnitClass;
 
 use super::config::ChipConfig;
 use super::operands::{classify, OpInfo};
-use super::tm::{retire, Deferred, TmSim};
+use super::tm::{retire, Deferred, Summary, TmSim};
 use super::workers::{rebalance, RoundCell, Rounds};
 use crate::chip::Effects;
 use crate::exec::Stop;
 use crate::machine::{drain, release_barriers, Crash, Machine, Outcome};
-use crate::memsys::{MemSystem, TmMem};
+use crate::memsys::MemSystem;
 use crate::profile::Profiler;
 use crate::thread::{Shared, Thread};
 
@@ -315,6 +315,7 @@ impl<'c> Engine<'c> {
                     t.local = true;
                 }
                 t.run_quantum(shape, sh, &mut p.c, prof, from, to);
+                t.summary.0
             };
             let member_job = |w: usize, k: usize, window: (u64, u64)| job(w, k, window, None);
             std::thread::scope(|scope| {
@@ -386,7 +387,7 @@ impl Driver<'_, '_> {
         tm_sims: &[RoundCell<TmSim>],
         rounds: &Rounds,
         crew: &[std::thread::ScopedJoinHandle<'_, ()>],
-        leader_job: &mut dyn FnMut(usize, (u64, u64)),
+        leader_job: &mut dyn FnMut(usize, (u64, u64)) -> u8,
         out: &mut dyn Write,
     ) -> Outcome {
         let q = self.quantum();
@@ -397,6 +398,8 @@ impl Driver<'_, '_> {
         let mut quanta = 0u64;
         // Per TM: its work at the last rebalancing.
         let mut work_at = vec![0u64; tm_sims.len()];
+        // The TMs, between rounds (refilled each quantum).
+        let mut sims: Vec<&mut TmSim> = Vec::with_capacity(tm_sims.len());
         let mut last_report = std::time::Instant::now();
         loop {
             // SAFETY: the leader between rounds.
@@ -414,43 +417,36 @@ impl Driver<'_, '_> {
                 None => from + q,
             };
             // Phase 1: the TMs, in parallel.
-            if !rounds.run(crew, (from, to), leader_job) {
+            let Some(flags) = rounds.run(crew, (from, to), leader_job).map(Summary) else {
                 // A host thread died; the scope re-raises its panic.
                 return Outcome::Deadlock { waiting: 0 };
-            }
+            };
             // Phase 2: chip-wide, serial.
-            // Only the leader's own counters and each TM's summary line are touched unless
-            // there is work: other state stays in its host thread's cache.
+            // Only the leader's own counters are touched unless the host threads' flags
+            // say there is work: other state stays in its host thread's cache.
             let mut part0 = parts[0].lock().unwrap_or_else(|e| e.into_inner());
-            // SAFETY: the leader between rounds (every TM of the round reported done).
+            // SAFETY: the leader between rounds (every TM of the round reported done);
+            // `sims` is cleared before the next round.
             let sh: &mut Shared = unsafe { shared.get_mut() };
-            // SAFETY: as above.
-            let mut sims: Vec<&mut TmSim> =
-                tm_sims.iter().map(|t| unsafe { t.get_mut() }).collect();
+            sims.extend(tm_sims.iter().map(|t| unsafe { t.get_mut() }));
             let c = &mut part0.c;
             let issued_before = c.tc.issued;
-            let mut progressed = false;
+            let mut progressed = flags.any(Summary::PROGRESSED);
             let mut crash: Option<(u64, Box<Crash>)> = None;
-            let (mut any_fx, mut any_deferred) = (false, false);
-            for t in sims.iter_mut() {
-                let sum = t.summary;
-                progressed |= sum.progressed;
-                any_fx |= sum.effects;
-                any_deferred |= sum.deferred;
-                if !sum.crash {
-                    continue;
-                }
-                // The first fault, in (cycle, TM) order.
-                if let Some((cyc, _, cr)) = t.crash.take() {
-                    if crash.as_ref().is_none_or(|(c0, _)| cyc < *c0) {
-                        crash = Some((cyc, cr));
+            if flags.any(Summary::CRASH) {
+                for t in sims.iter_mut().filter(|t| t.summary.any(Summary::CRASH)) {
+                    // The first fault, in (cycle, TM) order.
+                    if let Some((cyc, _, cr)) = t.crash.take() {
+                        if crash.as_ref().is_none_or(|(c0, _)| cyc < *c0) {
+                            crash = Some((cyc, cr));
+                        }
                     }
                 }
             }
             // Prints and counters, in TM order (prints after a fault's cycle are dropped).
             let until = crash.as_ref().map(|(c0, _)| *c0);
-            if any_fx {
-                for t in sims.iter_mut().filter(|t| t.summary.effects) {
+            if flags.any(Summary::EFFECTS) {
+                for t in sims.iter_mut().filter(|t| t.summary.any(Summary::EFFECTS)) {
                     t.fx.merge_into(&mut self.fx, until);
                 }
                 if !self.fx.output.is_empty() {
@@ -459,8 +455,8 @@ impl Driver<'_, '_> {
             }
             // Deferred chip-wide instructions.
             deferred.clear();
-            if any_deferred {
-                for t in sims.iter_mut().filter(|t| t.summary.deferred) {
+            if flags.any(Summary::DEFERRED) {
+                for t in sims.iter_mut().filter(|t| t.summary.any(Summary::DEFERRED)) {
                     deferred.append(&mut t.deferred);
                 }
             }
@@ -520,12 +516,16 @@ impl Driver<'_, '_> {
             // Stop on a fault.
             if let Some((cyc, cr)) = crash {
                 *self.now = cyc;
-                drop(sims);
                 return Outcome::Crashed(cr);
             }
             // The L2s and DRAM serve what the L1s sent.
-            let mut l1s: Vec<&mut TmMem> = sims.iter_mut().map(|t| &mut t.mem).collect();
-            self.mem.chip_mut().serve_until(to, &mut l1s);
+            let chip = self.mem.chip_mut();
+            if flags.any(Summary::SENT) {
+                for t in sims.iter_mut().filter(|t| t.summary.any(Summary::SENT)) {
+                    chip.collect(&mut t.mem);
+                }
+            }
+            chip.serve_until(to, &mut sims);
             if rounds.threads() > 1 && (quanta + 1).is_multiple_of(REBALANCE_EVERY) {
                 let loads: Vec<u64> = sims
                     .iter()
@@ -541,6 +541,7 @@ impl Driver<'_, '_> {
             }
             progressed |= c.tc.issued != issued_before;
             drop(part0);
+            sims.clear();
             if let Some(h) = last_halt {
                 if sh.live_threads == 0 {
                     // The run ends after the last halt; every thread was halted in the

@@ -51,20 +51,29 @@ pub(crate) struct Deferred {
     pub halted: bool,
 }
 
-/// What a TM's quantum left for the serial phase, in one cache line (the serial phase
-/// reads it instead of touching the TM's other state, which stays in its host thread's
-/// cache).
-#[derive(Clone, Copy, Debug, Default)]
-#[repr(align(64))]
-pub(crate) struct Summary {
+/// What a TM's quantum left for the serial phase, as bits: host threads OR them into the
+/// word that reports their finished TMs, so the serial phase learns from one cache line per
+/// host thread whether it must look at any TM at all (other TM state stays in its host
+/// thread's cache).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) struct Summary(pub u8);
+
+impl Summary {
     /// An instruction issued.
-    pub progressed: bool,
+    pub const PROGRESSED: u8 = 1;
     /// Prints or counters to merge.
-    pub effects: bool,
+    pub const EFFECTS: u8 = 2;
     /// Deferred instructions to run.
-    pub deferred: bool,
+    pub const DEFERRED: u8 = 4;
     /// A thread faulted.
-    pub crash: bool,
+    pub const CRASH: u8 = 8;
+    /// Requests sent to the L2.
+    pub const SENT: u8 = 16;
+
+    /// Whether any of `bits` is set.
+    pub fn any(self, bits: u8) -> bool {
+        self.0 & bits != 0
+    }
 }
 
 /// How an instruction executed in the parallel phase ended.
@@ -189,12 +198,14 @@ impl TmSim {
         }
         let issued = c.tc.issued + c.debug_ops - issued_before;
         self.work += issued;
-        self.summary = Summary {
-            progressed: issued != 0,
-            effects: self.fx.dirty,
-            deferred: !self.deferred.is_empty(),
-            crash: self.crash.is_some(),
-        };
+        let bit = |b: bool, bit: u8| if b { bit } else { 0 };
+        self.summary = Summary(
+            bit(issued != 0, Summary::PROGRESSED)
+                | bit(self.fx.dirty, Summary::EFFECTS)
+                | bit(!self.deferred.is_empty(), Summary::DEFERRED)
+                | bit(self.crash.is_some(), Summary::CRASH)
+                | bit(self.mem.has_sent(), Summary::SENT),
+        );
     }
 
     fn step_thread(
@@ -522,5 +533,11 @@ fn dep_kind(info: &[OpInfo], p: usize) -> CostKind {
     match info.get(p) {
         Some(i) if i.mem.is_some_and(|mo| !mo.store) => CostKind::MemoryStall,
         _ => CostKind::DataStall,
+    }
+}
+
+impl AsMut<TmMem> for TmSim {
+    fn as_mut(&mut self) -> &mut TmMem {
+        &mut self.mem
     }
 }

@@ -5,14 +5,16 @@
 //! - the leader (host thread 0) publishes the round number and its window in one line;
 //!   nothing else is written by the leader during a round;
 //! - every TM has an owner, which claims it in the TM's own line and reports finished TMs
-//!   in a line of its own;
+//!   in a line of its own, with the OR of the flags their jobs returned (so the leader
+//!   learns from one line per host thread whether it must look at that thread's TMs);
 //! - TM and chip state is handed over by this protocol rather than by locks
 //!   ([`RoundCell`]), so a round moves no lock words between cores.
 //!
-//! Between rounds the leader may give TMs new owners ([`Rounds::set_owner`]) to balance
-//! the host threads' loads. A host thread that has waited a while for the others (the OS
-//! held one back) takes their unclaimed TMs, so a late host thread delays a round by at
-//! most the TM it is running. Waiting spins first and parks when it drags on.
+//! Between rounds the leader may give TMs new owners ([`Rounds::set_owner`], chosen by
+//! [`rebalance`]) to balance the host threads' loads. A host thread that has waited a
+//! while for the others (the OS held one back) takes their unclaimed TMs, so a late host
+//! thread delays a round by at most the TM it is running. Waiting spins first and parks
+//! when it drags on.
 //!
 //! Which host thread runs which TM never matters for results: the caller's jobs touch only
 //! the TM's own state and sums that commute.
@@ -32,8 +34,9 @@ const PARK_AFTER: Duration = Duration::from_micros(200);
 /// `Head::round` value that ends the members' loops.
 const STOP: u64 = u64::MAX;
 
-/// Bits of a packed `round << COUNT_BITS | count` word that hold the count.
-const COUNT_BITS: u32 = 20;
+/// Bits of a `done` word below the round: flags (8 bits) above the count.
+const COUNT_BITS: u32 = 16;
+const ROUND_SHIFT: u32 = COUNT_BITS + 8;
 
 /// A value alone in its cache lines (host threads write different ones without ping-pong).
 #[repr(align(128))]
@@ -55,12 +58,28 @@ struct Head {
     to: AtomicU64,
 }
 
-/// The count of a `round << COUNT_BITS | count` word if it belongs to `round`, else 0.
-fn count_in(word: u64, round: u64) -> usize {
-    if word >> COUNT_BITS == round {
-        (word & ((1 << COUNT_BITS) - 1)) as usize
-    } else {
-        0
+/// What a host thread has finished of a round: TMs and the OR of their jobs' flags.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+struct Finished {
+    count: usize,
+    flags: u8,
+}
+
+impl Finished {
+    /// The `done` word of `self` in `round`.
+    fn word(self, round: u64) -> u64 {
+        (round << ROUND_SHIFT) | u64::from(self.flags) << COUNT_BITS | self.count as u64
+    }
+
+    /// What a `done` word says of `round` (nothing if it is about another round).
+    fn of(word: u64, round: u64) -> Finished {
+        if word >> ROUND_SHIFT != round {
+            return Finished::default();
+        }
+        Finished {
+            count: (word & ((1 << COUNT_BITS) - 1)) as usize,
+            flags: (word >> COUNT_BITS) as u8,
+        }
     }
 }
 
@@ -71,8 +90,8 @@ pub(crate) struct Rounds {
     claimed: Vec<Padded<AtomicU64>>,
     /// Per TM: the host thread that runs it unless it is late (set between rounds).
     owner: Vec<AtomicUsize>,
-    /// Per host thread: `round << COUNT_BITS | n`: it finished `n` TMs (its own or taken)
-    /// in `round`.
+    /// Per host thread: a [`Finished::word`]: the TMs it finished (its own or taken) in a
+    /// round.
     done: Vec<Padded<AtomicU64>>,
     /// Per host thread: parked, waiting.
     parked: Vec<Padded<AtomicBool>>,
@@ -124,26 +143,26 @@ impl Rounds {
     }
 
     /// Starts the members (host threads 1..) in `scope`; each round they run
-    /// `job(thread, tm, window)` for the TMs they claim, until [`Self::finish`].
+    /// `job(thread, tm, window) -> flags` for the TMs they claim, until [`Self::finish`].
     pub fn spawn<'s, 'e, F>(
         &'s self,
         scope: &'s Scope<'s, 'e>,
         job: &'s F,
     ) -> Vec<ScopedJoinHandle<'s, ()>>
     where
-        F: Fn(usize, usize, (u64, u64)) + Sync,
+        F: Fn(usize, usize, (u64, u64)) -> u8 + Sync,
     {
         (1..self.threads())
             .map(|w| {
                 scope.spawn(move || {
                     let round = || self.head.round.load(Acquire);
-                    let (mut seen, mut finished, mut window) = (0, 0, (0, 0));
+                    let (mut seen, mut window) = (0, (0, 0));
+                    let mut finished = Finished::default();
                     loop {
                         // Between rounds: take what a late host thread left of the last
                         // one, until the next begins.
-                        self.wait(w, seen, &mut finished, &|| round() != seen, &mut |k| {
-                            job(w, k, window)
-                        });
+                        let next = || round() != seen;
+                        self.wait(w, seen, &mut finished, &next, &mut |k| job(w, k, window));
                         seen = round();
                         if seen == STOP {
                             return;
@@ -156,15 +175,16 @@ impl Rounds {
             .collect()
     }
 
-    /// Runs a round over `window`: wakes the members, runs `job(tm, window)` for the TMs
-    /// the leader claims, and waits until every TM is done. Returns false if a member died
-    /// (it panicked; the scope re-raises the panic when it joins).
+    /// Runs a round over `window`: wakes the members, runs `job(tm, window) -> flags` for
+    /// the TMs the leader claims, and waits until every TM is done. Returns the OR of all
+    /// jobs' flags, or `None` if a member died (it panicked; the scope re-raises the panic
+    /// when it joins).
     pub fn run(
         &self,
         crew: &[ScopedJoinHandle<'_, ()>],
         window: (u64, u64),
-        job: &mut dyn FnMut(usize, (u64, u64)),
-    ) -> bool {
+        job: &mut dyn FnMut(usize, (u64, u64)) -> u8,
+    ) -> Option<u8> {
         let h = &self.head;
         h.from.store(window.0, Relaxed);
         h.to.store(window.1, Relaxed);
@@ -173,22 +193,21 @@ impl Rounds {
         self.wake(crew);
         let mut finished = self.work(0, round, &mut |k| job(k, window));
         let tms = self.claimed.len();
-        let all_done = || {
-            self.done
-                .iter()
-                .map(|d| count_in(d.load(Acquire), round))
-                .sum::<usize>()
-                >= tms
+        let total = || {
+            self.done.iter().fold(Finished::default(), |a, d| {
+                let f = Finished::of(d.load(Acquire), round);
+                Finished {
+                    count: a.count + f.count,
+                    flags: a.flags | f.flags,
+                }
+            })
         };
+        let all_done = || total().count >= tms;
         let died = || crew.iter().any(|h| h.is_finished());
-        self.wait(
-            0,
-            round,
-            &mut finished,
-            &|| all_done() || died(),
-            &mut |k| job(k, window),
-        );
-        all_done()
+        let over = || all_done() || died();
+        self.wait(0, round, &mut finished, &over, &mut |k| job(k, window));
+        let t = total();
+        (t.count >= tms).then_some(t.flags)
     }
 
     /// Ends the members' loops.
@@ -201,14 +220,12 @@ impl Rounds {
         (self.head.from.load(Relaxed), self.head.to.load(Relaxed))
     }
 
-    /// Runs host thread `w`'s own TMs of `round`; returns how many it finished.
-    fn work(&self, w: usize, round: u64, job: &mut dyn FnMut(usize)) -> usize {
-        let mut finished = 0;
+    /// Runs host thread `w`'s own TMs of `round`.
+    fn work(&self, w: usize, round: u64, job: &mut dyn FnMut(usize) -> u8) -> Finished {
+        let mut finished = Finished::default();
         for k in 0..self.claimed.len() {
             if self.owner(k) == w && self.claim(k, round) {
-                job(k);
-                finished += 1;
-                self.report(w, round, finished);
+                self.run_job(w, round, k, &mut finished, job);
             }
         }
         finished
@@ -223,9 +240,18 @@ impl Rounds {
                 .is_ok()
     }
 
-    /// Publishes that host thread `w` finished `finished` TMs of `round`.
-    fn report(&self, w: usize, round: u64, finished: usize) {
-        self.done[w].store((round << COUNT_BITS) | finished as u64, Release);
+    /// Runs the job of TM `k`, claimed by host thread `w` in `round`, and reports it.
+    fn run_job(
+        &self,
+        w: usize,
+        round: u64,
+        k: usize,
+        finished: &mut Finished,
+        job: &mut dyn FnMut(usize) -> u8,
+    ) {
+        finished.flags |= job(k);
+        finished.count += 1;
+        self.done[w].store(finished.word(round), Release);
         // Orders the store before the look at `parked` (pairs with the fence in `wait`).
         fence(SeqCst);
         if self.parked[0].load(Relaxed) && self.parked[0].swap(false, AcqRel) {
@@ -240,9 +266,9 @@ impl Rounds {
         &self,
         w: usize,
         round: u64,
-        finished: &mut usize,
+        finished: &mut Finished,
         ready: &dyn Fn() -> bool,
-        job: &mut dyn FnMut(usize),
+        job: &mut dyn FnMut(usize) -> u8,
     ) {
         let start = Instant::now();
         let mut took = round == 0;
@@ -258,9 +284,7 @@ impl Rounds {
                 took = true;
                 for k in 0..self.claimed.len() {
                     if self.claim(k, round) {
-                        job(k);
-                        *finished += 1;
-                        self.report(w, round, *finished);
+                        self.run_job(w, round, k, finished, job);
                     }
                 }
             }
@@ -272,7 +296,7 @@ impl Rounds {
         while !ready() {
             parked.store(true, Relaxed);
             // Orders the announcement before the look at `ready` (pairs with the fences
-            // in `report` and `wake`).
+            // in `run_job` and `wake`).
             fence(SeqCst);
             if ready() {
                 parked.store(false, Relaxed);
@@ -357,9 +381,9 @@ pub(crate) fn rebalance(
 /// a round are released by its store of the round number and acquired by each member's
 /// load of it; a TM is claimed by exactly one host thread per round (a compare-exchange
 /// of the TM's claim word from the previous round to this one, so a claim can never
-/// succeed for a round that is over); a host thread's writes to a TM are released by its report of the
-/// finished TM and acquired by the leader, which waits for every TM's report before it
-/// touches TM or chip state between rounds.
+/// succeed for a round that is over); a host thread's writes to a TM are released by its
+/// report of the finished TM and acquired by the leader, which waits for every TM's report
+/// before it touches TM or chip state between rounds.
 pub(crate) struct RoundCell<T>(UnsafeCell<T>);
 
 // SAFETY: access goes through `get`/`get_mut`, whose callers guarantee the exclusion a
@@ -465,7 +489,7 @@ mod tests {
         let jobs: Vec<AtomicU64> = (0..threads).map(|_| AtomicU64::new(0)).collect();
         let cells: Vec<RoundCell<(u64, u64)>> = (0..tms).map(|_| RoundCell::new((0, 0))).collect();
         let protocol = Rounds::new(tms, threads);
-        let job = |w: usize, k: usize, (from, _to): (u64, u64)| {
+        let job = |w: usize, k: usize, (from, _to): (u64, u64)| -> u8 {
             jobs[w].fetch_add(1, Relaxed);
             if slow.contains(&w) {
                 std::thread::sleep(Duration::from_micros(300));
@@ -475,6 +499,8 @@ mod tests {
             assert_eq!(c.1, from, "TM {k} ran twice or skipped a round");
             c.0 += 1;
             c.1 = from + 1;
+            // Flags: TM 1 reports on odd rounds.
+            u8::from(k == 1 && from % 2 == 1) << 3
         };
         std::thread::scope(|scope| {
             let crew = protocol.spawn(scope, &job);
@@ -485,7 +511,8 @@ mod tests {
                         protocol.set_owner(k, (protocol.owner(k) + 1) % threads);
                     }
                 }
-                assert!(protocol.run(&crew, (r, r + 1), &mut |k, win| job(0, k, win)));
+                let flags = protocol.run(&crew, (r, r + 1), &mut |k, win| job(0, k, win));
+                assert_eq!(flags, Some(u8::from(r % 2 == 1) << 3));
                 for c in &cells {
                     // SAFETY: the leader between rounds.
                     assert_eq!(unsafe { c.get() }.1, r + 1);

@@ -32,7 +32,7 @@ use trax_runtime::isa::UnitClass;
 use super::config::ChipConfig;
 use super::operands::{classify, OpInfo};
 use super::tm::{retire, Deferred, Summary, TmSim};
-use super::workers::{rebalance, RoundCell, Rounds};
+use super::workers::{rebalance, Batch, Crew, RoundCell, Rounds};
 use crate::chip::Effects;
 use crate::exec::Stop;
 use crate::machine::{drain, release_barriers, Crash, Machine, Outcome};
@@ -114,6 +114,10 @@ const PROGRESS_EVERY: u64 = 1024;
 /// Quanta between rebalancings of TMs over host threads (tens of host milliseconds: long
 /// enough to measure loads and to repay moving a TM's state to another core).
 const REBALANCE_EVERY: u64 = 4096;
+
+/// Most rounds the TMs run without the serial phase (bounds the time between progress
+/// reports and rebalancings).
+const MAX_FREE_ROUNDS: u64 = 256;
 
 /// A rebalancing must cut the busiest host thread's load by this fraction.
 const REBALANCE_MIN_GAIN: f64 = 0.01;
@@ -331,7 +335,6 @@ impl<'c> Engine<'c> {
                 };
                 let mut leader_job = |k: usize, window| job(0, k, window, profiler.as_mut());
                 let outcome = d.drive(&shared, &parts, &sims, &rounds, &crew, &mut leader_job, out);
-                rounds.finish(&crew);
                 (outcome, d.fx)
             })
         };
@@ -386,7 +389,7 @@ impl Driver<'_, '_> {
         parts: &[Mutex<Part>],
         tm_sims: &[RoundCell<TmSim>],
         rounds: &Rounds,
-        crew: &[std::thread::ScopedJoinHandle<'_, ()>],
+        crew: &Crew<'_>,
         leader_job: &mut dyn FnMut(usize, (u64, u64)) -> u8,
         out: &mut dyn Write,
     ) -> Outcome {
@@ -412,15 +415,27 @@ impl Driver<'_, '_> {
                 }
             }
             let from = *self.now;
-            let to = match self.max_cycles {
-                Some(max) => (from + q).min(max),
-                None => from + q,
+            let max = self.max_cycles.unwrap_or(u64::MAX);
+            let to = (from + q).min(max);
+            // Phase 1: the TMs, in parallel. While the L2s and DRAM have nothing to do
+            // and the TMs only issue (nothing for this phase), rounds follow each other
+            // without it: it would only advance the memory system's clock.
+            let idle = self.mem.chip_mut().next_event().is_none();
+            let batch = Batch {
+                from,
+                to,
+                step: q,
+                free_flags: idle.then_some(Summary::PROGRESSED),
+                until: max.min(from + q * MAX_FREE_ROUNDS),
             };
-            // Phase 1: the TMs, in parallel.
-            let Some(flags) = rounds.run(crew, (from, to), leader_job).map(Summary) else {
+            let Some(end) = rounds.run(crew, &batch, leader_job) else {
                 // A host thread died; the scope re-raises its panic.
                 return Outcome::Deadlock { waiting: 0 };
             };
+            let (from, to, flags) = (end.from, end.to, Summary(end.flags));
+            let quanta_before = quanta;
+            quanta += end.rounds;
+            let crossed = |every: u64| quanta / every != quanta_before / every;
             // Phase 2: chip-wide, serial.
             // Only the leader's own counters are touched unless the host threads' flags
             // say there is work: other state stays in its host thread's cache.
@@ -526,7 +541,7 @@ impl Driver<'_, '_> {
                 }
             }
             chip.serve_until(to, &mut sims);
-            if rounds.threads() > 1 && (quanta + 1).is_multiple_of(REBALANCE_EVERY) {
+            if rounds.threads() > 1 && crossed(REBALANCE_EVERY) {
                 let loads: Vec<u64> = sims
                     .iter()
                     .zip(&mut work_at)
@@ -554,11 +569,11 @@ impl Driver<'_, '_> {
             if progressed {
                 idle_cycles = 0;
             } else {
-                idle_cycles += to - from;
+                // The batch's earlier rounds progressed.
+                idle_cycles = if end.rounds > 1 { 0 } else { idle_cycles } + (to - from);
             }
             *self.now = to;
-            quanta += 1;
-            if quanta.is_multiple_of(PROGRESS_EVERY) {
+            if crossed(PROGRESS_EVERY) {
                 if let Some(report) = self.progress.as_deref_mut() {
                     if last_report.elapsed().as_millis() >= 100 {
                         last_report = std::time::Instant::now();

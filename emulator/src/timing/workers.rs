@@ -2,18 +2,25 @@
 //!
 //! A round lasts a few microseconds and moving a cache line between two cores costs a
 //! fifth of one, so the protocol is built to move as few lines as possible:
-//! - the leader (host thread 0) publishes the round number and its window in one line;
-//!   nothing else is written by the leader during a round;
+//! - the leader (host thread 0) publishes a *batch* of rounds (first round, window,
+//!   rules) in one line; nothing else is written by the leader during a batch;
 //! - every TM has an owner, which claims it in the TM's own line and reports finished TMs
-//!   in a line of its own, with the OR of the flags their jobs returned (so the leader
-//!   learns from one line per host thread whether it must look at that thread's TMs);
+//!   in a line of its own, with the OR of the flags their jobs returned;
 //! - TM and chip state is handed over by this protocol rather than by locks
 //!   ([`RoundCell`]), so a round moves no lock words between cores.
 //!
-//! Between rounds the leader may give TMs new owners ([`Rounds::set_owner`], chosen by
+//! After a round every host thread reads the others' reports. If the round's flags are
+//! the batch's *free* flags (the caller's way of saying "nothing for the serial phase")
+//! and the next window fits the batch, every host thread goes on to the next round by
+//! itself: the same reports give every host thread the same verdict, and the leader's
+//! serial phase and its start signal are skipped. Otherwise the batch ends, and the
+//! leader runs the serial phase and publishes the next batch.
+//!
+//! Between batches the leader may give TMs new owners ([`Rounds::set_owner`], chosen by
 //! [`rebalance`]) to balance the host threads' loads. A host thread that has waited a
 //! while for the others (the OS held one back) takes their unclaimed TMs, so a late host
-//! thread delays a round by at most the TM it is running. Waiting spins first and parks
+//! thread delays a round by at most the TM it is running; the TMs of a host thread that
+//! finished nothing in the last round are taken at once. Waiting spins first and parks
 //! when it drags on.
 //!
 //! Which host thread runs which TM never matters for results: the caller's jobs touch only
@@ -21,6 +28,7 @@
 
 use std::cell::UnsafeCell;
 use std::sync::atomic::{fence, AtomicBool, AtomicU64, AtomicUsize, Ordering::*};
+use std::sync::OnceLock;
 use std::thread::{Scope, ScopedJoinHandle, Thread};
 use std::time::{Duration, Instant};
 
@@ -49,13 +57,50 @@ impl<T> std::ops::Deref for Padded<T> {
     }
 }
 
-/// What the leader publishes for a round (one cache line).
+/// A batch of rounds, as the leader asks for it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Batch {
+    /// The first round's window: `from..to`, in simulated cycles.
+    pub from: u64,
+    pub to: u64,
+    /// Cycles per round.
+    pub step: u64,
+    /// Flags with which a round is followed by the next without the leader (`None`: the
+    /// batch is one round).
+    pub free_flags: Option<u8>,
+    /// No free round's window ends after this cycle.
+    pub until: u64,
+}
+
+impl Batch {
+    /// Whether the round with window `..to` and `flags` is followed by the next one.
+    fn goes_on(&self, to: u64, flags: u8) -> bool {
+        self.free_flags == Some(flags) && to + self.step <= self.until
+    }
+}
+
+/// How a batch ended: its rounds and the last one's window and flags.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct BatchEnd {
+    pub rounds: u64,
+    pub from: u64,
+    pub to: u64,
+    pub flags: u8,
+}
+
+/// What the leader publishes for a batch (one cache line), under a sequence lock: a
+/// member that reads it while the leader writes the next batch must not mix the two.
 struct Head {
-    /// The round being run ([`STOP`] ends the crew).
+    /// Odd while the leader writes.
+    seq: AtomicU64,
+    /// The batch's first round ([`STOP`] ends the crew).
     round: AtomicU64,
-    /// The round's window: `from..to`, in simulated cycles.
     from: AtomicU64,
     to: AtomicU64,
+    step: AtomicU64,
+    /// `Batch::free_flags`, or `u64::MAX` for none.
+    free_flags: AtomicU64,
+    until: AtomicU64,
 }
 
 /// What a host thread has finished of a round: TMs and the OR of their jobs' flags.
@@ -71,11 +116,13 @@ impl Finished {
         (round << ROUND_SHIFT) | u64::from(self.flags) << COUNT_BITS | self.count as u64
     }
 
-    /// What a `done` word says of `round` (nothing if it is about another round).
-    fn of(word: u64, round: u64) -> Finished {
-        if word >> ROUND_SHIFT != round {
-            return Finished::default();
-        }
+    /// The round of a `done` word.
+    fn round_of(word: u64) -> u64 {
+        word >> ROUND_SHIFT
+    }
+
+    /// What a `done` word of `round` says.
+    fn of(word: u64) -> Finished {
         Finished {
             count: (word & ((1 << COUNT_BITS) - 1)) as usize,
             flags: (word >> COUNT_BITS) as u8,
@@ -83,19 +130,54 @@ impl Finished {
     }
 }
 
+/// What a host thread learns when it waits for the end of a round.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Verdict {
+    /// Go on to the next round of the batch.
+    Next,
+    /// The batch ended with this round (its flags).
+    End(u8),
+    /// The leader published a new batch (members only).
+    NewBatch,
+    /// The crew is finishing (members) or a member died (leader).
+    Stop,
+}
+
 /// The round protocol shared by the leader (host thread 0) and the members.
 pub(crate) struct Rounds {
     head: Padded<Head>,
     /// Per TM: the last round that claimed it.
     claimed: Vec<Padded<AtomicU64>>,
-    /// Per TM: the host thread that runs it unless it is late (set between rounds).
+    /// Per TM: the host thread that runs it unless it is late (set between batches).
     owner: Vec<AtomicUsize>,
-    /// Per host thread: a [`Finished::word`]: the TMs it finished (its own or taken) in a
-    /// round.
+    /// Per host thread: a [`Finished::word`]: the TMs it finished (its own or taken) in
+    /// its latest round.
     done: Vec<Padded<AtomicU64>>,
     /// Per host thread: parked, waiting.
     parked: Vec<Padded<AtomicBool>>,
-    leader: Thread,
+    /// Per host thread: its handle, for unparking (members register when they start).
+    handles: Vec<OnceLock<Thread>>,
+    /// The leader's next round.
+    next_round: AtomicU64,
+}
+
+/// The members of a crew (see [`Rounds::spawn`]); dropping it ends their loops.
+pub(crate) struct Crew<'s> {
+    rounds: &'s Rounds,
+    handles: Vec<ScopedJoinHandle<'s, ()>>,
+}
+
+impl Crew<'_> {
+    /// Whether a member has ended (only by a panic before [`Drop`]).
+    fn died(&self) -> bool {
+        self.handles.iter().any(|h| h.is_finished())
+    }
+}
+
+impl Drop for Crew<'_> {
+    fn drop(&mut self) {
+        self.rounds.finish();
+    }
 }
 
 impl Rounds {
@@ -106,11 +188,19 @@ impl Rounds {
             (1..=tms).contains(&threads) && tms < 1 << COUNT_BITS,
             "1..=tms host threads"
         );
+        let handles: Vec<OnceLock<Thread>> = (0..threads).map(|_| OnceLock::new()).collect();
+        handles[0]
+            .set(std::thread::current())
+            .expect("a fresh cell");
         Rounds {
             head: Padded(Head {
+                seq: AtomicU64::new(0),
                 round: AtomicU64::new(0),
                 from: AtomicU64::new(0),
                 to: AtomicU64::new(0),
+                step: AtomicU64::new(0),
+                free_flags: AtomicU64::new(u64::MAX),
+                until: AtomicU64::new(0),
             }),
             claimed: (0..tms).map(|_| Padded(AtomicU64::new(0))).collect(),
             owner: (0..tms)
@@ -120,7 +210,8 @@ impl Rounds {
             parked: (0..threads)
                 .map(|_| Padded(AtomicBool::new(false)))
                 .collect(),
-            leader: std::thread::current(),
+            handles,
+            next_round: AtomicU64::new(1),
         }
     }
 
@@ -134,101 +225,239 @@ impl Rounds {
         self.owner[tm].load(Relaxed)
     }
 
-    /// Makes host thread `w` the owner of TM `tm` from the next round on. Only the leader
-    /// calls it, between rounds.
+    /// Makes host thread `w` the owner of TM `tm` from the next batch on. Only the leader
+    /// calls it, between batches.
     pub fn set_owner(&self, tm: usize, w: usize) {
         assert!(w < self.threads(), "host thread in range");
-        // Released by the next round's start.
+        // Released by the next batch's start.
         self.owner[tm].store(w, Relaxed);
     }
 
     /// Starts the members (host threads 1..) in `scope`; each round they run
-    /// `job(thread, tm, window) -> flags` for the TMs they claim, until [`Self::finish`].
-    pub fn spawn<'s, 'e, F>(
-        &'s self,
-        scope: &'s Scope<'s, 'e>,
-        job: &'s F,
-    ) -> Vec<ScopedJoinHandle<'s, ()>>
+    /// `job(thread, tm, window) -> flags` for the TMs they claim, until the crew is
+    /// dropped.
+    pub fn spawn<'s, 'e, F>(&'s self, scope: &'s Scope<'s, 'e>, job: &'s F) -> Crew<'s>
     where
         F: Fn(usize, usize, (u64, u64)) -> u8 + Sync,
     {
-        (1..self.threads())
+        let handles = (1..self.threads())
             .map(|w| {
                 scope.spawn(move || {
-                    let round = || self.head.round.load(Acquire);
-                    let (mut seen, mut window) = (0, (0, 0));
-                    let mut finished = Finished::default();
+                    self.handles[w]
+                        .set(std::thread::current())
+                        .expect("a fresh cell");
+                    let mut seen = 0;
                     loop {
-                        // Between rounds: take what a late host thread left of the last
-                        // one, until the next begins.
-                        let next = || round() != seen;
-                        self.wait(w, seen, &mut finished, &next, &mut |k| job(w, k, window));
-                        seen = round();
-                        if seen == STOP {
+                        let head = || self.head.round.load(Acquire);
+                        self.wait(w, &mut || (head() != seen).then_some(()), &mut |_| {});
+                        let (first, batch) = self.batch();
+                        if first == STOP {
                             return;
                         }
-                        window = self.window();
-                        finished = self.work(w, seen, &mut |k| job(w, k, window));
+                        seen = first;
+                        let mut job = |k, window| job(w, k, window);
+                        if self.run_batch(w, first, &batch, &mut job, None).is_none() {
+                            return;
+                        }
                     }
                 })
             })
-            .collect()
+            .collect();
+        Crew {
+            rounds: self,
+            handles,
+        }
     }
 
-    /// Runs a round over `window`: wakes the members, runs `job(tm, window) -> flags` for
-    /// the TMs the leader claims, and waits until every TM is done. Returns the OR of all
-    /// jobs' flags, or `None` if a member died (it panicked; the scope re-raises the panic
+    /// Runs a batch of rounds: wakes the members, runs `job(tm, window) -> flags` for the
+    /// TMs the leader claims, round after round while the batch goes on. Returns how the
+    /// batch ended, or `None` if a member died (it panicked; the scope re-raises the panic
     /// when it joins).
     pub fn run(
         &self,
-        crew: &[ScopedJoinHandle<'_, ()>],
-        window: (u64, u64),
+        crew: &Crew<'_>,
+        batch: &Batch,
         job: &mut dyn FnMut(usize, (u64, u64)) -> u8,
-    ) -> Option<u8> {
-        let h = &self.head;
-        h.from.store(window.0, Relaxed);
-        h.to.store(window.1, Relaxed);
-        let round = h.round.load(Relaxed) + 1;
-        h.round.store(round, Release);
-        self.wake(crew);
-        let mut finished = self.work(0, round, &mut |k| job(k, window));
-        let tms = self.claimed.len();
-        let total = || {
-            self.done.iter().fold(Finished::default(), |a, d| {
-                let f = Finished::of(d.load(Acquire), round);
-                Finished {
-                    count: a.count + f.count,
-                    flags: a.flags | f.flags,
-                }
-            })
-        };
-        let all_done = || total().count >= tms;
-        let died = || crew.iter().any(|h| h.is_finished());
-        let over = || all_done() || died();
-        self.wait(0, round, &mut finished, &over, &mut |k| job(k, window));
-        let t = total();
-        (t.count >= tms).then_some(t.flags)
+    ) -> Option<BatchEnd> {
+        let first = self.next_round.load(Relaxed);
+        self.publish(first, batch);
+        let end = self.run_batch(0, first, batch, job, Some(crew))?;
+        self.next_round.store(first + end.rounds, Relaxed);
+        Some(end)
     }
 
     /// Ends the members' loops.
-    pub fn finish(&self, crew: &[ScopedJoinHandle<'_, ()>]) {
-        self.head.round.store(STOP, Release);
-        self.wake(crew);
+    fn finish(&self) {
+        let batch = Batch {
+            from: 0,
+            to: 0,
+            step: 0,
+            free_flags: None,
+            until: 0,
+        };
+        self.publish(STOP, &batch);
     }
 
-    fn window(&self) -> (u64, u64) {
-        (self.head.from.load(Relaxed), self.head.to.load(Relaxed))
+    /// Publishes the batch starting at round `first` (the leader only) and wakes the
+    /// members.
+    fn publish(&self, first: u64, batch: &Batch) {
+        let h = &self.head;
+        let seq = h.seq.load(Relaxed);
+        h.seq.store(seq + 1, Relaxed);
+        // Orders the odd sequence number before the writes (pairs with `batch`).
+        fence(Release);
+        h.from.store(batch.from, Relaxed);
+        h.to.store(batch.to, Relaxed);
+        h.step.store(batch.step, Relaxed);
+        h.free_flags
+            .store(batch.free_flags.map_or(u64::MAX, u64::from), Relaxed);
+        h.until.store(batch.until, Relaxed);
+        h.round.store(first, Relaxed);
+        h.seq.store(seq + 2, Release);
+        self.wake_others(0);
     }
 
-    /// Runs host thread `w`'s own TMs of `round`.
-    fn work(&self, w: usize, round: u64, job: &mut dyn FnMut(usize) -> u8) -> Finished {
-        let mut finished = Finished::default();
-        for k in 0..self.claimed.len() {
-            if self.owner(k) == w && self.claim(k, round) {
-                self.run_job(w, round, k, &mut finished, job);
+    /// The published batch and its first round, read as one.
+    fn batch(&self) -> (u64, Batch) {
+        let h = &self.head;
+        loop {
+            let seq = h.seq.load(Acquire);
+            if seq % 2 == 1 {
+                std::hint::spin_loop();
+                continue;
+            }
+            let first = h.round.load(Relaxed);
+            let free = h.free_flags.load(Relaxed);
+            let batch = Batch {
+                from: h.from.load(Relaxed),
+                to: h.to.load(Relaxed),
+                step: h.step.load(Relaxed),
+                free_flags: (free != u64::MAX).then_some(free as u8),
+                until: h.until.load(Relaxed),
+            };
+            // Orders the reads before the second look at the sequence number.
+            fence(Acquire);
+            if h.seq.load(Relaxed) == seq {
+                return (first, batch);
             }
         }
-        finished
+    }
+
+    /// Host thread `w` runs the batch starting at round `first`. `crew` is given to the
+    /// leader (to notice a member that died). Returns how the batch ended for this host
+    /// thread (`rounds` is 0 if it left for a new batch), `None` on a stop.
+    fn run_batch(
+        &self,
+        w: usize,
+        first: u64,
+        batch: &Batch,
+        job: &mut dyn FnMut(usize, (u64, u64)) -> u8,
+        crew: Option<&Crew<'_>>,
+    ) -> Option<BatchEnd> {
+        let (mut round, mut from, mut to) = (first, batch.from, batch.to);
+        loop {
+            let mut job = |k| job(k, (from, to));
+            let mut finished = Finished::default();
+            for k in 0..self.claimed.len() {
+                if self.owner(k) == w && self.claim(k, round) {
+                    self.run_job(w, round, k, &mut finished, &mut job);
+                }
+            }
+            // A host thread that finished nothing in the last round is held back by the
+            // OS (for a time slice, many rounds): take its TMs at once.
+            for k in 0..self.claimed.len() {
+                let v = self.owner(k);
+                let absent = || Finished::round_of(self.done[v].load(Relaxed)) + 1 < round;
+                if v != w && absent() && self.claim(k, round) {
+                    self.run_job(w, round, k, &mut finished, &mut job);
+                }
+            }
+            let mut look = || self.verdict(round, first, to, batch, crew);
+            let verdict = self.wait(w, &mut look, &mut |()| {
+                // Take the round's unclaimed TMs.
+                for k in 0..self.claimed.len() {
+                    if self.claim(k, round) {
+                        self.run_job(w, round, k, &mut finished, &mut job);
+                    }
+                }
+            });
+            match verdict {
+                Verdict::Next => {
+                    round += 1;
+                    from = to;
+                    to += batch.step;
+                }
+                Verdict::End(flags) => {
+                    return Some(BatchEnd {
+                        rounds: round - first + 1,
+                        from,
+                        to,
+                        flags,
+                    })
+                }
+                Verdict::NewBatch => {
+                    return Some(BatchEnd {
+                        rounds: 0,
+                        from,
+                        to,
+                        flags: 0,
+                    })
+                }
+                Verdict::Stop => return None,
+            }
+        }
+    }
+
+    /// The verdict on `round` (window `..to`) of the batch starting at `first`, if the
+    /// reports allow one yet.
+    fn verdict(
+        &self,
+        round: u64,
+        first: u64,
+        to: u64,
+        batch: &Batch,
+        crew: Option<&Crew<'_>>,
+    ) -> Option<Verdict> {
+        let mut total = Finished::default();
+        let mut later = false;
+        for d in &self.done {
+            let word = d.load(Acquire);
+            match Finished::round_of(word).cmp(&round) {
+                std::cmp::Ordering::Equal => {
+                    let f = Finished::of(word);
+                    total.count += f.count;
+                    total.flags |= f.flags;
+                }
+                std::cmp::Ordering::Greater => later = true,
+                std::cmp::Ordering::Less => {}
+            }
+        }
+        // A member sees a new head only after the leader ended the batch; the leader's
+        // store of it happens before any report of a later round from the new batch.
+        // (Only the round is read here: a torn read of the rest cannot matter.)
+        let head = self.head.round.load(Acquire);
+        if crew.is_none() && head != first {
+            return Some(if head == STOP {
+                Verdict::Stop
+            } else {
+                Verdict::NewBatch
+            });
+        }
+        if later {
+            // Another host thread went on past `round` in this batch.
+            return Some(Verdict::Next);
+        }
+        if total.count >= self.claimed.len() {
+            return Some(if batch.goes_on(to, total.flags) {
+                Verdict::Next
+            } else {
+                Verdict::End(total.flags)
+            });
+        }
+        if crew.is_some_and(|c| c.died()) {
+            return Some(Verdict::Stop);
+        }
+        None
     }
 
     /// Claims TM `k` for `round`; false if it is taken (or `round` is over).
@@ -252,28 +481,24 @@ impl Rounds {
         finished.flags |= job(k);
         finished.count += 1;
         self.done[w].store(finished.word(round), Release);
-        // Orders the store before the look at `parked` (pairs with the fence in `wait`).
-        fence(SeqCst);
-        if self.parked[0].load(Relaxed) && self.parked[0].swap(false, AcqRel) {
-            self.leader.unpark();
-        }
+        self.wake_others(w);
     }
 
-    /// Host thread `w` waits until `ready()`; after [`TAKE_AFTER`] it runs the TMs of
-    /// `round` that others left unclaimed (adding them to `finished`), after
-    /// [`PARK_AFTER`] it parks.
-    fn wait(
+    /// Host thread `w` waits until `look()` has an answer. After [`TAKE_AFTER`] it calls
+    /// `take(())` once (to run TMs others left unclaimed), after [`PARK_AFTER`] it parks.
+    fn wait<T>(
         &self,
         w: usize,
-        round: u64,
-        finished: &mut Finished,
-        ready: &dyn Fn() -> bool,
-        job: &mut dyn FnMut(usize) -> u8,
-    ) {
+        look: &mut dyn FnMut() -> Option<T>,
+        take: &mut dyn FnMut(()),
+    ) -> T {
         let start = Instant::now();
-        let mut took = round == 0;
+        let mut took = false;
         let mut spins = 0u32;
-        while !ready() {
+        loop {
+            if let Some(v) = look() {
+                return v;
+            }
             std::hint::spin_loop();
             spins += 1;
             if !spins.is_multiple_of(64) {
@@ -282,38 +507,35 @@ impl Rounds {
             let waited = start.elapsed();
             if !took && waited >= TAKE_AFTER {
                 took = true;
-                for k in 0..self.claimed.len() {
-                    if self.claim(k, round) {
-                        self.run_job(w, round, k, finished, job);
-                    }
-                }
+                take(());
             }
             if waited >= PARK_AFTER {
                 break;
             }
         }
         let parked = &self.parked[w];
-        while !ready() {
+        loop {
             parked.store(true, Relaxed);
-            // Orders the announcement before the look at `ready` (pairs with the fences
-            // in `run_job` and `wake`).
+            // Orders the announcement before the look (pairs with `wake_others`).
             fence(SeqCst);
-            if ready() {
+            if let Some(v) = look() {
                 parked.store(false, Relaxed);
-                return;
+                return v;
             }
             // A timeout, so a leader notices a member that died instead of waking it.
             std::thread::park_timeout(Duration::from_millis(1));
         }
-        parked.store(false, Relaxed);
     }
 
-    fn wake(&self, crew: &[ScopedJoinHandle<'_, ()>]) {
+    /// Unparks every other parked host thread (after a store they may wait for).
+    fn wake_others(&self, w: usize) {
         // Orders the caller's store before the looks at `parked` (pairs with `wait`).
         fence(SeqCst);
-        for (i, h) in crew.iter().enumerate() {
-            if self.parked[i + 1].load(Relaxed) && self.parked[i + 1].swap(false, AcqRel) {
-                h.thread().unpark();
+        for (i, p) in self.parked.iter().enumerate() {
+            if i != w && p.load(Relaxed) && p.swap(false, AcqRel) {
+                if let Some(h) = self.handles[i].get() {
+                    h.unpark();
+                }
             }
         }
     }
@@ -476,71 +698,103 @@ mod tests {
         }
     }
 
-    /// Runs `rounds` rounds of `tms` TMs on `threads` host threads; each job counts its TM
-    /// in a [`RoundCell`] and checks it runs once per round. `slow` host threads sleep in
-    /// every job (others take their TMs). Returns per TM: rounds run, and per host thread:
-    /// jobs run.
-    fn crew_counts(
+    /// Runs `batches` batches of `tms` TMs on `threads` host threads, rounds of 10 cycles,
+    /// every other batch with free rounds (flags 0) up to 7 rounds. Each job checks its TM
+    /// runs every round once, in window order, and returns flag 8 for TM 1 in every third
+    /// round. `slow` host threads sleep in every job (others take their TMs). Returns per
+    /// TM: rounds run; per host thread: jobs run; rounds in all.
+    fn crew_run(
         tms: usize,
         threads: usize,
-        rounds: u64,
+        batches: u64,
         slow: &[usize],
-    ) -> (Vec<u64>, Vec<u64>) {
+    ) -> (Vec<u64>, Vec<u64>, u64) {
         let jobs: Vec<AtomicU64> = (0..threads).map(|_| AtomicU64::new(0)).collect();
         let cells: Vec<RoundCell<(u64, u64)>> = (0..tms).map(|_| RoundCell::new((0, 0))).collect();
+        let flag_of = |k: usize, from: u64| if k == 1 && (from / 10) % 3 == 2 { 8 } else { 0 };
         let protocol = Rounds::new(tms, threads);
-        let job = |w: usize, k: usize, (from, _to): (u64, u64)| -> u8 {
+        let job = |w: usize, k: usize, (from, to): (u64, u64)| -> u8 {
             jobs[w].fetch_add(1, Relaxed);
             if slow.contains(&w) {
-                std::thread::sleep(Duration::from_micros(300));
+                std::thread::sleep(Duration::from_millis(2));
             }
             // SAFETY: the round job of TM `k`.
             let c = unsafe { cells[k].get_mut() };
             assert_eq!(c.1, from, "TM {k} ran twice or skipped a round");
             c.0 += 1;
-            c.1 = from + 1;
-            // Flags: TM 1 reports on odd rounds.
-            u8::from(k == 1 && from % 2 == 1) << 3
+            c.1 = to;
+            flag_of(k, from)
         };
+        let mut rounds = 0;
         std::thread::scope(|scope| {
             let crew = protocol.spawn(scope, &job);
-            for r in 0..rounds {
-                if r == rounds / 2 {
+            let mut now = 0;
+            for b in 0..batches {
+                if b == batches / 2 {
                     // Move every TM to the next host thread.
                     for k in 0..tms {
                         protocol.set_owner(k, (protocol.owner(k) + 1) % threads);
                     }
                 }
-                let flags = protocol.run(&crew, (r, r + 1), &mut |k, win| job(0, k, win));
-                assert_eq!(flags, Some(u8::from(r % 2 == 1) << 3));
+                let free = b % 2 == 0;
+                let batch = Batch {
+                    from: now,
+                    to: now + 10,
+                    step: 10,
+                    free_flags: free.then_some(0),
+                    until: now + 70,
+                };
+                let end = protocol
+                    .run(&crew, &batch, &mut |k, win| job(0, k, win))
+                    .expect("no member died");
+                // The batch ends at the first flagged round, or after 7.
+                let flags_at = |i: u64| (0..tms).fold(0, |f, k| f | flag_of(k, now + 10 * i));
+                let expect = if free {
+                    (0..7).find(|&i| flags_at(i) != 0).map_or(7, |i| i + 1)
+                } else {
+                    1
+                };
+                assert_eq!(end.rounds, expect, "batch {b}");
+                assert_eq!(end.flags, flags_at(expect - 1));
+                assert_eq!(
+                    (end.from, end.to),
+                    (now + 10 * (expect - 1), now + 10 * expect)
+                );
                 for c in &cells {
-                    // SAFETY: the leader between rounds.
-                    assert_eq!(unsafe { c.get() }.1, r + 1);
+                    // SAFETY: the leader between batches.
+                    assert_eq!(unsafe { c.get() }.1, end.to);
                 }
+                now = end.to;
+                rounds += end.rounds;
             }
-            protocol.finish(&crew);
         });
         let per_tm = cells.into_iter().map(|c| c.into_inner().0).collect();
-        (per_tm, jobs.iter().map(|j| j.load(Relaxed)).collect())
+        (
+            per_tm,
+            jobs.iter().map(|j| j.load(Relaxed)).collect(),
+            rounds,
+        )
     }
 
     #[test]
     fn every_tm_runs_once_per_round() {
         for threads in 1..=3 {
-            let (per_tm, jobs) = crew_counts(5, threads, 3000, &[]);
-            assert_eq!(per_tm, vec![3000; 5]);
-            assert_eq!(jobs.iter().sum::<u64>(), 5 * 3000);
+            let (per_tm, jobs, rounds) = crew_run(5, threads, 2000, &[]);
+            assert!(rounds > 2000);
+            assert_eq!(per_tm, vec![rounds; 5]);
+            assert_eq!(jobs.iter().sum::<u64>(), 5 * rounds);
         }
     }
 
     #[test]
     fn late_host_threads_leave_their_tms_to_others() {
-        // A slow host thread's second TM of each round is taken by the other one.
-        let (per_tm, jobs) = crew_counts(4, 2, 40, &[1]);
-        assert_eq!(per_tm, vec![40; 4]);
-        assert!(jobs[0] > 2 * 40, "{jobs:?}");
-        let (per_tm, jobs) = crew_counts(6, 3, 40, &[0, 2]);
-        assert_eq!(per_tm, vec![40; 6]);
-        assert!(jobs[1] > 2 * 40, "{jobs:?}");
+        // Slow host threads (owning 2 of 4 TMs, 4 of 6) run fewer than their own jobs:
+        // the others take some.
+        let (per_tm, jobs, rounds) = crew_run(4, 2, 10, &[1]);
+        assert_eq!(per_tm, vec![rounds; 4]);
+        assert!(jobs[1] < 2 * rounds, "{jobs:?}");
+        let (per_tm, jobs, rounds) = crew_run(6, 3, 10, &[0, 2]);
+        assert_eq!(per_tm, vec![rounds; 6]);
+        assert!(jobs[0] + jobs[2] < 4 * rounds, "{jobs:?}");
     }
 }

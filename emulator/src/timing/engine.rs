@@ -339,7 +339,6 @@ impl<'c> Engine<'c> {
             })
         };
         let (outcome, mut fx) = outcome;
-        fx.fold_into(&mut m.shared);
         self.profiler = profiler;
         self.progress = progress;
         // Take everything back.
@@ -349,11 +348,15 @@ impl<'c> Engine<'c> {
         }
         let mut tm_mems = Vec::with_capacity(tms);
         for t in sims {
-            let t = t.into_inner();
+            let mut t = t.into_inner();
+            // Counters stay with their TM until the end (only prints are merged as they
+            // come; sums do not depend on when they are taken).
+            t.fx.merge_into(&mut fx, None);
             m.threads.extend(t.threads);
             tm_mems.push(t.mem);
         }
         self.mem.restore_tms(tm_mems);
+        fx.fold_into(&mut m.shared);
         self.c.tc.halted -= halted_excess.min(self.c.tc.halted);
         drain(&mut m.shared.output, out);
         outcome
@@ -556,7 +559,6 @@ impl Driver<'_, '_> {
             }
             progressed |= c.tc.issued != issued_before;
             drop(part0);
-            sims.clear();
             if let Some(h) = last_halt {
                 if sh.live_threads == 0 {
                     // The run ends after the last halt; every thread was halted in the
@@ -587,12 +589,15 @@ impl Driver<'_, '_> {
                         report(&Progress {
                             cycles: to,
                             instructions,
-                            rays: sh.stats[0] + self.fx.stats[0],
+                            rays: sh.stats[0]
+                                + self.fx.stats[0]
+                                + sims.iter().map(|t| t.fx.stats[0]).sum::<u64>(),
                             live_threads: sh.live_threads,
                         });
                     }
                 }
             }
+            sims.clear();
             // Nobody issued for a long time: a deadlock (or a memory system that stopped
             // making progress).
             if (idle_cycles > 1_000_000 && self.mem.chip_mut().next_event().is_none())

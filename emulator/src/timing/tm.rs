@@ -61,7 +61,7 @@ pub(crate) struct Summary(pub u8);
 impl Summary {
     /// An instruction issued.
     pub const PROGRESSED: u8 = 1;
-    /// Prints or counters to merge.
+    /// Prints to merge (counters stay with the TM until the end of the run).
     pub const EFFECTS: u8 = 2;
     /// Deferred instructions to run.
     pub const DEFERRED: u8 = 4;

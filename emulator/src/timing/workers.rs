@@ -3,7 +3,8 @@
 //! A round lasts a few microseconds and moving a cache line between two cores costs a
 //! fifth of one, so the protocol is built to move as few lines as possible:
 //! - the leader (host thread 0) publishes a *batch* of rounds (first round, window,
-//!   rules) in one line; nothing else is written by the leader during a batch;
+//!   rules) in one line, under a sequence lock (a member late to read it must not mix it
+//!   with the next batch); nothing else is written by the leader during a batch;
 //! - every TM has an owner, which claims it in the TM's own line and reports finished TMs
 //!   in a line of its own, with the OR of the flags their jobs returned;
 //! - TM and chip state is handed over by this protocol rather than by locks

@@ -201,3 +201,38 @@ fn host_threads_give_identical_stats_and_image() {
     assert_eq!(text(&json1), text(&json2));
     assert_eq!(png1, png2);
 }
+
+#[test]
+fn more_host_threads_than_cores_warns() {
+    let dir = scratch("host-threads-warning");
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let n = (cores + 1).to_string();
+    let png = dir.join("img.png");
+    let run = |host_threads: &str| {
+        let out = trax(&[
+            "run",
+            "examples/pathtracer.rs",
+            "--tms",
+            &n,
+            "--width",
+            "8",
+            "--height",
+            "8",
+            "--host-threads",
+            host_threads,
+            "-o",
+            png.to_str().unwrap(),
+        ]);
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        text(&out.stderr)
+    };
+    let warned = run(&n);
+    assert!(
+        warned.contains(&format!(
+            "warning: {n} host threads on {cores} available core(s)"
+        )),
+        "{warned}"
+    );
+    let quiet = run("1");
+    assert!(!quiet.contains("host threads on"), "{quiet}");
+}

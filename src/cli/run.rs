@@ -317,12 +317,17 @@ pub fn execute(a: &ExecArgs, extras: &Extras) -> Result<Executed, String> {
         (r.outcome, r.report, r.machine)
     } else {
         // One host thread per TM at most; profiling runs on one (same results).
-        let host_threads = match a.host_threads {
-            Some(n) => n,
-            None => std::thread::available_parallelism().map_or(1, |n| n.get()),
+        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+        let host_threads = a
+            .host_threads
+            .unwrap_or(cores)
+            .min(chip.tms as usize)
+            .max(1);
+        if host_threads > cores && !extras.profile {
+            eprintln!(
+                "warning: {host_threads} host threads on {cores} available core(s): host threads work in lock-step rounds, so more of them than cores makes the run slower (results are the same)"
+            );
         }
-        .min(chip.tms as usize)
-        .max(1);
         let host_threads = if extras.profile { 1 } else { host_threads };
         let req = TimingRequest {
             elf_path: &prepared.name,

@@ -12,7 +12,7 @@ use inkwell::basic_block::BasicBlock;
 use inkwell::builder::{Builder, BuilderError};
 use inkwell::context::Context;
 use inkwell::module::{Linkage, Module};
-use inkwell::values::{FunctionValue, IntValue, PointerValue};
+use inkwell::values::{BasicValue, FunctionValue, IntValue, PointerValue};
 use inkwell::{AddressSpace, IntPredicate};
 
 /// Defines every referenced but undefined memory function of `module`.
@@ -97,6 +97,8 @@ fn define<'ctx>(
     }
     let low = b.build_and(bits, it.const_int(3, false), "")?;
     let aligned = b.build_int_compare(IntPredicate::EQ, low, it.const_zero(), "")?;
+    let aligned_len = ctx.append_basic_block(f, "aligned");
+    let quads = ctx.append_basic_block(f, "quads");
     let words = ctx.append_basic_block(f, "words");
     let bytes = ctx.append_basic_block(f, "bytes");
     let body = Body {
@@ -117,23 +119,29 @@ fn define<'ctx>(
             b.build_conditional_branch(up, back, fwd)?;
             body.backward(back, s)?;
             b.position_at_end(fwd);
-            b.build_conditional_branch(aligned, words, bytes)?;
+            b.build_conditional_branch(aligned, aligned_len, bytes)?;
         }
         _ => {
-            b.build_conditional_branch(aligned, words, bytes)?;
+            b.build_conditional_branch(aligned, aligned_len, bytes)?;
         }
     }
-    // A word of the fill byte, made before the loop.
+    // Four words an iteration when the length allows (a local array of 16-byte multiples:
+    // the traversal stacks of the prelude).
+    b.position_at_end(aligned_len);
+    let tail = b.build_and(len, it.const_int(15, false), "")?;
+    let by_four = b.build_int_compare(IntPredicate::EQ, tail, it.const_zero(), "")?;
+    // A word of the fill byte, made before the loops.
     let word = match fill {
         Some(v) => {
-            b.position_at_end(words);
             let byte = b.build_int_z_extend(v, i32t, "")?;
             Some(b.build_int_mul(byte, i32t.const_int(0x0101_0101, false), "")?)
         }
         None => None,
     };
-    body.forward(words, src, Unit::Word(word))?;
-    body.forward(bytes, src, Unit::Byte(fill))?;
+    b.build_conditional_branch(by_four, quads, words)?;
+    body.forward(quads, src, Unit::Word(word), 4)?;
+    body.forward(words, src, Unit::Word(word), 1)?;
+    body.forward(bytes, src, Unit::Byte(fill), 1)?;
     b.position_at_end(exit);
     b.build_return(Some(&dst))?;
     Ok(())
@@ -158,14 +166,16 @@ struct Body<'a, 'ctx> {
 }
 
 impl<'ctx> Body<'_, 'ctx> {
-    /// Ends block `from` (the builder may already be in it) with a loop storing `unit`s from
-    /// `dst` up to `dst + len` (a multiple of the unit), then branches to the exit. The
-    /// pointers are the induction variables: a store, the increments and a compare per unit.
+    /// Block `from`: a loop storing `per_turn` `unit`s an iteration from `dst` up to
+    /// `dst + len` (a multiple of that), then a branch to the exit. A copy loads an
+    /// iteration's units before it stores them (safe for memmove's forward direction). The
+    /// pointers are the induction variables.
     fn forward(
         &self,
         from: BasicBlock<'ctx>,
         src: Option<PointerValue<'ctx>>,
         unit: Unit<'ctx>,
+        per_turn: u64,
     ) -> Result<(), BuilderError> {
         let Body {
             ctx,
@@ -182,9 +192,7 @@ impl<'ctx> Body<'_, 'ctx> {
         };
         let ptr = elem.ptr_type(AddressSpace::default());
         let body = ctx.append_basic_block(f, "loop");
-        if b.get_insert_block() != Some(from) {
-            b.position_at_end(from);
-        }
+        b.position_at_end(from);
         let end = b.build_int_add(b.build_ptr_to_int(dst, it, "")?, len, "")?;
         let d0 = b.build_pointer_cast(dst, ptr, "")?;
         let s0 = match src {
@@ -199,23 +207,39 @@ impl<'ctx> Body<'_, 'ctx> {
             None => None,
         };
         let pv = p.as_basic_value().into_pointer_value();
-        let v = match (q, fill) {
-            (Some(q), _) => b.build_load(q.as_basic_value().into_pointer_value(), "")?,
-            (None, Some(v)) => v.into(),
-            (None, None) => unreachable!("a copy has a source, a fill a value"),
-        };
-        let store = b.build_store(pv, v)?;
-        // Only fails for non-memory instructions; a store always accepts an alignment.
-        let _ = store.set_alignment(step);
-        let one = [it.const_int(1, false)];
-        // SAFETY: at most one element past the last stored, within or one past the caller's
-        // buffer (the C contract).
-        let pn = unsafe { b.build_gep(pv, &one, "")? };
-        let qn = match q {
+        let qv = q.map(|q| q.as_basic_value().into_pointer_value());
+        let mut vals = Vec::new();
+        for k in 0..per_turn {
+            vals.push(match (qv, fill) {
+                (Some(q), _) => {
+                    // SAFETY: `k < per_turn` elements before the end, within the source
+                    // buffer (the C contract).
+                    let at = unsafe { b.build_gep(q, &[it.const_int(k, false)], "")? };
+                    let load = b.build_load(at, "")?;
+                    if let Some(i) = load.as_instruction_value() {
+                        // Only fails for non-memory instructions.
+                        let _ = i.set_alignment(step);
+                    }
+                    load
+                }
+                (None, Some(v)) => v.into(),
+                (None, None) => unreachable!("a copy has a source, a fill a value"),
+            });
+        }
+        for (k, v) in (0..per_turn).zip(vals) {
+            // SAFETY: as above, within the destination buffer.
+            let at = unsafe { b.build_gep(pv, &[it.const_int(k, false)], "")? };
+            let store = b.build_store(at, v)?;
+            // Only fails for non-memory instructions; a store always accepts an alignment.
+            let _ = store.set_alignment(step);
+        }
+        let next = [it.const_int(per_turn, false)];
+        // SAFETY: at most one past the last element stored, within or one past the caller's
+        // buffers (the C contract).
+        let pn = unsafe { b.build_gep(pv, &next, "")? };
+        let qn = match qv {
             // SAFETY: as above, for the source buffer.
-            Some(q) => {
-                Some(unsafe { b.build_gep(q.as_basic_value().into_pointer_value(), &one, "")? })
-            }
+            Some(q) => Some(unsafe { b.build_gep(q, &next, "")? }),
             None => None,
         };
         let at = b.build_ptr_to_int(pn, it, "")?;

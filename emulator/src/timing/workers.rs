@@ -40,6 +40,11 @@ const TAKE_AFTER: Duration = Duration::from_micros(50);
 /// How long a host thread spins before parking.
 const PARK_AFTER: Duration = Duration::from_micros(200);
 
+/// Longest nap of a parked host thread: wake-ups are best effort (a fence to make them
+/// certain would cost every round a cache-line transfer), so a parked host thread also
+/// looks again on its own.
+const NAP: Duration = Duration::from_micros(100);
+
 /// `Head::round` value that ends the members' loops.
 const STOP: u64 = u64::MAX;
 
@@ -517,21 +522,19 @@ impl Rounds {
         let parked = &self.parked[w];
         loop {
             parked.store(true, Relaxed);
-            // Orders the announcement before the look (pairs with `wake_others`).
-            fence(SeqCst);
             if let Some(v) = look() {
                 parked.store(false, Relaxed);
                 return v;
             }
-            // A timeout, so a leader notices a member that died instead of waking it.
-            std::thread::park_timeout(Duration::from_millis(1));
+            // A wake-up may be missed (see `NAP`); a leader also notices a member that died.
+            std::thread::park_timeout(NAP);
         }
     }
 
-    /// Unparks every other parked host thread (after a store they may wait for).
+    /// Unparks every other parked host thread (after a store they may wait for). Best
+    /// effort: without a fence, a host thread parking at this moment may be missed and
+    /// wakes after its [`NAP`].
     fn wake_others(&self, w: usize) {
-        // Orders the caller's store before the looks at `parked` (pairs with `wait`).
-        fence(SeqCst);
         for (i, p) in self.parked.iter().enumerate() {
             if i != w && p.load(Relaxed) && p.swap(false, AcqRel) {
                 if let Some(h) = self.handles[i].get() {

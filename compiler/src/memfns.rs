@@ -91,9 +91,13 @@ fn define<'ctx>(
     };
     // Whole words when every address and the length are word-aligned (the common case:
     // zeroing or copying a local array): four times fewer iterations.
+    let s = match src {
+        Some(s) => Some(b.build_ptr_to_int(s, it, "")?),
+        None => None,
+    };
     let mut bits = b.build_or(d, len, "")?;
-    if let Some(s) = src {
-        bits = b.build_or(bits, b.build_ptr_to_int(s, it, "")?, "")?;
+    if let Some(s) = s {
+        bits = b.build_or(bits, s, "")?;
     }
     let low = b.build_and(bits, it.const_int(3, false), "")?;
     let aligned = b.build_int_compare(IntPredicate::EQ, low, it.const_zero(), "")?;
@@ -109,12 +113,11 @@ fn define<'ctx>(
         dst,
         len,
     };
-    match (name, src) {
+    match (name, s) {
         // memmove copies backwards when the destination is above the source.
         ("memmove", Some(s)) => {
             let back = ctx.append_basic_block(f, "back");
             let fwd = ctx.append_basic_block(f, "fwd");
-            let s = b.build_ptr_to_int(s, it, "")?;
             let up = b.build_int_compare(IntPredicate::UGT, d, s, "")?;
             b.build_conditional_branch(up, back, fwd)?;
             body.backward(back, s)?;

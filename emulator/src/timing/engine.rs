@@ -412,13 +412,11 @@ impl Driver<'_, '_> {
             if unsafe { shared.get() }.live_threads == 0 {
                 return Outcome::Finished;
             }
-            if let Some(max) = self.max_cycles {
-                if *self.now >= max {
-                    return Outcome::InstructionLimit;
-                }
-            }
             let from = *self.now;
             let max = self.max_cycles.unwrap_or(u64::MAX);
+            if from >= max {
+                return Outcome::InstructionLimit;
+            }
             let to = (from + q).min(max);
             // Phase 1: the TMs, in parallel. While the L2s and DRAM have nothing to do
             // and the TMs only issue (nothing for this phase), rounds follow each other
@@ -461,7 +459,8 @@ impl Driver<'_, '_> {
                     }
                 }
             }
-            // Prints and counters, in TM order (prints after a fault's cycle are dropped).
+            // Prints (with the TM's counters so far), in TM order (prints after a fault's
+            // cycle are dropped).
             let until = crash.as_ref().map(|(c0, _)| *c0);
             if flags.any(Summary::EFFECTS) {
                 for t in sims.iter_mut().filter(|t| t.summary.any(Summary::EFFECTS)) {

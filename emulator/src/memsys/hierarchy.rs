@@ -236,6 +236,14 @@ impl ChipMem {
                 .sort_by_key(|r| (r.cycle, (u64::from(r.tm) + n - r.cycle % n) % n));
         }
         while self.clock < end {
+            // While no request waits and no read is outstanding (only writes can be in
+            // the DRAM, and they complete nothing), the cycles before the next request
+            // change nothing the DRAM model does not catch up exactly in one step.
+            let due = self.queue.first().is_some_and(|r| r.cycle <= self.clock);
+            if !due && self.reads_done() {
+                let next = self.queue.first().map_or(end, |r| r.cycle.min(end));
+                self.clock = self.clock.max(next - 1);
+            }
             let c = self.clock;
             self.dram.advance_to(c, &mut self.dram_out);
             self.route_dram(tms);
@@ -334,6 +342,19 @@ impl ChipMem {
                 tms[tm as usize].as_mut().fills.push((line, l1_fill));
             }
         }
+    }
+
+    /// Whether serving can send the L1s nothing (no request waits, no L2 miss is
+    /// outstanding) until new requests are collected. Then the clock may be left behind:
+    /// a later [`Self::serve_until`] serves the skipped cycles (DRAM writes, refresh) one by
+    /// one before the new requests, exactly as if it had kept up.
+    pub fn owes_nothing(&self) -> bool {
+        self.queue.is_empty() && self.reads_done()
+    }
+
+    /// Whether no L2 miss waits for the DRAM.
+    fn reads_done(&self) -> bool {
+        self.l2.iter().all(|c| c.mshrs_busy() == 0)
     }
 
     /// Lower bound on the next cycle with news: `None` if nothing is outstanding below the

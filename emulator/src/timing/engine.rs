@@ -418,10 +418,11 @@ impl Driver<'_, '_> {
                 return Outcome::InstructionLimit;
             }
             let to = (from + q).min(max);
-            // Phase 1: the TMs, in parallel. While the L2s and DRAM have nothing to do
+            // Phase 1: the TMs, in parallel. While the L2s and DRAM owe the L1s nothing
             // and the TMs only issue (nothing for this phase), rounds follow each other
-            // without it: it would only advance the memory system's clock.
-            let idle = self.mem.chip_mut().next_event().is_none();
+            // without it: it would only advance the memory system's clock, which the
+            // next serial phase catches up cycle by cycle (DRAM writes, refresh).
+            let idle = self.mem.chip_mut().owes_nothing();
             let batch = Batch {
                 from,
                 to,

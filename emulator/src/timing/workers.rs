@@ -5,8 +5,9 @@
 //! - the leader (host thread 0) publishes a *batch* of rounds (first round, window,
 //!   rules) in one line, under a sequence lock (a member late to read it must not mix it
 //!   with the next batch); nothing else is written by the leader during a batch;
-//! - every TM has an owner, which claims it in the TM's own line and reports finished TMs
-//!   in a line of its own, with the OR of the flags their jobs returned;
+//! - every TM has an owner, which claims it in the TM's own line; each host thread reports
+//!   the TMs it finished once a round, in a line of its own, with the OR of the flags their
+//!   jobs returned;
 //! - TM and chip state is handed over by this protocol rather than by locks
 //!   ([`RoundCell`]), so a round moves no lock words between cores.
 //!
@@ -117,6 +118,12 @@ struct Finished {
 }
 
 impl Finished {
+    /// Counts one more TM, whose job returned `flags`.
+    fn add(&mut self, flags: u8) {
+        self.flags |= flags;
+        self.count += 1;
+    }
+
     /// The `done` word of `self` in `round`.
     fn word(self, round: u64) -> u64 {
         (round << ROUND_SHIFT) | u64::from(self.flags) << COUNT_BITS | self.count as u64
@@ -366,7 +373,7 @@ impl Rounds {
             let mut finished = Finished::default();
             for k in 0..self.claimed.len() {
                 if self.owner(k) == w && self.claim(k, round) {
-                    self.run_job(w, round, k, &mut finished, &mut job);
+                    finished.add(job(k));
                 }
             }
             // A host thread that finished nothing in the last round is held back by the
@@ -375,8 +382,14 @@ impl Rounds {
                 let v = self.owner(k);
                 let absent = || Finished::round_of(self.done[v].load(Relaxed)) + 1 < round;
                 if v != w && absent() && self.claim(k, round) {
-                    self.run_job(w, round, k, &mut finished, &mut job);
+                    finished.add(job(k));
                 }
+            }
+            // One report for the TMs run so far: a report after each would move the line
+            // to the host threads watching it once per TM (and the next claim, a locked
+            // instruction, would wait for that).
+            if finished.count > 0 {
+                self.report(w, round, finished);
             }
             let mut look = || self.verdict(round, first, to, batch, crew);
             let verdict = self.wait(w, &mut look, &mut |()| {
@@ -475,7 +488,8 @@ impl Rounds {
                 .is_ok()
     }
 
-    /// Runs the job of TM `k`, claimed by host thread `w` in `round`, and reports it.
+    /// Runs the job of TM `k`, taken by host thread `w` in `round` while the others
+    /// wait, and reports it with the TMs `finished` before.
     fn run_job(
         &self,
         w: usize,
@@ -484,8 +498,12 @@ impl Rounds {
         finished: &mut Finished,
         job: &mut dyn FnMut(usize) -> u8,
     ) {
-        finished.flags |= job(k);
-        finished.count += 1;
+        finished.add(job(k));
+        self.report(w, round, *finished);
+    }
+
+    /// Host thread `w` reports the TMs it has `finished` in `round`.
+    fn report(&self, w: usize, round: u64, finished: Finished) {
         self.done[w].store(finished.word(round), Release);
         self.wake_others(w);
     }
@@ -608,8 +626,8 @@ pub(crate) fn rebalance(
 /// load of it; a TM is claimed by exactly one host thread per round (a compare-exchange
 /// of the TM's claim word from the previous round to this one, so a claim can never
 /// succeed for a round that is over); a host thread's writes to a TM are released by its
-/// report of the finished TM and acquired by the leader, which waits for every TM's report
-/// before it touches TM or chip state between rounds.
+/// report (after the TM's job) and acquired by the leader, which waits for reports of every
+/// TM before it touches TM or chip state between rounds.
 pub(crate) struct RoundCell<T>(UnsafeCell<T>);
 
 // SAFETY: access goes through `get`/`get_mut`, whose callers guarantee the exclusion a

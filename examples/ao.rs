@@ -19,10 +19,20 @@ fn trax_main() {
     }
     // Static interleaved pixel assignment (not `atomic_inc`): each thread's random
     // stream then meets the same pixels in the same order on every run, so the image is
-    // reproducible and identical between the emulator and `trax native`.
-    let stride = trax::num_threads();
-    let mut i = trax::global_id();
-    while i < n {
+    // reproducible and identical between the emulator and `trax native`. The threads take
+    // the pixels block by block (a block per thread count), rotating which thread takes
+    // which pixel from block to block, so every TM gets a fair share of the image.
+    let total = trax::num_threads();
+    let me = trax::global_id();
+    let mut base = 0;
+    let mut rotation = 0;
+    while base < n {
+        let i = base + (me + rotation) % total;
+        base += total;
+        rotation = (rotation + 37) % total;
+        if i >= n {
+            continue;
+        }
         let ray = cam.pixel_ray(i % w, i / w);
         let hit = trax::bvh::intersect(&ray, 0.0, trax::INFINITY);
         let mut c = trax::scene::background();
@@ -43,6 +53,5 @@ fn trax_main() {
             c = mat.diffuse.scale(open as f32 / samples as f32) + mat.emission;
         }
         trax::scene::set_pixel_index(i, c);
-        i += stride;
     }
 }

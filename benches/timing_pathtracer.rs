@@ -10,7 +10,7 @@
 //!
 //! Run: `cargo bench --bench timing_pathtracer`. Environment: `TRAX_BENCH_SIZE` (image side,
 //! default 128), `TRAX_BENCH_MAX_CYCLES` (cycle cap, default 50,000,000), `TRAX_BENCH_REPEAT`
-//! (runs per host-thread count, the fastest counts; default 3). The 1- and 2-thread runs
+//! (runs per host-thread count, the fastest counts; default 5). The 1- and 2-thread runs
 //! alternate, so a drift in the host's speed (a virtual machine's neighbours) weighs on both
 //! alike. On a shared machine compare the printed CPU seconds with the wall seconds: other
 //! load slows the wall clock.
@@ -137,7 +137,7 @@ fn main() {
     }
     let size = env_u64("TRAX_BENCH_SIZE", 128).clamp(1, 4096) as u32;
     let max_cycles = env_u64("TRAX_BENCH_MAX_CYCLES", 50_000_000);
-    let repeat = env_u64("TRAX_BENCH_REPEAT", 3).max(1);
+    let repeat = env_u64("TRAX_BENCH_REPEAT", 5).max(1);
     let kernel = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/pathtracer.rs");
     let name = kernel.display().to_string();
     let elf = build_pathtracer(&kernel);

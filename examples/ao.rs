@@ -10,28 +10,18 @@ const RADIUS_IN_EPSILONS: f32 = 2000.0;
 fn trax_main() {
     let cam = trax::Camera::load();
     let w = trax::scene::width();
-    let n = w * trax::scene::height();
     let eps = trax::scene::epsilon();
     let radius = eps * RADIUS_IN_EPSILONS;
     let mut samples = trax::scene::spp();
     if samples == 0 {
         samples = 1;
     }
-    // Static interleaved pixel assignment (not `atomic_inc`): each thread's random
-    // stream then meets the same pixels in the same order on every run, so the image is
-    // reproducible and identical between the emulator and `trax native`. The threads take
-    // the pixels block by block (a block per thread count), rotating which thread takes
-    // which pixel from block to block, so every TM gets a fair share of the image.
-    let total = trax::num_threads();
-    let me = trax::global_id();
-    let mut base = 0;
-    let mut rotation = 0;
-    while base < n {
-        let i = base + (me + rotation) % total;
-        base += total;
-        rotation = (rotation + 37) % total;
-        if i >= n {
-            continue;
+    // A static share of the pixels (reproducible, and fair to every TM).
+    let mut share = trax::scene::pixel_share();
+    loop {
+        let i = share.next_pixel();
+        if i == trax::scene::NO_PIXEL {
+            break;
         }
         let ray = cam.pixel_ray(i % w, i / w);
         let hit = trax::bvh::intersect(&ray, 0.0, trax::INFINITY);

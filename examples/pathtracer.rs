@@ -92,7 +92,6 @@ fn radiance(camera_ray: Ray, max_depth: u32, eps: f32) -> Vec3 {
 fn trax_main() {
     let cam = trax::Camera::load();
     let w = trax::scene::width();
-    let n = w * trax::scene::height();
     let eps = trax::scene::epsilon();
     let max_depth = trax::scene::max_depth();
     let mut spp = trax::scene::spp();
@@ -100,26 +99,17 @@ fn trax_main() {
         spp = 1;
     }
     let inv_spp = 1.0 / spp as f32;
-    // Static interleaved pixel assignment (not `atomic_inc`): each thread's random
-    // stream then meets the same pixels in the same order on every run, so the image is
-    // reproducible and identical between the emulator and `trax native`. The threads take
-    // the pixels block by block (a block per thread count), rotating which thread takes
-    // which pixel from block to block: a thread does not stay in one column of the image,
-    // so every TM gets a fair share of the cheap and the costly parts of the scene.
-    let total = trax::num_threads();
-    let me = trax::global_id();
-    let mut base = 0;
-    let mut rotation = 0;
-    while base < n {
-        let i = base + (me + rotation) % total;
-        if i < n {
-            let mut c = Vec3::zero();
-            for _ in 0..spp {
-                c += radiance(cam.jittered_ray(i % w, i / w), max_depth, eps);
-            }
-            trax::scene::set_pixel_index(i, c.scale(inv_spp));
+    // A static share of the pixels (reproducible, and fair to every TM).
+    let mut share = trax::scene::pixel_share();
+    loop {
+        let i = share.next_pixel();
+        if i == trax::scene::NO_PIXEL {
+            break;
         }
-        base += total;
-        rotation = (rotation + 37) % total;
+        let mut c = Vec3::zero();
+        for _ in 0..spp {
+            c += radiance(cam.jittered_ray(i % w, i / w), max_depth, eps);
+        }
+        trax::scene::set_pixel_index(i, c.scale(inv_spp));
     }
 }

@@ -11,7 +11,8 @@
 //!   semaphores), `min`/`max`/`invsqrt`, `count_ray`, raw simulated-memory access;
 //! - [`math`]: `Vec3` (points, directions, linear RGB) with operators;
 //! - [`scene`]: header fields, triangles, normals, texture coordinates, materials,
-//!   emitters, point lights, BVH nodes, framebuffer writes;
+//!   emitters, point lights, BVH nodes, framebuffer writes, each thread's share of the
+//!   pixels (`pixel_share`);
 //! - [`camera`]: primary rays (`abi::Camera` semantics, row 0 at the top);
 //! - [`ray`], [`bvh`]: rays, hit records, watertight triangle test, robust slab test,
 //!   closest-hit and any-hit traversal;

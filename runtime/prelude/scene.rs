@@ -97,6 +97,53 @@ pub fn set_pixel_index(i: u32, c: Vec3) {
     store_vec3(fb + i * layout::PIXEL_SIZE, c);
 }
 
+/// What [`PixelShare::next_pixel`] returns when the thread's share is done.
+pub const NO_PIXEL: u32 = 0xffff_ffff;
+
+/// How far a thread's place in its block moves from one block to the next.
+const SHARE_ROTATION: u32 = 37;
+
+/// One thread's static share of the image's pixels. Unlike handing pixels out with
+/// `atomic_inc`, it is reproducible: each thread's random stream meets the same pixels in
+/// the same order on every run, in the emulator and in `trax native`. The pixels are dealt
+/// block by block (a block per thread count) and the thread's place in the block rotates
+/// from block to block, so no thread keeps one column of the image and every TM gets a fair
+/// share of its cheap and costly parts.
+pub struct PixelShare {
+    /// First pixel of the next block.
+    block: u32,
+    rotation: u32,
+    me: u32,
+    threads: u32,
+    pixels: u32,
+}
+
+impl PixelShare {
+    /// The next pixel number (`y * width + x`) of this share, or [`NO_PIXEL`].
+    pub fn next_pixel(&mut self) -> u32 {
+        while self.block < self.pixels {
+            let i = self.block + (self.me + self.rotation) % self.threads;
+            self.block += self.threads;
+            self.rotation = (self.rotation + SHARE_ROTATION) % self.threads;
+            if i < self.pixels {
+                return i;
+            }
+        }
+        NO_PIXEL
+    }
+}
+
+/// The calling thread's share of the image's pixels.
+pub fn pixel_share() -> PixelShare {
+    PixelShare {
+        block: 0,
+        rotation: 0,
+        me: hw::global_id(),
+        threads: hw::num_threads(),
+        pixels: width() * height(),
+    }
+}
+
 /// Reads pixel `(x, y)`.
 pub fn get_pixel(x: u32, y: u32) -> Vec3 {
     load_vec3(pixel_addr(x, y))

@@ -318,17 +318,19 @@ pub fn execute(a: &ExecArgs, extras: &Extras) -> Result<Executed, String> {
     } else {
         // One host thread per TM at most; profiling runs on one (same results).
         let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-        let host_threads = a
-            .host_threads
-            .unwrap_or(cores)
-            .min(chip.tms as usize)
-            .max(1);
-        if host_threads > cores && !extras.profile {
+        let host_threads = if extras.profile {
+            1
+        } else {
+            a.host_threads
+                .unwrap_or(cores)
+                .min(chip.tms as usize)
+                .max(1)
+        };
+        if host_threads > cores {
             eprintln!(
                 "warning: {host_threads} host threads on {cores} available core(s): host threads work in lock-step rounds, so more of them than cores makes the run slower (results are the same)"
             );
         }
-        let host_threads = if extras.profile { 1 } else { host_threads };
         let req = TimingRequest {
             elf_path: &prepared.name,
             elf: &prepared.elf,

@@ -29,7 +29,8 @@ fn scene() -> Scene {
 /// Compiles a tiny C program with clang-14 and links it with ld.lld-14 at TEXT_BASE, with
 /// `--defsym` for each (symbol, address).
 fn link_elf(name: &str, defsyms: &[(String, u32)]) -> (Vec<u8>, PathBuf) {
-    let d = std::env::temp_dir().join(format!("trax-image-test-{}-{name}", std::process::id()));
+    let d =
+        std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("trax-image-test-{name}"));
     std::fs::create_dir_all(&d).unwrap();
     let c = d.join("k.c");
     std::fs::write(

@@ -7,7 +7,8 @@ use trax_assembler::scene::{
 };
 
 fn tmpdir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("trax-scene-err-{}-{name}", std::process::id()));
+    let d =
+        std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("trax-scene-err-{name}"));
     std::fs::create_dir_all(&d).unwrap();
     d
 }

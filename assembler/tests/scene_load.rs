@@ -13,7 +13,8 @@ fn shared(rel: &str) -> PathBuf {
 }
 
 fn tmpdir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("trax-scene-test-{}-{name}", std::process::id()));
+    let d =
+        std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("trax-scene-test-{name}"));
     std::fs::create_dir_all(&d).unwrap();
     d
 }

@@ -75,7 +75,7 @@ fn build(dir: &Path, start: &str, entry: &str, name: &str, nrays: u32) -> Option
 }
 
 fn main() {
-    let dir = std::env::temp_dir().join(format!("trax-bench-functional-{}", std::process::id()));
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("trax-bench-functional");
     std::fs::create_dir_all(&dir).unwrap();
     let nrays = 40_000;
     let Some(elf) = build(&dir, common::TRAX_START, "__trax_start", "trax", nrays) else {

@@ -68,7 +68,7 @@ fn build(dir: &Path, nrays: u32) -> Option<PathBuf> {
 }
 
 fn main() {
-    let dir = std::env::temp_dir().join(format!("trax-bench-profile-{}", std::process::id()));
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("trax-bench-profile");
     std::fs::create_dir_all(&dir).unwrap();
     let Some(elf) = build(&dir, 10_000) else {
         println!("profile bench: clang-14/ld.lld-14 not available; skipped");

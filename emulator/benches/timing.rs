@@ -105,7 +105,7 @@ fn probe_detailed(c: &ChipConfig) -> bool {
 }
 
 fn main() {
-    let dir = std::env::temp_dir().join(format!("trax-timing-bench-{}", std::process::id()));
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("trax-timing-bench");
     let elf = build(&dir);
     let data = std::fs::read(&elf).unwrap();
     let mut chip = ChipConfig::preset("baseline").unwrap();

@@ -223,7 +223,7 @@ void many(f4 *a, i4 *b, d2 *d, s8 *s, b16 *q, unsigned *u, int n) {
 /// the same text llvm-objdump prints.
 #[test]
 fn llvm_generated_code_decodes() {
-    let dir = std::env::temp_dir().join(format!("trax-msa-cc-{}", std::process::id()));
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("trax-msa-cc");
     std::fs::create_dir_all(&dir).unwrap();
     let src = dir.join("v.c");
     let obj = dir.join("v.o");

@@ -120,7 +120,7 @@ fn build_program(cases: &[Case]) -> String {
 
 /// Runs the cases under QEMU; returns per case (wd, msacsr, $9).
 fn run_qemu(cases: &[Case]) -> Vec<(u128, u32, u32)> {
-    let dir = std::env::temp_dir().join(format!("trax-msa-qemu-{}", std::process::id()));
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("trax-msa-qemu");
     std::fs::create_dir_all(&dir).unwrap();
     let asm = dir.join("t.s");
     let obj = dir.join("t.o");

@@ -59,7 +59,8 @@ fn trax_main() {
 "#;
 
 fn check(opt: u8) {
-    let dir = std::env::temp_dir().join(format!("trax-prof-rust-{}-{opt}", std::process::id()));
+    let dir =
+        std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("trax-prof-rust-{opt}"));
     std::fs::create_dir_all(&dir).unwrap();
     let src = dir.join("work.rs");
     std::fs::write(&src, KERNEL).unwrap();

@@ -215,8 +215,17 @@ mod tests {
     /// checks the object holds every instruction, with the allocator's registers.
     #[test]
     fn header_compiles_with_clang_and_emits_the_right_words() {
-        let dir = std::env::temp_dir().join(format!("trax-cheader-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        // Unit tests get no target-relative scratch directory: this one removes itself.
+        struct Scratch(std::path::PathBuf);
+        impl Drop for Scratch {
+            fn drop(&mut self) {
+                let _ = std::fs::remove_dir_all(&self.0);
+            }
+        }
+        let scratch =
+            Scratch(std::env::temp_dir().join(format!("trax-cheader-{}", std::process::id())));
+        let dir = &scratch.0;
+        std::fs::create_dir_all(dir).unwrap();
         std::fs::write(dir.join("trax_isa.h"), render_c_header()).unwrap();
         let mut c = String::from("#include \"trax_isa.h\"\n");
         c.push_str("unsigned int inc(unsigned int r) { return trax_atominc(r); }\n");

@@ -8,7 +8,7 @@
 //! `fn main() { trax::host::host_main(trax_main) }` appended; (3) a memory image (format:
 //! `trax_runtime::host`) is written, the program runs over it and writes the framebuffer
 //! back; (4) the framebuffer becomes a PNG. Builds are cached in `$TRAX_CACHE_DIR` (default
-//! `<temp>/trax-cache`) keyed by a hash of the sources and the rustc version. Diagnostics
+//! `~/.cache/trax`) keyed by a hash of the sources and the rustc version. Diagnostics
 //! and panic locations name the kernel file (rustc calls stdin `<anon>`; we rewrite it).
 
 use std::ffi::OsString;
@@ -197,11 +197,21 @@ fn memory_image(a: &NativeArgs) -> Result<MemoryImage, NativeError> {
     Ok(image)
 }
 
-/// The build cache directory.
+/// The build cache directory: `$TRAX_CACHE_DIR`, else the user's cache directory
+/// (`$XDG_CACHE_HOME/trax` or `~/.cache/trax`), else `<temp>/trax-cache`.
 fn cache_dir() -> PathBuf {
-    match std::env::var_os("TRAX_CACHE_DIR") {
-        Some(d) if !d.is_empty() => PathBuf::from(d),
-        _ => std::env::temp_dir().join("trax-cache"),
+    let var = |name: &str| {
+        std::env::var_os(name)
+            .filter(|v| !v.is_empty())
+            .map(PathBuf::from)
+    };
+    if let Some(d) = var("TRAX_CACHE_DIR") {
+        return d;
+    }
+    match (var("XDG_CACHE_HOME"), var("HOME")) {
+        (Some(x), _) => x.join("trax"),
+        (None, Some(h)) => h.join(".cache").join("trax"),
+        (None, None) => std::env::temp_dir().join("trax-cache"),
     }
 }
 

@@ -12,8 +12,8 @@ use trax_runtime::isa::{Field, OperandKind, TraxOp, TRAX_INSTRUCTIONS};
 
 /// Scratch directory for one test.
 pub fn scratch(name: &str) -> PathBuf {
-    let d = std::env::temp_dir()
-        .join(format!("trax-emu-tests-{}", std::process::id()))
+    let d = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join("trax-emu-tests")
         .join(name);
     std::fs::create_dir_all(&d).unwrap();
     d

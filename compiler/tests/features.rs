@@ -113,3 +113,115 @@ fn emits_assembly_and_ir() {
     let ir = String::from_utf8(build(&kernel(), 2, Emit::LlvmIr)).unwrap();
     assert!(ir.contains("mipsel"), "{ir}");
 }
+
+fn basetypes_kernel() -> std::path::PathBuf {
+    crate_dir().join("tests/kernels/basetypes.rs")
+}
+
+/// `(name, encoding, byte size)` of every `DW_TAG_base_type` in llvm-dwarfdump's output.
+fn base_types(info: &str) -> Vec<(String, String, u64)> {
+    let mut out = Vec::new();
+    let mut cur: Option<(String, String, u64)> = None;
+    for line in info.lines() {
+        let t = line.trim();
+        if t.contains("DW_TAG_") {
+            out.extend(cur.take());
+            if t.ends_with("DW_TAG_base_type") {
+                cur = Some((String::new(), String::new(), 0));
+            }
+            continue;
+        }
+        let Some(c) = cur.as_mut() else { continue };
+        let value = |t: &str| {
+            let a = t.find('(').map_or(t.len(), |i| i + 1);
+            let b = t.rfind(')').unwrap_or(t.len());
+            t[a.min(b)..b].trim_matches('"').to_string()
+        };
+        if t.starts_with("DW_AT_name") {
+            c.0 = value(t);
+        } else if t.starts_with("DW_AT_encoding") {
+            c.1 = value(t);
+        } else if t.starts_with("DW_AT_byte_size") {
+            c.2 = u64::from_str_radix(value(t).trim_start_matches("0x"), 16).unwrap();
+        }
+    }
+    out.extend(cur);
+    out
+}
+
+/// Every scalar type has its own DWARF encoding and size (unsigned integers were once
+/// `DW_ATE_unsigned_char`, which gdb prints as characters, truncating a `u64` to 32 bits).
+#[test]
+fn dwarf_base_types_have_their_encodings_and_sizes() {
+    let out = scratch("basetypes");
+    let want: &[(&str, &str, u64)] = &[
+        ("u8", "DW_ATE_unsigned", 1),
+        ("u16", "DW_ATE_unsigned", 2),
+        ("u32", "DW_ATE_unsigned", 4),
+        ("u64", "DW_ATE_unsigned", 8),
+        ("usize", "DW_ATE_unsigned", 4),
+        ("i8", "DW_ATE_signed", 1),
+        ("i16", "DW_ATE_signed", 2),
+        ("i32", "DW_ATE_signed", 4),
+        ("i64", "DW_ATE_signed", 8),
+        ("isize", "DW_ATE_signed", 4),
+        ("f32", "DW_ATE_float", 4),
+        ("f64", "DW_ATE_float", 8),
+        ("bool", "DW_ATE_boolean", 1),
+        ("char", "DW_ATE_UTF", 4),
+    ];
+    for opt in [0, 2] {
+        let obj = build_obj(&basetypes_kernel(), opt, &out);
+        verify_dwarf(&obj);
+        let info = tool("llvm-dwarfdump", &["--debug-info", obj.to_str().unwrap()]);
+        let found = base_types(&info);
+        for (name, enc, size) in want {
+            if opt > 0 && !found.iter().any(|f| f.0 == *name) {
+                continue; // optimised away
+            }
+            let got: Vec<_> = found.iter().filter(|f| f.0 == *name).collect();
+            assert_eq!(got.len(), 1, "-O{opt}: base type {name}: {found:?}");
+            assert_eq!(
+                (got[0].1.as_str(), got[0].2),
+                (*enc, *size),
+                "-O{opt}: base type {name}"
+            );
+        }
+        for f in &found {
+            assert!(
+                want.iter().any(|w| w.0 == f.0),
+                "-O{opt}: unexpected base type {f:?}"
+            );
+        }
+        if opt == 0 {
+            assert_eq!(found.len(), want.len(), "{found:?}");
+        }
+    }
+}
+
+/// At -O0 each function's `prologue_end` row is its first body statement, after the
+/// parameters are stored to their stack slots: `break FUNC` in a debugger stops there
+/// and sees the arguments (it stopped on the signature line, before the stores, before).
+#[test]
+fn prologue_end_is_the_first_body_statement_at_o0() {
+    let out = scratch("basetypes-prologue");
+    let obj = build_obj(&basetypes_kernel(), 0, &out);
+    let src = std::fs::read_to_string(basetypes_kernel()).unwrap();
+    let line_of = |pat: &str| {
+        src.lines()
+            .position(|l| l.contains(pat))
+            .unwrap_or_else(|| panic!("{pat}")) as u64
+            + 1
+    };
+    let lines = tool("llvm-dwarfdump", &["--debug-line", obj.to_str().unwrap()]);
+    let ends: Vec<u64> = lines
+        .lines()
+        .filter(|l| l.starts_with("0x") && l.contains("prologue_end"))
+        .map(|l| l.split_whitespace().nth(1).unwrap().parse().unwrap())
+        .collect();
+    let want = [line_of("// BODY"), line_of("let v8: u8")];
+    assert_eq!(ends.len(), 2, "one prologue_end per function:\n{lines}");
+    for w in want {
+        assert!(ends.contains(&w), "no prologue_end at line {w}:\n{lines}");
+    }
+}

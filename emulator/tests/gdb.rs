@@ -165,3 +165,89 @@ fn refuses_non_loopback() {
     ));
     assert!(gdb::bind("not an address", false).is_err());
 }
+
+/// A TRaX-Rust kernel with every scalar type, at -O0: gdb prints each as a number of its
+/// type (unsigned integers were described as `DW_ATE_unsigned_char`, so gdb printed
+/// `123456 '\u{01e240}'` and a `u64` of 2^40 + 5 as `5 '\005...'`), and `break FUNC`
+/// stops on the first body line with every argument already in its slot (it stopped
+/// on the signature line, before the parameters were stored, and showed garbage).
+#[test]
+fn rust_kernel_base_types_and_break_on_function() {
+    use trax_assembler::link::{link, Input, LinkOptions};
+    use trax_compiler::{compile_file, CompileOptions, Emit, Prelude};
+    let kernel =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../compiler/tests/kernels/basetypes.rs");
+    let src = std::fs::read_to_string(&kernel).unwrap();
+    let copts = CompileOptions {
+        opt_level: 0,
+        emit: Emit::Obj,
+        prelude: Some(Prelude::runtime()),
+    };
+    let obj = compile_file(&kernel, &copts).unwrap_or_else(|e| panic!("compile: {e}"));
+    let linked = link(
+        &[Input {
+            name: "basetypes.rs".into(),
+            bytes: obj.bytes,
+        }],
+        &LinkOptions::default(),
+    )
+    .unwrap_or_else(|e| panic!("link: {e}"));
+    let elf = scratch("gdbtypes").join("basetypes.elf");
+    std::fs::write(&elf, &linked.elf).unwrap();
+    let call = line_of(&src, "// CALL");
+    let body = line_of(&src, "// BODY");
+    let cmds: Vec<String> = vec![
+        format!("break basetypes.rs:{call}"),
+        "break take".into(),
+        "continue".into(),
+        "info locals".into(),
+        "continue".into(),
+        "info args".into(),
+        "print/x d".into(),
+        "delete".into(),
+        "continue".into(),
+    ];
+    let (out, outcome) = session(&elf, 1, &cmds);
+    let lines: Vec<&str> = out.lines().map(str::trim).collect();
+    for want in [
+        "v8 = 200",
+        "v16 = 60000",
+        "v32 = 123456",
+        "v64 = 1099511627781",
+        "vus = 77",
+        "i8v = -100",
+        "i16v = -30000",
+        "i32v = -123456",
+        "i64v = -2199023255552",
+        "isz = -77",
+        "f = 1.5",
+        "d = 2.25",
+        "t = true",
+        "ch = 90 'Z'",
+        "a = 200",
+        "b = 60000",
+        "c = 123456",
+        "d = 1099511627781",
+        "e = 77",
+        "f = -100",
+        "g = -30000",
+        "h = -123456",
+        "i = -2199023255552",
+        "j = -77",
+        "k = 1.5",
+        "l = 2.25",
+        "m = true",
+        "n = 90 'Z'",
+        "$1 = 0x10000000005",
+    ] {
+        assert!(lines.contains(&want), "no line `{want}`:\n{out}");
+    }
+    assert!(
+        out.contains(&format!("basetypes.rs:{body}")),
+        "`break take` stops at the first body line {body}:\n{out}"
+    );
+    assert!(
+        matches!(outcome, Some(Outcome::Finished)),
+        "{outcome:?}\n{out}"
+    );
+}

@@ -3,7 +3,10 @@
 
 #![allow(non_camel_case_types)]
 
-use std::ops::{Add, BitAnd, BitOr, BitXor, Div, Mul, Neg, Sub};
+use std::ops::{
+    Add, AddAssign, BitAnd, BitAndAssign, BitOr, BitOrAssign, BitXor, BitXorAssign, Div, DivAssign,
+    Mul, MulAssign, Neg, Sub, SubAssign,
+};
 
 /// Four f32 lanes.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -47,12 +50,13 @@ impl f32x4 {
         i32x4([m(0), m(1), m(2), m(3)])
     }
 
-    /// Lane-wise minimum (IEEE minNum, as MSA `fmin.w`).
+    /// Lane-wise minimum, as `trax::min`: IEEE minNum (a NaN loses to a number, two
+    /// NaNs give the first, quieted) with `min(-0, +0) = -0`.
     pub fn min(self, o: f32x4) -> f32x4 {
         self.zip(o, super::hw::fmin)
     }
 
-    /// Lane-wise maximum (IEEE maxNum, as MSA `fmax.w`).
+    /// Lane-wise maximum, as `trax::max`: IEEE maxNum with `max(-0, +0) = +0`.
     pub fn max(self, o: f32x4) -> f32x4 {
         self.zip(o, super::hw::fmax)
     }
@@ -199,3 +203,32 @@ impl Neg for f32x4 {
         self.map(|x| -x)
     }
 }
+
+impl Neg for i32x4 {
+    type Output = i32x4;
+    fn neg(self) -> i32x4 {
+        i32x4(self.0.map(i32::wrapping_neg))
+    }
+}
+
+/// `a op= b` is `a = a op b`, as the compiler lowers it on TRaX.
+macro_rules! assignop {
+    ($t:ident, $tr:ident, $m:ident, $op:tt) => {
+        impl $tr for $t {
+            fn $m(&mut self, o: $t) {
+                *self = *self $op o;
+            }
+        }
+    };
+}
+
+assignop!(f32x4, AddAssign, add_assign, +);
+assignop!(f32x4, SubAssign, sub_assign, -);
+assignop!(f32x4, MulAssign, mul_assign, *);
+assignop!(f32x4, DivAssign, div_assign, /);
+assignop!(i32x4, AddAssign, add_assign, +);
+assignop!(i32x4, SubAssign, sub_assign, -);
+assignop!(i32x4, MulAssign, mul_assign, *);
+assignop!(i32x4, BitAndAssign, bitand_assign, &);
+assignop!(i32x4, BitOrAssign, bitor_assign, |);
+assignop!(i32x4, BitXorAssign, bitxor_assign, ^);

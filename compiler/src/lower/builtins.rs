@@ -3,10 +3,10 @@
 use super::{LResult, LowerError, Lowerer, V};
 use crate::ty::{FloatTy, IntTy, SimdTy, Ty};
 use crate::typeck::{key, Builtin, FmtPiece, MacroCall, TraxArg};
-use inkwell::types::{BasicMetadataTypeEnum, BasicType, BasicTypeEnum};
+use inkwell::types::{BasicMetadataTypeEnum, BasicType, BasicTypeEnum, VectorType};
 use inkwell::values::BasicValue;
 use inkwell::values::{
-    BasicMetadataValueEnum, BasicValueEnum, CallableValue, FloatValue, IntValue,
+    BasicMetadataValueEnum, BasicValueEnum, CallableValue, FloatValue, IntValue, VectorValue,
 };
 use inkwell::{FloatPredicate, IntPredicate};
 use trax_runtime::isa::{instr, AbortKind, Field, OperandKind, TraxInstr, TraxOp};
@@ -553,6 +553,69 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
         })
     }
 
+    /// `f32x4` lanes with the sign bit cleared (`neg == false`, `abs`) or flipped
+    /// (`neg`, unary minus), as integer operations: exact for every input, NaNs
+    /// included. (LLVM 14 lowers vector `fneg` as `fsub.w -0.0, x`, which turns a NaN
+    /// into a positive quiet NaN, and `fabs` as `fmax_a.w x, x`, which keeps the sign.)
+    pub(super) fn simd_sign_bit(
+        &mut self,
+        x: VectorValue<'ctx>,
+        neg: bool,
+    ) -> LResult<BasicValueEnum<'ctx>> {
+        let i32t = self.ctx.i32_type();
+        let v4i = i32t.vec_type(4);
+        let xi = self.b.build_bit_cast(x, v4i, "")?.into_vector_value();
+        let r = if neg {
+            let sign = VectorType::const_vector(&[i32t.const_int(0x8000_0000, false); 4]);
+            self.b.build_xor(xi, sign, "")?
+        } else {
+            let mag = VectorType::const_vector(&[i32t.const_int(0x7FFF_FFFF, false); 4]);
+            self.b.build_and(xi, mag, "")?
+        };
+        Ok(self.b.build_bit_cast(r, x.get_type(), "")?)
+    }
+
+    /// Lane-wise IEEE minNum/maxNum with exactly the host's semantics
+    /// (`trax_runtime::fops::fmin`/`fmax`): a NaN loses against a number, two NaNs give
+    /// the first quieted, `min(-0, +0) = -0` and `max(-0, +0) = +0` in either order.
+    /// Compares and selects on the lanes' bits, no libm call.
+    fn simd_minmax(
+        &mut self,
+        min: bool,
+        x: VectorValue<'ctx>,
+        y: VectorValue<'ctx>,
+    ) -> LResult<BasicValueEnum<'ctx>> {
+        let i32t = self.ctx.i32_type();
+        let v4i = i32t.vec_type(4);
+        let b = &self.b;
+        let xi = b.build_bit_cast(x, v4i, "")?.into_vector_value();
+        let yi = b.build_bit_cast(y, v4i, "")?.into_vector_value();
+        let pred = if min {
+            FloatPredicate::OLT
+        } else {
+            FloatPredicate::OGT
+        };
+        let x_wins = b.build_float_compare(pred, x, y, "")?;
+        let y_wins = b.build_float_compare(pred, y, x, "")?;
+        // Equal numbers have equal bits except for zeros of opposite sign: OR prefers -0,
+        // AND +0.
+        let tie = if min {
+            b.build_or(xi, yi, "")?
+        } else {
+            b.build_and(xi, yi, "")?
+        };
+        let r = b.build_select(y_wins, yi, tie, "")?.into_vector_value();
+        let r = b.build_select(x_wins, xi, r, "")?.into_vector_value();
+        let xnan = b.build_float_compare(FloatPredicate::UNO, x, x, "")?;
+        let ynan = b.build_float_compare(FloatPredicate::UNO, y, y, "")?;
+        let quiet = VectorType::const_vector(&[i32t.const_int(0x0040_0000, false); 4]);
+        let xq = b.build_or(xi, quiet, "")?;
+        let nan_r = b.build_select(ynan, xq, yi, "")?.into_vector_value();
+        let r = b.build_select(ynan, xi, r, "")?.into_vector_value();
+        let r = b.build_select(xnan, nan_r, r, "")?.into_vector_value();
+        Ok(b.build_bit_cast(r, x.get_type(), "")?)
+    }
+
     fn simd_builtin(
         &mut self,
         s: SimdTy,
@@ -589,24 +652,41 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                 self.b
                     .build_extract_element(vals[0].into_vector_value(), idx, "")?
             }
-            "min" | "max" => {
-                // Lane-wise minNum/maxNum with compares and selects (no `fminf` calls).
-                let (x, y) = (vals[0].into_vector_value(), vals[1].into_vector_value());
-                let pred = if name == "min" {
-                    FloatPredicate::OLT
-                } else {
-                    FloatPredicate::OGT
-                };
-                let c = self.b.build_float_compare(pred, x, y, "")?;
-                let r = self.b.build_select(c, x, y, "")?.into_vector_value();
-                let xnan = self.b.build_float_compare(FloatPredicate::UNO, x, x, "")?;
-                let r = self.b.build_select(xnan, y, r, "")?.into_vector_value();
-                let ynan = self.b.build_float_compare(FloatPredicate::UNO, y, y, "")?;
-                self.b.build_select(ynan, x, r, "")?
-            }
+            "min" | "max" => self.simd_minmax(
+                name == "min",
+                vals[0].into_vector_value(),
+                vals[1].into_vector_value(),
+            )?,
             "sqrt" => self.intrinsic("llvm.sqrt.v4f32", rt, &[vals[0]])?,
-            "abs" => self.intrinsic("llvm.fabs.v4f32", rt, &[vals[0]])?,
-            "mul_add" => self.intrinsic("llvm.fma.v4f32", rt, &[vals[0], vals[1], vals[2]])?,
+            // Not `llvm.fabs.v4f32`: LLVM 14 selects `fmax_a.w x, x` for it, which keeps
+            // the sign. Clearing the sign bit is exact for every input, NaNs included.
+            "abs" => self.simd_sign_bit(vals[0].into_vector_value(), false)?,
+            "mul_add" => {
+                // `fmadd.w wd, ws, wt`: wd = wd + ws * wt, one rounding. Not `llvm.fma.v4f32`:
+                // LLVM 14 selects `fmadd.w` for it with the addend and a factor swapped
+                // (computing a + b * c for a * b + c) whenever the operands are not
+                // constants.
+                let vt = self.ctx.f32_type().vec_type(4);
+                let fty = vt.fn_type(&[vt.into(), vt.into(), vt.into()], false);
+                let ia = self.ctx.create_inline_asm(
+                    fty,
+                    "fmadd.w $0, $1, $2".into(),
+                    "=f,f,f,0".into(),
+                    false,
+                    false,
+                    None,
+                    false,
+                );
+                let callable = CallableValue::try_from(ia)
+                    .map_err(|_| LowerError::Internal("inline asm callable".into()))?;
+                let args: [BasicMetadataValueEnum; 3] =
+                    [vals[0].into(), vals[1].into(), vals[2].into()];
+                self.b
+                    .build_call(callable, &args, "")?
+                    .try_as_basic_value()
+                    .basic()
+                    .ok_or_else(|| LowerError::Internal("fmadd.w".into()))?
+            }
             "lt" | "le" | "gt" | "ge" | "eq" => {
                 let pred = match name {
                     "lt" => FloatPredicate::OLT,

@@ -12,7 +12,7 @@ use proc_macro2::Span;
 const DW_ATE_BOOLEAN: u32 = 0x02;
 const DW_ATE_FLOAT: u32 = 0x04;
 const DW_ATE_SIGNED: u32 = 0x05;
-const DW_ATE_UNSIGNED: u32 = 0x08;
+const DW_ATE_UNSIGNED: u32 = 0x07;
 const DW_ATE_UTF: u32 = 0x10;
 const DI_FLAG_VECTOR: u32 = 1 << 11;
 
@@ -254,8 +254,17 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
             .dib
             .create_debug_location(self.ctx, l.line, l.col, scope, None);
         if let Some(bb) = self.b.get_insert_block() {
-            self.dib
-                .insert_declare_at_end(slot, Some(var), None, loc, bb);
+            // Parameters are declared in the entry block, before its terminator.
+            match bb.get_terminator() {
+                Some(t) => {
+                    self.dib
+                        .insert_declare_before_instruction(slot, Some(var), None, loc, t);
+                }
+                None => {
+                    self.dib
+                        .insert_declare_at_end(slot, Some(var), None, loc, bb);
+                }
+            }
         }
     }
 

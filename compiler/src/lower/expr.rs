@@ -866,7 +866,7 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                 Ok(Some(match ty {
                     Ty::Float(_) => self.b.build_float_neg(v.into_float_value(), "")?.into(),
                     Ty::Simd(crate::ty::SimdTy::F32x4) => {
-                        self.b.build_float_neg(v.into_vector_value(), "")?.into()
+                        self.simd_sign_bit(v.into_vector_value(), true)?
                     }
                     Ty::Simd(_) => self.b.build_int_neg(v.into_vector_value(), "")?.into(),
                     _ => self.b.build_int_neg(v.into_int_value(), "")?.into(),

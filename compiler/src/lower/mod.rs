@@ -343,8 +343,11 @@ impl<'ctx, 'p, 'a> Lowerer<'ctx, 'p, 'a> {
             ret: fd.ret.clone(),
             debug: true,
         });
-        self.b.position_at_end(start);
-        self.set_loc(fd.sig.ident.span());
+        // Parameters are spilled to their slots in the entry block with no source location
+        // (as clang does), so the first located instruction, which LLVM marks
+        // `prologue_end`, is the body's: a debugger's `break FUNC` stops where every
+        // argument is already in its slot.
+        self.b.position_before(&br);
         // Parameters.
         for (i, arg) in fd.sig.inputs.iter().enumerate() {
             let ty = params[i].clone();
@@ -369,6 +372,8 @@ impl<'ctx, 'p, 'a> Lowerer<'ctx, 'p, 'a> {
                 self.fs().locals.insert(l, slot);
             }
         }
+        self.b.position_at_end(start);
+        self.set_loc(fd.sig.ident.span());
         let v = self.block(fd.body, false)?;
         if !self.terminated() {
             self.set_loc(fd.body.brace_token.span.close());

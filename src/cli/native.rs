@@ -131,12 +131,13 @@ fn native(a: &NativeArgs) -> Result<(), NativeError> {
     for out in a.output.iter().chain(&a.raw_framebuffer) {
         check_writable(out)?;
     }
-    let scene_image = scene_image(a)?;
-    let image = host_image(&scene_image)?;
+    // rustc first: a kernel it rejects gets rustc's diagnostics and nothing else.
     let cache = cache_dir();
     let rustc = Rustc::find()?;
     let rlib = build_prelude(&rustc, &cache)?;
     let exe = build_kernel(&rustc, &a.kernel, &rlib, &cache)?;
+    let scene_image = scene_image(a)?;
+    let image = host_image(&scene_image)?;
     let fb = run_kernel(&exe, &a.kernel, &image, tms, threads, &cache)?;
     eprint!("{}", common::scene_report(&scene_image));
     let bytes = fb
@@ -191,10 +192,7 @@ fn referenced_fields(kernel: &Path) -> Vec<String> {
                 "warning: {}: the trax compiler cannot build this kernel ({first}); laying out every scene component",
                 kernel.display()
             );
-            let mut all: Vec<String> = OPTIONAL_COMPONENTS.iter().map(|s| s.to_string()).collect();
-            // Treelets are only formed for kernels that read them.
-            all.retain(|c| c != "treelet_ids");
-            all
+            OPTIONAL_COMPONENTS.iter().map(|s| s.to_string()).collect()
         }
     }
 }

@@ -160,3 +160,17 @@ fn run_and_native_default_to_the_same_threads() {
     assert_eq!(hellos(&run), 6, "{:?}", lines(&run));
     assert_eq!(lines(&run), lines(&native));
 }
+
+/// The other image examples take pixels from `atomic_inc` and use no random numbers: their
+/// images are chip-independent too.
+#[test]
+fn other_examples_images_do_not_depend_on_the_chip_or_native() {
+    for kernel in [
+        "examples/raycast.rs",
+        "examples/gradient.rs",
+        "examples/mandelbrot.rs",
+        "examples/mandelbrot_simd.rs",
+    ] {
+        same_everywhere(kernel, &SMALL_CORNELL);
+    }
+}

@@ -16,7 +16,8 @@ fn trax_main() {
     if samples == 0 {
         samples = 1;
     }
-    // A static share of the pixels (reproducible, and fair to every TM).
+    // Pixels are handed out dynamically; each sample seeds its own random stream, so the
+    // image is the same on every chip and natively.
     let mut share = trax::scene::pixel_share();
     loop {
         let i = share.next_pixel();
@@ -33,7 +34,8 @@ fn trax_main() {
             }
             let origin = ray.at(hit.t) + nrm.scale(eps);
             let mut open = 0u32;
-            for _ in 0..samples {
+            for s in 0..samples {
+                trax::seed_pixel(i, s);
                 let d = trax::sampling::cosine_hemisphere(nrm);
                 if !trax::bvh::occluded(&Ray::new(origin, d), 0.0, radius) {
                     open += 1;

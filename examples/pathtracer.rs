@@ -1,6 +1,8 @@
 //! Path tracer (Kajiya 1986): Lambertian materials, emissive triangles and point lights,
 //! next-event estimation at every vertex, cosine-weighted continuation, `max_depth`
-//! bounces and `spp` jittered samples per pixel (both from the scene header).
+//! bounces and `spp` jittered samples per pixel (both from the scene header). Each sample
+//! draws from its own random stream (`trax::seed_pixel`), so the image does not depend on
+//! which thread renders which pixel.
 //!
 //! Emission reaches the image either directly (camera rays) or through light sampling;
 //! a continuation ray that hits an emitter adds nothing, so no light is counted twice.
@@ -99,7 +101,8 @@ fn trax_main() {
         spp = 1;
     }
     let inv_spp = 1.0 / spp as f32;
-    // A static share of the pixels (reproducible, and fair to every TM).
+    // Pixels are handed out dynamically; each sample seeds its own random stream, so the
+    // image is the same on every chip and natively.
     let mut share = trax::scene::pixel_share();
     loop {
         let i = share.next_pixel();
@@ -107,7 +110,8 @@ fn trax_main() {
             break;
         }
         let mut c = Vec3::zero();
-        for _ in 0..spp {
+        for s in 0..spp {
+            trax::seed_pixel(i, s);
             c += radiance(cam.jittered_ray(i % w, i / w), max_depth, eps);
         }
         trax::scene::set_pixel_index(i, c.scale(inv_spp));

@@ -432,3 +432,34 @@ fn closed_mesh_has_no_holes_at_any_scale() {
         std::fs::remove_dir_all(&dir).ok();
     }
 }
+
+/// A kernel that rustc builds but the trax compiler does not (a heap `Vec`) still runs
+/// natively, with a warning that every scene component is laid out (there is no `trax run`
+/// image to match); a kernel rustc rejects gets rustc's errors and no such warning.
+#[test]
+fn kernels_outside_the_trax_subset_run_with_a_warning() {
+    let dir = scratch("outside-subset");
+    let k = dir.join("k.rs");
+    std::fs::write(
+        &k,
+        "fn trax_main() {\n    let v: Vec<u32> = (0..3).collect();\n    if trax::global_id() == 0 {\n        println!(\"{}\", v.len());\n    }\n}\n",
+    )
+    .unwrap();
+    let out = native(&[k.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert_eq!(text(&out.stdout), "3\n");
+    let err = text(&out.stderr);
+    assert!(
+        err.contains("warning:") && err.contains("the trax compiler cannot build this kernel"),
+        "{err}"
+    );
+    assert!(err.contains("left out: none"), "{err}");
+    let bad = dir.join("bad.rs");
+    std::fs::write(&bad, "fn trax_main() {\n    let x: u32 = \"no\";\n}\n").unwrap();
+    let out = native(&[bad.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = text(&out.stderr);
+    assert!(err.contains("mismatched types"), "{err}");
+    assert!(!err.contains("trax compiler cannot build"), "{err}");
+    std::fs::remove_dir_all(&dir).ok();
+}

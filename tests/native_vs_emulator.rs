@@ -4,8 +4,9 @@
 //!
 //! Bit-exactness holds because every f32 operation the kernels use is exactly specified:
 //! IEEE add/sub/mul/div/sqrt, conversions, and the TRaX ops (`trax.fmin/fmax/invsqrt`,
-//! `trax.rand`) whose results both sides take from `trax_runtime::{fops, rng}`; the
-//! kernels that use random numbers assign pixels to threads statically.
+//! `trax.rand`, `trax.seed`) whose results both sides take from `trax_runtime::{fops, rng}`;
+//! the kernels that use random numbers seed each sample's stream by pixel and sample, so
+//! which thread renders a pixel does not matter (`tests/same_image.rs` varies the chip).
 
 use std::path::{Path, PathBuf};
 use std::process::Command;

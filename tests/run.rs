@@ -236,3 +236,108 @@ fn more_host_threads_than_cores_warns() {
     let quiet = run("1");
     assert!(!quiet.contains("host threads on"), "{quiet}");
 }
+
+/// The run summary and the stats JSON list every scene component's bytes and the
+/// components left out because the kernel never references them, in timing and in
+/// functional mode; the ELF's symbol names (an independent look at the references) agree.
+#[test]
+fn run_reports_scene_components_and_what_was_left_out() {
+    let dir = scratch("components");
+    let all = [
+        "bvh_nodes",
+        "triangles",
+        "normals",
+        "texcoords",
+        "material_ids",
+        "materials",
+        "emitters",
+        "point_lights",
+        "bvh_parents",
+        "treelet_ids",
+    ];
+    for (kernel, left_out) in [
+        (
+            "examples/pathtracer.rs",
+            &["normals", "texcoords", "bvh_parents", "treelet_ids"][..],
+        ),
+        ("examples/mandelbrot.rs", &all[..]),
+    ] {
+        let elf = dir.join("k.elf");
+        let out = trax(&["build", kernel, "-o", elf.to_str().unwrap()]);
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        let elf = std::fs::read(&elf).unwrap();
+        let has_symbol = |field: &str| {
+            let name = format!("__trax_scene_{field}\0");
+            elf.windows(name.len()).any(|w| w == name.as_bytes())
+        };
+        for c in all {
+            assert_eq!(
+                has_symbol(c),
+                !left_out.contains(&c),
+                "{kernel}: symbol of {c}"
+            );
+        }
+        for mode in [&[][..], &["--functional"][..]] {
+            let json = dir.join("stats.json");
+            let args = [
+                &["run", kernel, "--width", "8", "--height", "6"][..],
+                mode,
+                &["--stats-json", json.to_str().unwrap()],
+            ]
+            .concat();
+            let out = trax(&args);
+            assert!(out.status.success(), "{}", text(&out.stderr));
+            let stderr = text(&out.stderr);
+            let v: serde_json::Value =
+                serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+            let scene = &v["scene"];
+            let comps = scene["components"].as_array().expect("components");
+            let names: Vec<&str> = comps.iter().map(|c| c["name"].as_str().unwrap()).collect();
+            let mut want: Vec<&str> = vec!["camera", "framebuffer"];
+            want.extend(all.iter().filter(|c| !left_out.contains(c)));
+            let mut sorted = names.clone();
+            sorted.sort();
+            want.sort();
+            assert_eq!(sorted, want, "{kernel} {mode:?}");
+            let listed: Vec<&str> = scene["left_out"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|c| c.as_str().unwrap())
+                .collect();
+            assert_eq!(listed, left_out, "{kernel} {mode:?}");
+            let sum: u64 = comps.iter().map(|c| c["bytes"].as_u64().unwrap()).sum();
+            assert_eq!(scene["bytes"].as_u64(), Some(sum));
+            for c in comps {
+                let (name, count, bytes) = (
+                    c["name"].as_str().unwrap(),
+                    c["count"].as_u64().unwrap(),
+                    c["bytes"].as_u64().unwrap(),
+                );
+                // Element sizes of the scene ABI.
+                let per = match name {
+                    "camera" => 88,
+                    "framebuffer" => 12,
+                    "triangles" => 36,
+                    "bvh_nodes" => 32,
+                    "materials" => 48,
+                    "point_lights" => 24,
+                    _ => 4,
+                };
+                assert_eq!(bytes, per * count, "{kernel}: {name}");
+                let line = format!("   {name:<13} {bytes:>12} bytes {count:>10} elements");
+                assert!(stderr.contains(&line), "{kernel}: no {line:?} in\n{stderr}");
+            }
+            assert_eq!(v["scene"]["components"][1]["count"], 48, "8x6 framebuffer");
+            let text_left = format!(
+                "left out (never referenced by the kernel): {}",
+                left_out.join(", ")
+            );
+            assert!(stderr.contains(&text_left), "{kernel}: {stderr}");
+            assert!(
+                stderr.contains(&format!("scene data: {sum} bytes")),
+                "{stderr}"
+            );
+        }
+    }
+}

@@ -9,7 +9,8 @@
 //!   made, so a program where every thread waits is reported as a deadlock).
 //! - `trax.clock`: the thread's retired-instruction count in functional mode.
 //! - `trax.rand`: `trax_runtime::rng::Rng` seeded from the scene header seed and the
-//!   thread's global id (identical to `trax native`).
+//!   thread's global id (identical to `trax native`); `trax.seed rs, rt` replaces it with
+//!   the stream of pixel `rs`, sample `rt` (`Rng::for_sample`, independent of the thread).
 //! - `trax.fmin/fmax/invsqrt`: `trax_runtime::fops`; `trax.boxtest/tritest`:
 //!   `trax_runtime::pipes` (both identical to `trax native`).
 //! - Streams: unbounded FIFO queues of rays; `trax.strsched` picks the non-empty stream
@@ -100,6 +101,7 @@ pub fn exec_trax<C: Chip>(
             let v = t.rng.next_f32();
             t.regs.set_f32_bits(rd, v.to_bits());
         }
+        Seed => t.rng.reseed(vs, vt),
         Halt => {
             t.state = RunState::Halted;
             return Ok(TraxFlow::Halt);

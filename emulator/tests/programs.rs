@@ -149,6 +149,51 @@ void trax_main(void) {
     assert_eq!(out, "AB");
 }
 
+/// `trax.seed rs, rt` replaces the thread's stream with the one of pixel `rs`, sample `rt`:
+/// every thread then draws the same numbers, `trax_runtime::rng::Rng::for_sample`'s.
+#[test]
+fn seed_gives_every_thread_the_sample_stream() {
+    let src = r#"
+#include "trax.h"
+void trax_main(void) {
+  unsigned id = trax_gid();
+  float own = trax_rand();
+  trax_seed(1000, 3);
+  float a = trax_rand();
+  float b = trax_rand();
+  trax_seed(1001, 3);
+  float c = trax_rand();
+  while (trax_gread(1) != id) {}
+  trax_printu(id); trax_printc(' ');
+  trax_printf(own); trax_printc(' ');
+  trax_printf(a); trax_printc(' ');
+  trax_printf(b); trax_printc(' ');
+  trax_printf(c); trax_printc('\n');
+  trax_atominc(1);
+}
+"#;
+    let elf = build_c("seed", src, "-O2");
+    let (r, out) = run_elf(&elf, 1, 3);
+    assert!(
+        matches!(r.summary.outcome, Outcome::Finished),
+        "{:?}",
+        r.report
+    );
+    use trax_runtime::rng::Rng;
+    let mut s = Rng::for_sample(0, 1000, 3);
+    let (a, b) = (s.next_f32(), s.next_f32());
+    let c = Rng::for_sample(0, 1001, 3).next_f32();
+    let mut want = String::new();
+    for id in 0..3 {
+        let own = Rng::new(0, id).next_f32();
+        want += &format!("{id} {own} {a} {b} {c}\n");
+    }
+    assert_eq!(out, want);
+    // Not vacuous: the threads' own streams differ, the sample streams are distinct.
+    assert_ne!(Rng::new(0, 0).next_f32(), Rng::new(0, 1).next_f32());
+    assert_ne!(a, c);
+}
+
 #[test]
 fn rand_clock_and_fops_match_the_runtime() {
     let src = r#"

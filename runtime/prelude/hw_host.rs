@@ -174,6 +174,12 @@ pub fn rand() -> f32 {
     })
 }
 
+/// `trax.seed`: this thread's stream becomes the one of `pixel`, `sample`.
+pub fn seed(pixel: u32, sample: u32) {
+    let r = with_machine(|m| rng::Rng::for_sample(m.seed, pixel, sample));
+    RNG.with(|c| c.set(Some(r)));
+}
+
 // ---- Global registers ----
 
 pub fn atomic_inc(reg: u32) -> u32 {

@@ -42,6 +42,11 @@ pub fn rand() -> f32 {
     __trax_op!("trax.rand")
 }
 
+/// Reseeds this thread's random stream for `pixel`, `sample` (`trax.seed`).
+pub fn seed(pixel: u32, sample: u32) {
+    __trax_op!("trax.seed", pixel, sample);
+}
+
 // ---- Global registers ----
 
 pub fn atomic_inc(reg: u32) -> u32 {

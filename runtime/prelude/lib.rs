@@ -7,12 +7,12 @@
 //! within the TRaX-Rust subset.
 //!
 //! Map:
-//! - this file: thread ids, clock, `rand`, global registers (atomics, barriers,
+//! - this file: thread ids, clock, `rand`/`seed_pixel`, global registers (atomics, barriers,
 //!   semaphores), `min`/`max`/`invsqrt`, `count_ray`, raw simulated-memory access;
 //! - [`math`]: `Vec3` (points, directions, linear RGB) with operators;
 //! - [`scene`]: header fields, triangles, normals, texture coordinates, materials,
-//!   emitters, point lights, BVH nodes, framebuffer writes, each thread's share of the
-//!   pixels (`pixel_share`);
+//!   emitters, point lights, BVH nodes, framebuffer writes, pixels handed out to threads
+//!   from a chip-wide counter (`pixel_share`);
 //! - [`camera`]: primary rays (`abi::Camera` semantics, row 0 at the top);
 //! - [`ray`], [`bvh`]: rays, hit records, watertight triangle test, robust slab test,
 //!   closest-hit and any-hit traversal;
@@ -92,9 +92,19 @@ pub fn clock() -> u32 {
     hw::clock()
 }
 
-/// Next per-thread deterministic random number in `[0, 1)`.
+/// Next deterministic random number in `[0, 1)` from this thread's stream: at start-up the
+/// thread's own (it depends on the thread's global id), after [`seed_pixel`] the stream of
+/// that pixel and sample.
 pub fn rand() -> f32 {
     hw::rand()
+}
+
+/// Makes the following [`rand`] draws those of sample `sample` of pixel `pixel` (and the
+/// run's `--seed`), whichever thread, TM or chip runs it and in `trax native` alike: one
+/// `trax.seed` instruction. Call it before each sample so that images do not depend on the
+/// chip. Any pair of numbers may serve as (pixel, sample).
+pub fn seed_pixel(pixel: u32, sample: u32) {
+    hw::seed(pixel, sample)
 }
 
 // ---- Global registers, barriers and semaphores ----

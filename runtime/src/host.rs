@@ -281,7 +281,7 @@ pub struct HeaderParams {
     pub spp: u32,
     /// Maximum path depth.
     pub max_depth: u32,
-    /// Seed of the per-thread random streams.
+    /// Seed of the random streams (per thread, and per pixel and sample).
     pub seed: u32,
     /// Ray offset epsilon.
     pub epsilon: f32,

@@ -417,6 +417,77 @@ fn rand_matches_the_emulator_rng() {
     }
 }
 
+fn seed_kernel() {
+    let g = trax::global_id();
+    // Every thread first draws from its own stream, then from pixel 500 or 501's.
+    trax::store_f32(FB_PROBE + 16 * g, trax::rand());
+    trax::seed_pixel(500 + g % 2, 7);
+    let mut i = 1;
+    while i < 4 {
+        trax::store_f32(FB_PROBE + 16 * g + 4 * i, trax::rand());
+        i += 1;
+    }
+}
+
+#[test]
+fn seed_pixel_matches_the_emulator_rng_on_every_thread() {
+    let p = HeaderParams {
+        seed: 77,
+        ..HeaderParams::default()
+    };
+    let img = header_only_image(&p).unwrap();
+    let out = run(&img, 2, 3, seed_kernel);
+    for g in 0..6 {
+        let mut want = vec![trax_runtime::rng::Rng::new(77, g).next_f32()];
+        let mut r = trax_runtime::rng::Rng::for_sample(77, 500 + g % 2, 7);
+        want.extend((0..3).map(|_| r.next_f32()));
+        assert_eq!(read_f32s(&out, FB_PROBE + 16 * g, 4), want, "thread {g}");
+    }
+    // Threads 0 and 2 drew pixel 500's numbers, thread 1 pixel 501's.
+    assert_eq!(
+        read_f32s(&out, FB_PROBE + 4, 3),
+        read_f32s(&out, FB_PROBE + 36, 3)
+    );
+    assert_ne!(
+        read_f32s(&out, FB_PROBE + 4, 3),
+        read_f32s(&out, FB_PROBE + 20, 3)
+    );
+}
+
+/// Pixel `i`'s hand-out count lives at `FB_PROBE + 4 i`, thread `g`'s share size at
+/// `FB_PROBE + 2048 + 4 g`.
+fn pixel_share_kernel() {
+    let mut share = trax::scene::pixel_share();
+    let mut mine = 0;
+    loop {
+        let i = share.next_pixel();
+        if i == trax::scene::NO_PIXEL {
+            break;
+        }
+        let a = FB_PROBE + 4 * i;
+        trax::store_u32(a, trax::load_u32(a) + 1);
+        mine += 1;
+    }
+    // Stays exhausted.
+    assert_eq!(share.next_pixel(), trax::scene::NO_PIXEL);
+    trax::store_u32(FB_PROBE + 2048 + 4 * trax::global_id(), mine);
+}
+
+#[test]
+fn pixel_share_hands_out_every_pixel_once() {
+    let p = HeaderParams {
+        width: 20,
+        height: 15,
+        ..HeaderParams::default()
+    };
+    let img = header_only_image(&p).unwrap();
+    let out = run(&img, 3, 4, pixel_share_kernel);
+    assert_eq!(read_words(&out, FB_PROBE, 300), vec![1; 300]);
+    assert_eq!(read_words(&out, FB_PROBE + 4 * 300, 1), vec![0]);
+    let shares = read_words(&out, FB_PROBE + 2048, 12);
+    assert_eq!(shares.iter().sum::<u32>(), 300, "{shares:?}");
+}
+
 fn bad_address_kernel() {
     trax::load_u32(0x7000_0000);
 }

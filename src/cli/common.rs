@@ -3,8 +3,9 @@
 use std::path::PathBuf;
 
 use clap::Args;
-use trax_assembler::image::RenderOptions;
+use trax_assembler::image::{MemoryImage, RenderOptions, OPTIONAL_COMPONENTS};
 use trax_assembler::scene::LoadOptions;
+use trax_emulator::timing::ChipConfig;
 
 /// Scene and image parameters.
 #[derive(Args, Debug, Clone)]
@@ -31,7 +32,8 @@ pub struct RenderArgs {
     /// Maximum path depth (header field `max_depth`).
     #[arg(long, default_value_t = 4)]
     pub depth: u32,
-    /// Seed of the per-thread random streams.
+    /// Seed of the random streams (per thread at start-up; per pixel and sample after
+    /// `trax::seed_pixel`).
     #[arg(long, default_value_t = 1)]
     pub seed: u32,
 }
@@ -66,4 +68,89 @@ impl RenderArgs {
         }
         Ok(())
     }
+}
+
+/// The chip: preset or TOML file `config` with the command-line overrides applied (`l2s`:
+/// number of L2s, TMs split evenly among them).
+pub fn chip_config(
+    config: &str,
+    tms: Option<u32>,
+    threads: Option<u32>,
+    l2s: Option<u32>,
+) -> Result<ChipConfig, String> {
+    let mut chip = ChipConfig::load(config).map_err(|e| e.to_string())?;
+    for (flag, v) in [("tms", tms), ("threads", threads), ("l2s", l2s)] {
+        if v == Some(0) {
+            return Err(format!("--{flag} must be at least 1"));
+        }
+    }
+    if let Some(t) = tms {
+        chip.tms = t;
+    }
+    if let Some(t) = threads {
+        chip.threads_per_tm = t;
+    }
+    if let Some(l2s) = l2s {
+        if l2s > chip.tms {
+            return Err(format!("--l2s {l2s} is more than the {} TMs", chip.tms));
+        }
+        chip.tms_per_l2 = chip.tms.div_ceil(l2s);
+    }
+    chip.validate().map_err(|e| e.to_string())?;
+    Ok(chip)
+}
+
+/// The optional scene components the image leaves out: the kernel never references them
+/// (components are linked on demand, see `trax_assembler::image`).
+pub fn left_out(image: &MemoryImage) -> Vec<&'static str> {
+    OPTIONAL_COMPONENTS
+        .iter()
+        .copied()
+        .filter(|c| image.component(c).is_none())
+        .collect()
+}
+
+/// The scene-data lines of a run summary: every placed component's bytes, then what was
+/// left out.
+pub fn scene_report(image: &MemoryImage) -> String {
+    let mut s = format!(
+        "scene data: {} bytes in {} components\n",
+        image.scene_bytes(),
+        image.components.len()
+    );
+    for c in &image.components {
+        s += &format!(
+            "   {:<13} {:>12} bytes {:>10} elements\n",
+            c.name, c.bytes, c.count
+        );
+    }
+    let out = left_out(image);
+    if out.is_empty() {
+        s += "   left out: none (the kernel references every component)\n";
+    } else {
+        s += &format!(
+            "   left out (never referenced by the kernel): {}\n",
+            out.join(", ")
+        );
+    }
+    s
+}
+
+/// The scene data as JSON: `{"bytes", "components": [{"name", "addr", "count", "bytes"}],
+/// "left_out": [names]}`.
+pub fn scene_json(image: &MemoryImage) -> serde_json::Value {
+    serde_json::json!({
+        "bytes": image.scene_bytes(),
+        "components": image
+            .components
+            .iter()
+            .map(|c| serde_json::json!({
+                "name": c.name,
+                "addr": c.addr,
+                "count": c.count,
+                "bytes": c.bytes,
+            }))
+            .collect::<Vec<_>>(),
+        "left_out": left_out(image),
+    })
 }

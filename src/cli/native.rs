@@ -2,6 +2,13 @@
 //! prelude (crate `trax`, `runtime/prelude/`) and runs it on host threads — a fast
 //! functional reference for the emulator.
 //!
+//! The machine matches `trax run`'s: the thread shape comes from the same chip config
+//! (`--config`, default [`DEFAULT_CHIP`], with `--tms`/`--threads` overrides), and the
+//! memory image holds the scene components `trax run` would lay out — the kernel is also
+//! built with the trax compiler (as `trax run` does, at `-O2`) to learn which header
+//! fields it references — so per-triangle data is in the same order (BVH leaf order only
+//! when the kernel reads the BVH) and images are identical.
+//!
 //! Steps: (1) the prelude is written out from `trax_runtime::prelude::FILES` and built as
 //! an rlib named `trax`; (2) the kernel is compiled from stdin with the current directory
 //! set to the kernel's directory (so `mod x;` files resolve), with
@@ -18,9 +25,13 @@ use std::process::{Command, ExitCode, Stdio};
 
 use clap::Args;
 
-use super::common::RenderArgs;
-use trax_assembler::image::build_image_from_symbols;
+use super::common::{self, RenderArgs};
+use super::prepare::build_executable;
+use trax_assembler::image::{
+    build_image_from_symbols, read_program, MemoryImage as SceneImage, OPTIONAL_COMPONENTS,
+};
 use trax_assembler::scene::load_scene;
+use trax_emulator::timing::DEFAULT_CHIP;
 use trax_runtime::host::{framebuffer_rgb8, ImageError, MemoryImage, Segment};
 use trax_runtime::prelude::{self, Fnv1a};
 
@@ -32,12 +43,16 @@ pub struct NativeArgs {
     /// Scene and image parameters.
     #[command(flatten)]
     pub render: RenderArgs,
-    /// Thread multiprocessors.
-    #[arg(long, default_value_t = 1)]
-    pub tms: u32,
-    /// Threads per TM.
-    #[arg(long, default_value_t = 32)]
-    pub threads: u32,
+    /// Chip configuration whose thread shape (TMs x threads) to run: a preset (`tiny`,
+    /// `baseline`, `strata`) or a TOML file, as for `trax run`.
+    #[arg(long, default_value = DEFAULT_CHIP)]
+    pub config: String,
+    /// Thread multiprocessors (overrides the config).
+    #[arg(long)]
+    pub tms: Option<u32>,
+    /// Threads per TM (overrides the config).
+    #[arg(long)]
+    pub threads: Option<u32>,
     /// Write the framebuffer as PNG (clamped, top row first).
     #[arg(short = 'o', long = "output")]
     pub output: Option<PathBuf>,
@@ -73,6 +88,8 @@ pub enum NativeError {
     Image(#[from] ImageError),
     #[error("--{flag} must be at least 1")]
     BadFlag { flag: &'static str },
+    #[error("{0}")]
+    Chip(String),
     #[error("--tms × --threads = {0} is more than the host runner supports (4096)")]
     TooManyThreads(u64),
     #[error("{kernel}: the kernel crashed (exit status {status})")]
@@ -100,29 +117,29 @@ pub fn run(a: NativeArgs) -> ExitCode {
 }
 
 fn native(a: &NativeArgs) -> Result<(), NativeError> {
-    for (flag, v) in [
-        ("width", a.render.width),
-        ("height", a.render.height),
-        ("tms", a.tms),
-        ("threads", a.threads),
-    ] {
+    for (flag, v) in [("width", a.render.width), ("height", a.render.height)] {
         if v == 0 {
             return Err(NativeError::BadFlag { flag });
         }
     }
-    let total = a.tms as u64 * a.threads as u64;
+    let chip = common::chip_config(&a.config, a.tms, a.threads, None).map_err(NativeError::Chip)?;
+    let (tms, threads) = (chip.tms, chip.threads_per_tm);
+    let total = tms as u64 * threads as u64;
     if total > 4096 {
         return Err(NativeError::TooManyThreads(total));
     }
     for out in a.output.iter().chain(&a.raw_framebuffer) {
         check_writable(out)?;
     }
-    let image = memory_image(a)?;
+    // rustc first: a kernel it rejects gets rustc's diagnostics and nothing else.
     let cache = cache_dir();
     let rustc = Rustc::find()?;
     let rlib = build_prelude(&rustc, &cache)?;
     let exe = build_kernel(&rustc, &a.kernel, &rlib, &cache)?;
-    let fb = run_kernel(&exe, &a.kernel, &image, a.tms, a.threads, &cache)?;
+    let scene_image = scene_image(a)?;
+    let image = host_image(&scene_image)?;
+    let fb = run_kernel(&exe, &a.kernel, &image, tms, threads, &cache)?;
+    eprint!("{}", common::scene_report(&scene_image));
     let bytes = fb
         .segments
         .first()
@@ -155,36 +172,56 @@ fn check_writable(out: &Path) -> Result<(), NativeError> {
     Ok(())
 }
 
-/// The initial memory: the scene image with every component the host prelude may read.
-fn memory_image(a: &NativeArgs) -> Result<MemoryImage, NativeError> {
+/// The optimisation level `trax run` builds kernels at by default (it decides which scene
+/// components survive dead-code elimination).
+const RUN_OPT_LEVEL: u8 = 2;
+
+/// The header fields the kernel references, as `trax run` would see them: the kernel is
+/// built with the trax compiler and linked, and its `__trax_scene_*` symbols are read.
+/// If the trax compiler cannot build it, every component is laid out (with a warning:
+/// there is no `trax run` image to match then).
+fn referenced_fields(kernel: &Path) -> Vec<String> {
+    let built = build_executable(kernel, RUN_OPT_LEVEL)
+        .map_err(|e| e.to_string())
+        .and_then(|elf| read_program(&elf).map_err(|e| e.to_string()));
+    match built {
+        Ok(p) => p.referenced,
+        Err(e) => {
+            let first = e.lines().next().unwrap_or("").trim();
+            eprintln!(
+                "warning: {}: the trax compiler cannot build this kernel ({first}); laying out every scene component",
+                kernel.display()
+            );
+            OPTIONAL_COMPONENTS.iter().map(|s| s.to_string()).collect()
+        }
+    }
+}
+
+/// The scene's memory image, with the components the kernel references (no program).
+fn scene_image(a: &NativeArgs) -> Result<SceneImage, NativeError> {
     let scene = load_scene(&a.render.scene, &a.render.load_options())?;
     for w in &scene.warnings {
         eprintln!("warning: {w}");
     }
     let opts = a.render.render_options();
-    // The host prelude may read any component; treelets are not needed natively.
-    let referenced = [
-        "bvh_nodes",
-        "triangles",
-        "normals",
-        "texcoords",
-        "material_ids",
-        "materials",
-        "emitters",
-        "point_lights",
-    ];
-    let img = build_image_from_symbols(
+    let referenced = referenced_fields(&a.kernel);
+    let referenced: Vec<&str> = referenced.iter().map(String::as_str).collect();
+    Ok(build_image_from_symbols(
         Vec::new(),
         trax_runtime::abi::TEXT_BASE,
         &referenced,
         &scene,
         &opts,
-    )?;
+    )?)
+}
+
+/// The scene image in the host runner's file format.
+fn host_image(img: &SceneImage) -> Result<MemoryImage, NativeError> {
     let segments = img
         .segments
-        .into_iter()
+        .iter()
         .map(|s| {
-            let mut bytes = s.data;
+            let mut bytes = s.data.clone();
             bytes.resize((s.size as usize).next_multiple_of(4), 0);
             Segment {
                 addr: s.addr,

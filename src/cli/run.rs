@@ -19,11 +19,11 @@ use trax_emulator::machine::{Machine, MachineConfig};
 use trax_emulator::memory::Segment;
 use trax_emulator::profile::{profile_run, Profile};
 use trax_emulator::session::{self, load_debug, RunRequest};
-use trax_emulator::timing::{self, ChipConfig, TimingRequest};
+use trax_emulator::timing::{self, ChipConfig, TimingRequest, DEFAULT_CHIP};
 use trax_emulator::{crash, gdb, Outcome};
 use trax_runtime::host::framebuffer_rgb8;
 
-use super::common::RenderArgs;
+use super::common::{self, RenderArgs};
 use super::native::write_png;
 use super::prepare::prepare;
 use super::progress::ProgressLine;
@@ -94,7 +94,7 @@ pub struct ExecArgs {
     #[command(flatten)]
     pub render: RenderArgs,
     /// Chip configuration: a preset (`tiny`, `baseline`, `strata`) or a TOML file.
-    #[arg(long, default_value = "tiny")]
+    #[arg(long, default_value = DEFAULT_CHIP)]
     pub config: String,
     /// Thread multiprocessors (overrides the config).
     #[arg(long)]
@@ -124,6 +124,10 @@ pub struct ExecArgs {
     /// Write the framebuffer as PNG (clamped, top row first).
     #[arg(short = 'o', long = "output")]
     pub output: Option<PathBuf>,
+    /// Also write the raw framebuffer: `width*height` pixels of 3 little-endian f32 (as
+    /// `trax native --raw-framebuffer`).
+    #[arg(long)]
+    pub raw_framebuffer: Option<PathBuf>,
 }
 
 /// Runs `trax run`.
@@ -187,26 +191,7 @@ const TREE_MIN_PERCENT: f64 = 0.1;
 
 /// The chip: the named config with the command-line overrides applied.
 fn chip_config(a: &ExecArgs) -> Result<ChipConfig, String> {
-    let mut chip = ChipConfig::load(&a.config).map_err(|e| e.to_string())?;
-    for (flag, v) in [("tms", a.tms), ("threads", a.threads), ("l2s", a.l2s)] {
-        if v == Some(0) {
-            return Err(format!("--{flag} must be at least 1"));
-        }
-    }
-    if let Some(t) = a.tms {
-        chip.tms = t;
-    }
-    if let Some(t) = a.threads {
-        chip.threads_per_tm = t;
-    }
-    if let Some(l2s) = a.l2s {
-        if l2s > chip.tms {
-            return Err(format!("--l2s {l2s} is more than the {} TMs", chip.tms));
-        }
-        chip.tms_per_l2 = chip.tms.div_ceil(l2s);
-    }
-    chip.validate().map_err(|e| e.to_string())?;
-    Ok(chip)
+    common::chip_config(&a.config, a.tms, a.threads, a.l2s)
 }
 
 /// Prepares and runs the kernel, reports statistics, writes the PNG; with `extras`,
@@ -218,7 +203,12 @@ pub fn execute(a: &ExecArgs, extras: &Extras) -> Result<Executed, String> {
     if a.host_threads == Some(0) {
         return Err("--host-threads must be at least 1".into());
     }
-    for out in a.output.iter().chain(&a.stats_json) {
+    for out in a
+        .output
+        .iter()
+        .chain(&a.stats_json)
+        .chain(&a.raw_framebuffer)
+    {
         if let Some(dir) = out.parent().filter(|p| !p.as_os_str().is_empty()) {
             if !dir.is_dir() {
                 return Err(format!(
@@ -305,12 +295,14 @@ pub fn execute(a: &ExecArgs, extras: &Extras) -> Result<Executed, String> {
         if r.rays > 0 {
             eprintln!("rays: {}", r.rays);
         }
+        eprint!("{}", common::scene_report(&prepared.image));
         if let Some(path) = &a.stats_json {
             let json = serde_json::json!({
                 "mode": "functional",
                 "threads": threads,
                 "instructions": n,
                 "rays": r.rays,
+                "scene": common::scene_json(&prepared.image),
             });
             write_json(path, &json)?;
         }
@@ -350,23 +342,32 @@ pub fn execute(a: &ExecArgs, extras: &Extras) -> Result<Executed, String> {
         }
         let secs = start.elapsed().as_secs_f64();
         eprint!("{}", with_newline(r.stats.summary()));
+        eprint!("{}", common::scene_report(&prepared.image));
         eprintln!("simulated in {secs:.3} s on {host_threads} host thread(s)");
         if let Some(path) = &a.stats_json {
-            let json = serde_json::to_value(&r.stats).map_err(|e| e.to_string())?;
+            let mut json = serde_json::to_value(&r.stats).map_err(|e| e.to_string())?;
+            if let Some(obj) = json.as_object_mut() {
+                obj.insert("scene".into(), common::scene_json(&prepared.image));
+            }
             write_json(path, &json)?;
         }
         (r.outcome, r.report, r.machine)
     };
     let finished = matches!(outcome, Outcome::Finished);
-    if let (true, Some(path)) = (finished, &a.output) {
-        let (w, h) = (a.render.width, a.render.height);
+    if finished && (a.output.is_some() || a.raw_framebuffer.is_some()) {
         let bytes = machine
             .shared
             .mem
             .read_bytes(&[], fb.addr, fb.count * 12)
             .unwrap_or_default();
-        write_png(path, w, h, &framebuffer_rgb8(&bytes, w, h)).map_err(|e| e.to_string())?;
-        eprintln!("wrote {}", path.display());
+        if let Some(path) = &a.output {
+            let (w, h) = (a.render.width, a.render.height);
+            write_png(path, w, h, &framebuffer_rgb8(&bytes, w, h)).map_err(|e| e.to_string())?;
+            eprintln!("wrote {}", path.display());
+        }
+        if let Some(path) = &a.raw_framebuffer {
+            std::fs::write(path, &bytes).map_err(|e| format!("{}: {e}", path.display()))?;
+        }
     }
     let code = match (&outcome, &report) {
         (Outcome::Finished, _) => ExitCode::SUCCESS,

@@ -18,6 +18,10 @@ use crate::memsys::{self, DramConfig, MemSysConfig};
 /// Names of the chip presets, for help texts.
 pub const CHIP_PRESETS: &[&str] = &["tiny", "baseline", "strata"];
 
+/// The chip every command uses unless told otherwise (`trax run`, and `trax native`'s
+/// thread shape), so the README's commands give the same image.
+pub const DEFAULT_CHIP: &str = "tiny";
+
 /// Configuration errors; messages name the field.
 #[derive(Debug, thiserror::Error)]
 pub enum ConfigError {

@@ -22,7 +22,7 @@ mod workers;
 
 use std::io::Write;
 
-pub use config::{ChipConfig, ConfigError, UnitConfig, CHIP_PRESETS};
+pub use config::{ChipConfig, ConfigError, UnitConfig, CHIP_PRESETS, DEFAULT_CHIP};
 pub use engine::{Progress, ProgressFn};
 pub use stats::TimingStats;
 

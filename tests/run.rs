@@ -126,6 +126,9 @@ fn compile_errors_point_at_the_source() {
         assert_eq!(out.status.code(), Some(1), "{cmd}");
         let err = text(&out.stderr);
         assert!(err.contains("bad.rs:2:"), "{cmd}: {err}");
+        // Rendered diagnostics carry their own `error[id]:` prefix; the CLI adds none.
+        assert!(err.starts_with("error[type-mismatch]: "), "{cmd}: {err}");
+        assert!(!err.contains("error: error"), "{cmd}: {err}");
     }
 }
 

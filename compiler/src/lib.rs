@@ -22,6 +22,7 @@
 //! `TRAX_COMPILER_TIMINGS=1` to print the time of each stage.
 
 pub mod diag;
+pub mod lexcheck;
 pub mod lower;
 pub mod memfns;
 pub mod parse;

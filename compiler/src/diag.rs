@@ -124,6 +124,13 @@ pub struct Diagnostic {
     pub loc: Loc,
     /// The text of the source line at `loc.line`.
     pub source_line: String,
+    /// Labels, secondary spans and notes (boxed: most diagnostics have none).
+    pub extra: Box<Extra>,
+}
+
+/// The optional parts of a [`Diagnostic`].
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Extra {
     /// Text shown after the primary carets (empty: none).
     pub label: String,
     /// Other spans of the same file that explain the error.
@@ -161,10 +168,7 @@ impl Diagnostic {
             file: f.display.clone(),
             loc,
             source_line: source_line(&f.src, loc.line),
-            label: String::new(),
-            secondary: Vec::new(),
-            notes: Vec::new(),
-            context: Vec::new(),
+            extra: Box::default(),
         }
     }
 
@@ -181,16 +185,13 @@ impl Diagnostic {
                 end_col: 1,
             },
             source_line: String::new(),
-            label: String::new(),
-            secondary: Vec::new(),
-            notes: Vec::new(),
-            context: Vec::new(),
+            extra: Box::default(),
         }
     }
 
     /// Sets the text shown after the primary carets.
     pub fn with_label(mut self, text: impl Into<String>) -> Diagnostic {
-        self.label = text.into();
+        self.extra.label = text.into();
         self
     }
 
@@ -203,16 +204,17 @@ impl Diagnostic {
         text: impl Into<String>,
     ) -> Diagnostic {
         let src = &sources.get(file).src;
-        self.secondary.push(Label {
+        let x = &mut self.extra;
+        x.secondary.push(Label {
             loc,
             text: text.into(),
             source_line: source_line(src, loc.line),
         });
-        let mut lines: Vec<u32> = self.secondary.iter().map(|l| l.loc.line).collect();
+        let mut lines: Vec<u32> = x.secondary.iter().map(|l| l.loc.line).collect();
         lines.push(self.loc.line);
         lines.sort_unstable();
         lines.dedup();
-        self.context = lines
+        x.context = lines
             .windows(2)
             .filter(|w| w[1] == w[0] + 2)
             .map(|w| (w[0] + 1, source_line(src, w[0] + 1)))
@@ -222,7 +224,7 @@ impl Diagnostic {
 
     /// Adds a `= note:` line.
     pub fn with_note(mut self, text: impl Into<String>) -> Diagnostic {
-        self.notes.push(text.into());
+        self.extra.notes.push(text.into());
         self
     }
 }
@@ -277,10 +279,10 @@ impl fmt::Display for Diagnostic {
         let mut marks = vec![Mark {
             loc: self.loc,
             source_line: &self.source_line,
-            text: &self.label,
+            text: &self.extra.label,
             primary: true,
         }];
-        marks.extend(self.secondary.iter().map(|l| Mark {
+        marks.extend(self.extra.secondary.iter().map(|l| Mark {
             loc: l.loc,
             source_line: &l.source_line,
             text: &l.text,
@@ -298,8 +300,8 @@ impl fmt::Display for Diagnostic {
             self.loc.line,
             self.loc.col
         )?;
-        if self.source_line.is_empty() && self.secondary.is_empty() {
-            for n in &self.notes {
+        if self.source_line.is_empty() && self.extra.secondary.is_empty() {
+            for n in &self.extra.notes {
                 writeln!(f, "{pad} = note: {n}")?;
             }
             return Ok(());
@@ -312,7 +314,7 @@ impl fmt::Display for Diagnostic {
                 match prev {
                     // One unmarked line between two marked ones is shown; more are elided.
                     Some(p) if line == p + 2 => {
-                        if let Some((_, gap)) = self.context.iter().find(|c| c.0 == p + 1) {
+                        if let Some((_, gap)) = self.extra.context.iter().find(|c| c.0 == p + 1) {
                             writeln!(f, "{:>w$} | {gap}", p + 1, w = pad.len())?;
                         }
                     }
@@ -324,7 +326,7 @@ impl fmt::Display for Diagnostic {
             writeln!(f, "{pad} | {}", m.render())?;
             prev = Some(line);
         }
-        for n in &self.notes {
+        for n in &self.extra.notes {
             writeln!(f, "{pad} = note: {n}")?;
         }
         Ok(())
@@ -351,10 +353,7 @@ mod tests {
                 end_col: 17,
             },
             source_line: "    let f = |x| x;".into(),
-            label: String::new(),
-            secondary: Vec::new(),
-            notes: Vec::new(),
-            context: Vec::new(),
+            extra: Box::default(),
         };
         let s = d.to_string();
         let expected = "error[unsupported-closure]: closures are not supported\n  --> k.rs:12:13\n   |\n12 |     let f = |x| x;\n   |             ^^^^\n";

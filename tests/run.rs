@@ -98,9 +98,10 @@ fn out_of_bounds_crash_names_the_source_line() {
         "fn get(a: &[u32; 4], i: u32) -> u32 {\n    a[i as usize]\n}\n\nfn trax_main() {\n    let a = [1u32, 2, 3, 4];\n    let v = get(&a, trax::global_id() + 3);\n    println!(\"v = {}\", v);\n}\n",
     )
     .unwrap();
-    // Functional mode runs thread 0 to its end first (deterministic interleaving);
-    // the cycle-level model interleaves per cycle, so thread 1 crashes before thread 0 prints.
-    for (mode, stdout) in [("--functional", "v = 4\n"), ("--config=tiny", "")] {
+    // Functional mode runs thread 0 to its end first (deterministic interleaving). The
+    // cycle-level model interleaves per cycle: thread 0 prints while thread 1 fills in its
+    // panic message (index and length) on the failing path, a few cycles before its abort.
+    for (mode, stdout) in [("--functional", "v = 4\n"), ("--config=tiny", "v = 4\n")] {
         let out = trax(&["run", k.to_str().unwrap(), "--threads", "2", mode]);
         assert_eq!(out.status.code(), Some(1), "{}", text(&out.stderr));
         let err = text(&out.stderr);

@@ -464,16 +464,42 @@ impl Checker<'_, '_> {
         self.report(d);
     }
 
-    fn literal(&mut self, e: &Expr, l: &Lit) {
-        let negated = self.negated == Some(key(e));
+    /// Checks literal `l` of type `ty`; `k` is the key of its expression (for negation).
+    fn literal(&mut self, k: usize, l: &Lit, ty: Ty) {
+        let mut negated = self.negated == Some(k);
         let span = match self.negated_span {
             Some(s) if negated => s,
             _ => l.span(),
         };
         let text = span.source_text().unwrap_or_default();
-        match (l, self.ev.ty(e)) {
+        match (l, ty) {
             (Lit::Int(i), Ty::Int(t)) => {
-                let Some(v) = int_lit_value(i) else {
+                // A literal pattern or range bound holds its own minus sign (`-1 =>`).
+                let digits = i.base10_digits();
+                let v = match digits.strip_prefix('-') {
+                    Some(abs) => {
+                        negated = true;
+                        if !t.signed() {
+                            let d = self
+                                .diag(
+                                    l.span(),
+                                    "cannot-negate-unsigned",
+                                    format!(
+                                        "cannot apply unary operator `-` to type `{}`",
+                                        t.name()
+                                    ),
+                                )
+                                .with_note("unsigned values cannot be negated");
+                            self.report(d);
+                            return;
+                        }
+                        abs.parse::<u128>()
+                            .ok()
+                            .and_then(|v| i128::try_from(v).ok())
+                    }
+                    None => int_lit_value(i),
+                };
+                let Some(v) = v else {
                     return;
                 };
                 let limit = if negated { t.max() + 1 } else { t.max() };
@@ -527,7 +553,7 @@ impl Checker<'_, '_> {
 
     fn check(&mut self, e: &Expr) {
         match e {
-            Expr::Lit(l) => self.literal(e, &l.lit),
+            Expr::Lit(l) => self.literal(key(e), &l.lit, self.ev.ty(e)),
             Expr::Unary(u) if matches!(u.op, UnOp::Neg(_)) => {
                 if self.negated != Some(key(e)) {
                     self.negated = Some(key(strip_parens(&u.expr)));
@@ -664,6 +690,15 @@ impl<'p> Visit<'p> for Checker<'p, '_> {
         for e in exprs {
             self.visit_expr(e);
         }
+    }
+
+    fn visit_pat(&mut self, p: &'p Pat) {
+        // Literal patterns are typed by their `ExprLit` (match arms against the scrutinee).
+        if let Pat::Lit(l) = p {
+            let ty = self.ev.body.tys.get(&key(l)).cloned().unwrap_or(Ty::Unit);
+            self.literal(key(l), &l.lit, ty);
+        }
+        syn::visit::visit_pat(self, p);
     }
 
     // Nested items are bodies of their own.

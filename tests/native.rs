@@ -463,3 +463,86 @@ fn kernels_outside_the_trax_subset_run_with_a_warning() {
     assert!(!err.contains("trax compiler cannot build"), "{err}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// The kernel of `panic_messages_match_native`: `--width` picks the case; each case panics
+/// on its own line (line = case + 3).
+const PANICS: &str = r#"fn trax_main() {
+    let case = trax::scene::width(); let id = trax::global_id(); let n = 4u32;
+    let x = 5 + id as i32; let y = -2.5f32 + id as f32; let s = "q\"\n"; let c = '\''; let z = case as i32 - 12;
+    if case == 1 { panic!("bad id {} of {}", id, n); }
+    if case == 2 { unreachable!(); }
+    if case == 3 { let a = [1u32, 2, 3, 4]; println!("{}", a[(id + 7) as usize]); }
+    if case == 4 { assert!(x < 3); }
+    if case == 5 { assert_eq!(x, 3); }
+    if case == 6 { assert!(x<3 && !false, "x={} y={:?} s={:?} c={:?} {{}} {}", x, y, s, c, 1u64 << 40); }
+    if case == 7 { assert_ne!(x, 5, "ne {}", x); }
+    if case == 8 { unreachable!("at {}", x); }
+    if case == 9 { todo!(); }
+    if case == 10 { unimplemented!("nope {}", y); }
+    if case == 11 { panic!(); }
+    if case == 12 { println!("{}", 10 / z); }
+    if case == 13 { println!("{}", (z - 2147483647 - 1) / (z - 1)); }
+    if case == 14 { assert_eq!(y as f64 * 1e20, 0.5, "{} {:?} {:?}", -7i64 - id as i64, c, y); }
+    if case == 15 { println!("{}", 10 % (z - 3)); }
+    if case == 16 { debug_assert!(false, "debug assertions are off"); panic!("after {}", y); }
+    if case == 17 { assert!(trax::scene::height() as usize
+        == [1, 2].len()); }
+}
+"#;
+
+/// Each panicking macro, bounds check and division check prints the same message at the
+/// same source location under `trax run` (crash report) and `trax native` (Rust's panic
+/// handler): formatted arguments, `{:?}`, assert_eq!'s left/right, bounds index and length.
+#[test]
+fn panic_messages_match_native() {
+    let dir = scratch("panics");
+    let k = dir.join("panics.rs");
+    std::fs::write(&k, PANICS).unwrap();
+    let k = k.to_str().unwrap();
+    for case in 1..=17u32 {
+        let w = case.to_string();
+        let args = [k, "--threads", "1", "--width", &w, "--height", "1"];
+        let nat = native(&args);
+        assert_eq!(nat.status.code(), Some(1), "case {case}");
+        let nerr = text(&nat.stderr);
+        // "thread '...' panicked at FILE:L:C:\nMESSAGE\nstack backtrace:|note: ..."
+        let (_, rest) = nerr
+            .split_once("panicked at ")
+            .unwrap_or_else(|| panic!("case {case}: {nerr}"));
+        let (loc, rest) = rest.split_once(":\n").unwrap();
+        let nloc = loc.rsplitn(3, ':').take(2).collect::<Vec<_>>();
+        let end = ["\nstack backtrace:", "\nnote:"]
+            .iter()
+            .filter_map(|m| rest.find(m))
+            .min()
+            .unwrap_or(rest.len());
+        let nmsg = &rest[..end];
+
+        let out = Command::new(env!("CARGO_BIN_EXE_trax"))
+            .args(["run", "--functional"])
+            .args(args)
+            .current_dir(root())
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(1), "case {case}");
+        let eerr = text(&out.stderr);
+        let (_, rest) = eerr
+            .split_once("  what: panicked: ")
+            .unwrap_or_else(|| panic!("case {case}: {eerr}"));
+        let emsg = rest
+            .split_once("\n  pc:")
+            .unwrap()
+            .0
+            .replace("\n        ", "\n");
+        let eloc = eerr.split_once("  at:   ").unwrap().1;
+        let eloc = eloc.split_once(" in ").unwrap().0;
+        let eloc = eloc.rsplitn(3, ':').take(2).collect::<Vec<_>>();
+        assert_eq!(emsg, nmsg, "case {case}: message\n{eerr}\n{nerr}");
+        assert_eq!(eloc, nloc, "case {case}: line and column\n{eerr}\n{nerr}");
+        assert_eq!(
+            nloc[1],
+            (case + 3).to_string(),
+            "case {case}: the panicking line"
+        );
+    }
+}

@@ -98,14 +98,19 @@ fn out_of_bounds_crash_names_the_source_line() {
         "fn get(a: &[u32; 4], i: u32) -> u32 {\n    a[i as usize]\n}\n\nfn trax_main() {\n    let a = [1u32, 2, 3, 4];\n    let v = get(&a, trax::global_id() + 3);\n    println!(\"v = {}\", v);\n}\n",
     )
     .unwrap();
-    // Functional mode runs thread 0 to its end first (deterministic interleaving);
-    // the cycle-level model interleaves per cycle, so thread 1 crashes before thread 0 prints.
-    for (mode, stdout) in [("--functional", "v = 4\n"), ("--config=tiny", "")] {
+    // Functional mode runs thread 0 to its end first (deterministic interleaving). The
+    // cycle-level model interleaves per cycle: thread 0 prints while thread 1 fills in its
+    // panic message (index and length) on the failing path, a few cycles before its abort.
+    for (mode, stdout) in [("--functional", "v = 4\n"), ("--config=tiny", "v = 4\n")] {
         let out = trax(&["run", k.to_str().unwrap(), "--threads", "2", mode]);
         assert_eq!(out.status.code(), Some(1), "{}", text(&out.stderr));
         let err = text(&out.stderr);
         assert!(err.contains("thread 1"), "{mode}: {err}");
-        assert!(err.contains("index out of bounds"), "{mode}: {err}");
+        // Rust's message with the index and the length, as `trax native` prints it.
+        assert!(
+            err.contains("what: panicked: index out of bounds: the len is 4 but the index is 4\n"),
+            "{mode}: {err}"
+        );
         assert!(err.contains("oob.rs:2:5"), "{mode}: {err}");
         assert!(err.contains("a[i as usize]"), "{mode}: {err}");
         assert_eq!(text(&out.stdout), stdout, "{mode}");
@@ -126,6 +131,9 @@ fn compile_errors_point_at_the_source() {
         assert_eq!(out.status.code(), Some(1), "{cmd}");
         let err = text(&out.stderr);
         assert!(err.contains("bad.rs:2:"), "{cmd}: {err}");
+        // Rendered diagnostics carry their own `error[id]:` prefix; the CLI adds none.
+        assert!(err.starts_with("error[type-mismatch]: "), "{cmd}: {err}");
+        assert!(!err.contains("error: error"), "{cmd}: {err}");
     }
 }
 

@@ -21,10 +21,13 @@
 //! or [`CompileError::Internal`] (compiler bugs, exit code 101). Set
 //! `TRAX_COMPILER_TIMINGS=1` to print the time of each stage.
 
+pub mod consteval;
 pub mod diag;
+pub mod lexcheck;
 pub mod lower;
 pub mod memfns;
 pub mod parse;
+pub mod pretty;
 pub mod resolve;
 pub mod rtlib;
 pub mod target;
@@ -209,6 +212,22 @@ fn compile_parsed(
             Err(e) => {
                 errs.push(e);
                 global_bodies.push(typeck::Body::default());
+            }
+        }
+    }
+    // Literal ranges, const evaluation and rustc's deny-by-default arithmetic lints.
+    // (An erroneous const named by an array length is reported once.)
+    for (f, b) in fn_bodies.iter().enumerate() {
+        if let Err(e) = consteval::check_fn(&program, &global_bodies, f, b) {
+            if !errs.contains(&e) {
+                errs.push(e);
+            }
+        }
+    }
+    for g in 0..program.globals.len() {
+        if let Err(e) = consteval::check_global(&program, &global_bodies, g) {
+            if !errs.contains(&e) {
+                errs.push(e);
             }
         }
     }

@@ -55,6 +55,14 @@ pub fn parse_crate(sources: &mut SourceMap, source: &CrateSource<'_>) -> DResult
     Ok(pc)
 }
 
+/// Why a file could not be read.
+enum ReadError {
+    /// Missing or unreadable (the I/O error's text, if any).
+    Missing(Option<std::io::Error>),
+    /// Read, but not UTF-8: the diagnostic says where.
+    NotUtf8(Diagnostic),
+}
+
 fn read(
     source: &CrateSource<'_>,
     rel: &Path,
@@ -62,14 +70,20 @@ fn read(
     at: Option<(&SourceMap, FileId, &ItemMod)>,
 ) -> DResult<String> {
     let found = match source {
-        CrateSource::Disk(_) => std::fs::read_to_string(rel).ok(),
+        CrateSource::Disk(_) => match std::fs::read(rel) {
+            Ok(bytes) => String::from_utf8(bytes)
+                .map_err(|e| ReadError::NotUtf8(not_utf8(display, e.as_bytes(), e.utf8_error()))),
+            Err(e) => Err(ReadError::Missing(Some(e))),
+        },
         CrateSource::Memory { files, .. } => files
             .iter()
             .find(|(p, _)| normalize(Path::new(p)) == normalize(rel))
-            .map(|(_, s)| s.to_string()),
+            .map(|(_, s)| s.to_string())
+            .ok_or(ReadError::Missing(None)),
     };
-    found.ok_or_else(|| match at {
-        Some((sm, file, item)) => Diagnostic::new(
+    found.map_err(|e| match (e, at) {
+        (ReadError::NotUtf8(d), _) => d,
+        (ReadError::Missing(_), Some((sm, file, item))) => Diagnostic::new(
             sm,
             file,
             item.ident.span(),
@@ -80,12 +94,54 @@ fn read(
                 display.display()
             ),
         ),
-        None => Diagnostic::file_level(
+        (ReadError::Missing(io), None) => Diagnostic::file_level(
             display,
             "file-not-found",
-            format!("cannot read {}", display.display()),
+            match io {
+                Some(e) => format!("cannot read {}: {e}", display.display()),
+                None => format!("cannot read {}", display.display()),
+            },
         ),
     })
+}
+
+/// The diagnostic for a file whose bytes are not UTF-8: the first bad byte's offset, line
+/// and column (characters before it on its line, decoded lossily).
+fn not_utf8(display: &Path, bytes: &[u8], e: std::str::Utf8Error) -> Diagnostic {
+    let off = e.valid_up_to();
+    let line_start = bytes[..off]
+        .iter()
+        .rposition(|&b| b == b'\n')
+        .map_or(0, |i| i + 1);
+    let line_end = bytes[off..]
+        .iter()
+        .position(|&b| b == b'\n')
+        .map_or(bytes.len(), |i| off + i);
+    let line = bytes[..off].iter().filter(|&&b| b == b'\n').count() as u32 + 1;
+    let col = String::from_utf8_lossy(&bytes[line_start..off])
+        .chars()
+        .count() as u32
+        + 1;
+    let bad = bytes[off];
+    let mut d = Diagnostic::file_level(
+        display,
+        "invalid-source-encoding",
+        format!(
+            "{} is not valid UTF-8: byte 0x{bad:02x} at byte offset {off} (line {line}, column {col})",
+            display.display()
+        ),
+    );
+    d.loc = crate::diag::Loc {
+        line,
+        col,
+        end_line: line,
+        end_col: col + 1,
+    };
+    d.source_line = String::from_utf8_lossy(&bytes[line_start..line_end])
+        .trim_end_matches('\r')
+        .to_string();
+    d.with_label(format!("byte 0x{bad:02x} is not valid UTF-8"))
+        .with_note("Rust source files must be UTF-8 text")
 }
 
 fn load_file(
@@ -98,15 +154,7 @@ fn load_file(
     owns_dir: bool,
 ) -> DResult<FileId> {
     let id = sources.add(display, text);
-    let ast = syn::parse_file(&sources.get(id).src).map_err(|e| {
-        Diagnostic::new(
-            sources,
-            id,
-            e.span(),
-            "syntax-error",
-            format!("syntax error: {e}"),
-        )
-    })?;
+    let ast = syn::parse_file(&sources.get(id).src).map_err(|e| syntax_error(sources, id, &e))?;
     let ast = Box::new(ast);
     // Directory where this file's child modules live.
     let dir = if owns_dir {
@@ -138,7 +186,12 @@ fn load_file(
         };
         let mut loaded = None;
         for c in &cands {
-            if let Ok(t) = read(source, c, &display_of(c), None) {
+            let t = match read(source, c, &display_of(c), None) {
+                Ok(t) => Some(t),
+                Err(d) if d.id == "invalid-source-encoding" => return Err(d),
+                Err(_) => None,
+            };
+            if let Some(t) = t {
                 let owns_dir = owns || c.file_name().is_some_and(|f| f == "mod.rs");
                 loaded = Some(load_file(
                     sources,
@@ -163,6 +216,86 @@ fn load_file(
         }
     }
     Ok(id)
+}
+
+/// The diagnostic for a file `syn` cannot parse. A failed tokenization says only "cannot
+/// parse string into token stream"; the lexical check then names the delimiter or
+/// literal at fault and every span rustc shows for it.
+fn syntax_error(sources: &SourceMap, id: FileId, e: &syn::Error) -> Diagnostic {
+    use crate::diag::Loc;
+    use crate::lexcheck::LexProblem;
+    let src = &sources.get(id).src;
+    let lex = e.to_string() == "cannot parse string into token stream";
+    let at = |off: usize| Loc::of_bytes(src, off, off + 1);
+    let delim = |off: usize| (src.as_bytes()[off] as char).to_string();
+    match crate::lexcheck::check(src).filter(|_| lex) {
+        Some(LexProblem::Unclosed { open }) => {
+            // Just past the last character of the file (before a final newline).
+            let end = src.trim_end_matches(['\n', '\r']).len();
+            let mut d = Diagnostic::at(
+                sources,
+                id,
+                Loc::of_bytes(src, end, end + 1),
+                "unclosed-delimiter",
+                "this file contains an unclosed delimiter",
+            );
+            for o in open {
+                d = d.with_secondary(sources, id, at(o), "unclosed delimiter");
+            }
+            d
+        }
+        Some(LexProblem::Mismatched {
+            close,
+            unclosed,
+            candidate,
+        }) => {
+            let mut d = Diagnostic::at(
+                sources,
+                id,
+                at(unclosed),
+                "mismatched-delimiter",
+                format!("mismatched closing delimiter: `{}`", delim(close)),
+            )
+            .with_label("unclosed delimiter")
+            .with_secondary(sources, id, at(close), "mismatched closing delimiter");
+            if let Some(c) = candidate {
+                d = d.with_secondary(sources, id, at(c), "closing delimiter possibly meant for this");
+            }
+            d
+        }
+        Some(LexProblem::Unexpected { close, last_pair }) => {
+            let mut d = Diagnostic::at(
+                sources,
+                id,
+                at(close),
+                "unexpected-delimiter",
+                format!("unexpected closing delimiter: `{}`", delim(close)),
+            )
+            .with_label("unexpected closing delimiter");
+            if let Some((o, c)) = last_pair {
+                d = d
+                    .with_secondary(sources, id, at(o), "this opening brace...")
+                    .with_secondary(sources, id, at(c), "...matches this closing brace");
+            }
+            d
+        }
+        Some(LexProblem::Unterminated { start, what }) => Diagnostic::at(
+            sources,
+            id,
+            at(start),
+            "unterminated-literal",
+            format!("unterminated {what}"),
+        )
+        .with_label(format!("this {what} is never closed")),
+        None if lex => Diagnostic::new(
+            sources,
+            id,
+            e.span(),
+            "syntax-error",
+            "syntax error: this is not a valid Rust token (unknown character, or a malformed literal or escape)",
+        ),
+        None => Diagnostic::new(sources, id, e.span(), "syntax-error", format!("syntax error: {e}")),
+    }
 }
 
 /// Finds enabled out-of-line modules among `items` (descending into inline modules).

@@ -90,6 +90,8 @@ pub enum FmtPiece {
     Lit(String),
     /// A `{}` argument.
     Arg(Box<Expr>),
+    /// A `{:?}` argument (panic messages render it with `Debug`; `print!` as `{}`).
+    Debug(Box<Expr>),
 }
 
 /// Operand of a `__trax_op!`.
@@ -106,17 +108,22 @@ pub enum TraxArg {
 pub enum MacroCall {
     /// `print!`/`println!`.
     Print(Vec<FmtPiece>),
-    /// `panic!`, `unreachable!`, `assert!`, `assert_eq!`, `assert_ne!`.
+    /// `panic!`, `unreachable!`, `todo!`, `unimplemented!`, `assert!`, `assert_eq!`,
+    /// `assert_ne!`.
     Abort {
         /// Kind reported to the emulator.
         kind: AbortKind,
-        /// Message.
-        msg: String,
+        /// The panic message as Rust formats it; for `assert_eq!`/`assert_ne!` without the
+        /// `left:`/`right:` lines, which the lowering appends from the compared values.
+        pieces: Vec<FmtPiece>,
         /// Condition that must hold (assert).
         cond: Option<Box<Expr>>,
         /// Values compared (assert_eq/ne) and whether they must differ.
         cmp: Option<(Box<Expr>, Box<Expr>, bool)>,
     },
+    /// A macro that generates no code: the `debug_assert!` family (debug assertions are
+    /// off, as in `trax native`); its arguments are type-checked only.
+    Nothing,
     /// `__trax_op!`.
     TraxOp {
         /// Instruction.
@@ -856,7 +863,7 @@ impl<'p, 'a> Cx<'p, 'a> {
             }
             Expr::Repeat(r) => {
                 let t = self.expr(&r.expr)?;
-                let n = self.p.eval_int(self.module, self.file, &r.len, 0)?;
+                let n = self.p.eval_len(self.module, self.file, &r.len)?;
                 if !(0..=(1 << 24)).contains(&n) {
                     return Err(self.err(
                         r.len.span(),
@@ -958,24 +965,17 @@ impl<'p, 'a> Cx<'p, 'a> {
     fn lit(&mut self, l: &Lit) -> DResult<Ty> {
         match l {
             Lit::Int(i) => {
-                let v: i128 = i.base10_parse().map_err(|_| {
+                i.base10_parse::<i128>().map_err(|_| {
                     self.err(i.span(), "invalid-literal", "integer literal is too large")
                 })?;
                 match i.suffix() {
                     "" => Ok(self.fresh(VarKind::Int)),
                     "f32" => Ok(Ty::Float(FloatTy::F32)),
                     "f64" => Ok(Ty::Float(FloatTy::F64)),
+                    // Range checks (a negated literal may reach `MIN`) come after inference,
+                    // in `consteval`.
                     s => match IntTy::from_name(s) {
-                        Some(t) => {
-                            if v > t.max() || v < t.min() {
-                                return Err(self.err(
-                                    i.span(),
-                                    "literal-out-of-range",
-                                    format!("literal out of range for `{}`", t.name()),
-                                ));
-                            }
-                            Ok(Ty::Int(t))
-                        }
+                        Some(t) => Ok(Ty::Int(t)),
                         None => Err(self.err(
                             i.span(),
                             "invalid-literal",
@@ -1415,6 +1415,30 @@ impl<'p, 'a> Cx<'p, 'a> {
         let to = self
             .p
             .resolve_type(self.module, self.file, &c.ty, self.self_ty.as_ref())?;
+        // Like rustc, an unsuffixed literal operand (through parentheses and `-`) takes the
+        // target's type: `300 as u8` is an out-of-range `u8` literal, `-1 as u32` negates
+        // a `u32`, `1e40 as f32` overflows `f32`.
+        let mut lit = &*c.expr;
+        loop {
+            lit = match lit {
+                Expr::Paren(p) => &p.expr,
+                Expr::Group(g) => &g.expr,
+                Expr::Unary(u) if matches!(u.op, UnOp::Neg(_)) => &u.expr,
+                _ => break,
+            };
+        }
+        if let (Expr::Lit(l), Ty::Var(v)) = (lit, self.shallow(&from)) {
+            let target = match (&l.lit, &to, self.vars[v as usize].0) {
+                (Lit::Int(_), Ty::Int(_), VarKind::Int) => Some(to.clone()),
+                (Lit::Int(_), Ty::Char, VarKind::Int) => Some(Ty::Int(IntTy::U8)),
+                (Lit::Int(_), Ty::Ptr(..), VarKind::Int) => Some(Ty::Int(IntTy::Usize)),
+                (Lit::Float(_), Ty::Float(_), VarKind::Float) => Some(to.clone()),
+                _ => None,
+            };
+            if let Some(t) = target {
+                self.unify(&from, &t, c.expr.span())?;
+            }
+        }
         let f = self.shallow(&from);
         if let Ty::Var(v) = f {
             // The operand's type is inferred from its other uses (defaulting like rustc);
@@ -2363,32 +2387,36 @@ impl<'p, 'a> Cx<'p, 'a> {
                 if name.ends_with("ln") {
                     pieces.push(FmtPiece::Lit("\n".into()));
                 }
-                for p in &pieces {
-                    if let FmtPiece::Arg(a) = p {
-                        let t = self.expr(a)?;
-                        self.check_printable(&t, a.span())?;
-                    }
-                }
+                self.check_fmt_args(&pieces)?;
                 (MacroCall::Print(pieces), Ty::Unit)
             }
             "panic" | "unreachable" | "todo" | "unimplemented" => {
                 let args = parse_args(m)?;
-                let kind = if name == "panic" {
-                    AbortKind::Panic
+                let (kind, default) = match name.as_str() {
+                    "panic" => (AbortKind::Panic, "explicit panic"),
+                    "unreachable" => (
+                        AbortKind::Unreachable,
+                        "internal error: entered unreachable code",
+                    ),
+                    "todo" => (AbortKind::Panic, "not yet implemented"),
+                    _ => (AbortKind::Panic, "not implemented"),
+                };
+                // Rust: the default message alone, or (except `panic!`) followed by `: ` and
+                // the formatted arguments.
+                let pieces = if args.is_empty() {
+                    vec![FmtPiece::Lit(default.into())]
                 } else {
-                    AbortKind::Unreachable
+                    let mut p = self.format(args, span)?;
+                    if name != "panic" {
+                        p.insert(0, FmtPiece::Lit(format!("{default}: ")));
+                    }
+                    p
                 };
-                let default = match name.as_str() {
-                    "panic" => "explicit panic",
-                    "unreachable" => "internal error: entered unreachable code",
-                    "todo" => "not yet implemented",
-                    _ => "not implemented",
-                };
-                let msg = self.message(&args, default)?;
+                self.check_fmt_args(&pieces)?;
                 (
                     MacroCall::Abort {
                         kind,
-                        msg,
+                        pieces,
                         cond: None,
                         cmp: None,
                     },
@@ -2401,23 +2429,32 @@ impl<'p, 'a> Cx<'p, 'a> {
                     return Err(self.err(
                         span,
                         "invalid-macro-arguments",
-                        "`assert!` needs a condition",
+                        format!("`{name}!` needs a condition"),
                     ));
                 }
                 let cond = Box::new(args.remove(0));
                 let t = self.expr(&cond)?;
                 self.unify(&t, &Ty::Bool, cond.span())?;
-                let text = quote_tokens(&cond);
-                let msg = self.message(&args, &format!("assertion failed: {text}"))?;
-                (
+                let pieces = if args.is_empty() {
+                    vec![FmtPiece::Lit(format!(
+                        "assertion failed: {}",
+                        crate::pretty::expr(&cond)
+                    ))]
+                } else {
+                    self.format(args, span)?
+                };
+                self.check_fmt_args(&pieces)?;
+                let call = if name == "debug_assert" {
+                    MacroCall::Nothing
+                } else {
                     MacroCall::Abort {
                         kind: AbortKind::Assert,
-                        msg,
+                        pieces,
                         cond: Some(cond),
                         cmp: None,
-                    },
-                    Ty::Unit,
-                )
+                    }
+                };
+                (call, Ty::Unit)
             }
             "assert_eq" | "assert_ne" | "debug_assert_eq" | "debug_assert_ne" => {
                 let mut args = parse_args(m)?;
@@ -2443,16 +2480,23 @@ impl<'p, 'a> Cx<'p, 'a> {
                 }
                 let ne = name.ends_with("ne");
                 let op = if ne { "!=" } else { "==" };
-                let msg = self.message(&args, &format!("assertion `left {op} right` failed"))?;
-                (
+                let mut pieces = vec![FmtPiece::Lit(format!("assertion `left {op} right` failed"))];
+                if !args.is_empty() {
+                    pieces.push(FmtPiece::Lit(": ".into()));
+                    pieces.extend(self.format(args, span)?);
+                }
+                self.check_fmt_args(&pieces)?;
+                let call = if name.starts_with("debug_") {
+                    MacroCall::Nothing
+                } else {
                     MacroCall::Abort {
                         kind: AbortKind::Assert,
-                        msg,
+                        pieces,
                         cond: None,
                         cmp: Some((a, b, ne)),
-                    },
-                    Ty::Unit,
-                )
+                    }
+                };
+                (call, Ty::Unit)
             }
             "__trax_op" => self.trax_op(parse_args(m)?, span)?,
             "__trax_mtc2" => {
@@ -2613,19 +2657,15 @@ impl<'p, 'a> Cx<'p, 'a> {
         }
     }
 
-    /// A panic/assert message: a literal format string (arguments are not formatted).
-    fn message(&self, args: &[Expr], default: &str) -> DResult<String> {
-        match args.first() {
-            None => Ok(default.to_string()),
-            Some(Expr::Lit(syn::ExprLit {
-                lit: Lit::Str(s), ..
-            })) => Ok(s.value()),
-            Some(other) => Err(self.err(
-                other.span(),
-                "invalid-macro-arguments",
-                "expected a string literal message",
-            )),
+    /// Type-checks the arguments of formatted text: each must be printable.
+    fn check_fmt_args(&mut self, pieces: &[FmtPiece]) -> DResult<()> {
+        for p in pieces {
+            if let FmtPiece::Arg(a) | FmtPiece::Debug(a) = p {
+                let t = self.expr(a)?;
+                self.check_printable(&t, a.span())?;
+            }
         }
+        Ok(())
     }
 
     fn format(&mut self, args: Vec<Expr>, span: Span) -> DResult<Vec<FmtPiece>> {
@@ -2698,6 +2738,7 @@ impl<'p, 'a> Cx<'p, 'a> {
                         }))
                     };
                     match arg {
+                        Some(a) if fmtspec == "?" => pieces.push(FmtPiece::Debug(Box::new(a))),
                         Some(a) => pieces.push(FmtPiece::Arg(Box::new(a))),
                         None => {
                             return Err(self.err(
@@ -2730,11 +2771,6 @@ impl<'p, 'a> Cx<'p, 'a> {
         }
         Ok(pieces)
     }
-}
-
-fn quote_tokens(e: &Expr) -> String {
-    use quote::ToTokens;
-    e.to_token_stream().to_string()
 }
 
 fn op_str(op: &BinOp) -> String {

@@ -22,7 +22,9 @@ pub fn report(
         "error: thread {} (TM {}, thread {}) crashed after {} instructions",
         crash.gid, crash.tm, crash.tid, crash.retired
     );
-    let _ = writeln!(s, "  what: {}", crash.fault);
+    // A multi-line panic message (assert_eq!'s left/right) stays in the message column.
+    let what = crash.fault.to_string().replace('\n', "\n        ");
+    let _ = writeln!(s, "  what: {what}");
     let dis = sh
         .program
         .get(crash.pc)

@@ -143,16 +143,13 @@ impl std::fmt::Display for Fault {
                 code,
                 message,
             } => {
-                let k = kind
-                    .map(|k| k.describe().to_string())
-                    .unwrap_or(format!("abort code {code}"));
-                // Kernel messages often restate the kind (rustc's wording): say it once.
-                if message.is_empty() {
-                    write!(f, "{k}")
-                } else if message.starts_with(k.as_str()) {
-                    write!(f, "{message}")
-                } else {
-                    write!(f, "{k}: {message}")
+                // The message is the whole panic message, as Rust's panic handler prints
+                // it after "panicked at FILE:LINE:COL:"; the kind speaks only for an empty one.
+                match (kind, message.is_empty()) {
+                    (Some(k), true) => write!(f, "{}", k.describe()),
+                    (None, true) => write!(f, "abort code {code}"),
+                    (Some(_), false) => write!(f, "panicked: {message}"),
+                    (None, false) => write!(f, "panicked: {message} (abort code {code})"),
                 }
             }
             Fault::BadIndex { what, index } => write!(f, "{what} index {index} out of range"),

@@ -24,7 +24,7 @@ use crate::chip::Chip;
 use crate::thread::{Fault, RunState, Thread, NUM_GLOBALS, NUM_STATS};
 use std::fmt::Write as _;
 use trax_runtime::isa::{AbortKind, TraxOp};
-use trax_runtime::{fops, pipes};
+use trax_runtime::{abortmsg, fops, pipes};
 
 /// What the scheduler does after a TRaX instruction.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -50,6 +50,29 @@ fn greg(index: u32) -> Result<usize, Fault> {
             index,
         })
     }
+}
+
+/// Renders a formatted abort message from its argument record at `addr` (`len` bytes):
+/// template address and length, then 8-byte argument slots (see `abortmsg`).
+fn abort_record(mem: &crate::memory::Memory, local: &[u8], addr: u32, len: u32) -> String {
+    let unreadable = || format!("<unreadable panic message record at {addr:#010x}>");
+    let max = 8 + 8 * abortmsg::MAX_ARGS;
+    let Ok(rec) = mem.read_bytes(local, addr, len.min(max)) else {
+        return unreadable();
+    };
+    if rec.len() < 8 {
+        return unreadable();
+    }
+    let word = |i: usize| u32::from_le_bytes([rec[i], rec[i + 1], rec[i + 2], rec[i + 3]]);
+    let (tpl_addr, tpl_len) = (word(0), word(4).min(abortmsg::MAX_TEXT));
+    let args: Vec<u64> = rec[8..]
+        .chunks_exact(8)
+        .map(|c| u64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]]))
+        .collect();
+    let Ok(template) = mem.read_bytes(local, tpl_addr, tpl_len) else {
+        return format!("<unreadable panic message at {tpl_addr:#010x}>");
+    };
+    abortmsg::render(&template, &args, |a, l| mem.read_bytes(local, a, l).ok())
 }
 
 fn mem_err(f: crate::memory::MemFault) -> Fault {
@@ -204,14 +227,19 @@ pub fn exec_trax<C: Chip>(
             let _ = write!(Out(chip.output()), "{v}");
         }
         Abort => {
-            let len = g(rd as u8).min(4096);
-            let message = match chip.shared().mem.read_bytes(&t.local, vt, len) {
-                Ok(b) => String::from_utf8_lossy(&b).into_owned(),
-                Err(_) => format!("<unreadable message at {vt:#010x}>"),
+            let mem = &chip.shared().mem;
+            let message = if vs & abortmsg::ABORT_FORMATTED != 0 {
+                abort_record(mem, &t.local, vt, g(rd as u8))
+            } else {
+                let len = g(rd as u8).min(abortmsg::MAX_TEXT);
+                match mem.read_bytes(&t.local, vt, len) {
+                    Ok(b) => String::from_utf8_lossy(&b).into_owned(),
+                    Err(_) => format!("<unreadable message at {vt:#010x}>"),
+                }
             };
             return Err(Fault::Abort {
                 kind: AbortKind::from_code(vs),
-                code: vs,
+                code: vs & !abortmsg::ABORT_FORMATTED,
                 message,
             });
         }

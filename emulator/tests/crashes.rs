@@ -101,10 +101,32 @@ fn abort_with_message() {
     let (f, report, line) = crash("abort", src, "-O1");
     assert!(matches!(f, Fault::Abort { code: 1, .. }), "{f:?}");
     assert!(
-        report.contains("index out of bounds: index 7 out of range for length 4"),
+        report.contains("  what: panicked: index 7 out of range for length 4\n"),
         "{report}"
     );
     assert_line("abort", &report, line);
+}
+
+/// A formatted message: an argument record (template, then 8-byte slots) rendered with
+/// Rust's `Display`/`Debug`; continuation lines stay in the message column.
+#[test]
+fn abort_with_formatted_message() {
+    let src = "#include \"trax.h\"\nstatic const char tpl[] = \"index out of bounds: the len is 4 but the index is \\0u\\n  left: \\0g\\n right: \\0S \\0\\0 \\0I\";\nstatic const char s[] = \"a\\\"b\";\nvoid check(unsigned i) {\n  volatile unsigned rec[10] = {(unsigned)tpl, sizeof tpl - 1, i, 0, 0x3f800000, 0, (unsigned)s, 3, 0xfffffffb, 0xffffffff};\n  if (i >= 4) trax_abort(0x101, (unsigned)rec, sizeof rec); // CRASH\n}\nvoid trax_main(void) { check(7); }\n";
+    let (f, report, line) = crash("abortfmt", src, "-O1");
+    assert!(
+        matches!(
+            f,
+            Fault::Abort {
+                code: 1,
+                kind: Some(trax_runtime::isa::AbortKind::Bounds),
+                ..
+            }
+        ),
+        "{f:?}"
+    );
+    let want = "  what: panicked: index out of bounds: the len is 4 but the index is 7\n          left: 1.0\n         right: \"a\\\"b\" \0 -5\n";
+    assert!(report.contains(want), "{report}");
+    assert_line("abortfmt", &report, line);
 }
 
 #[test]

@@ -287,7 +287,7 @@ pub static TRAX_INSTRUCTIONS: &[TraxInstr] = &[
     instr!(PrintBool, "trax.printb", 0x1A, [S_GPR], Debug, "print `true` if rs != 0 else `false`"),
     instr!(PrintI64, "trax.printl", 0x1B, [S_GPR, T_GPR], Debug, "print the i64 whose low word is rs and high word rt"),
     instr!(PrintU64, "trax.printul", 0x1C, [S_GPR, T_GPR], Debug, "print the u64 whose low word is rs and high word rt"),
-    instr!(Abort, "trax.abort", 0x1D, [S_GPR, T_GPR, D_GPR_USE], Debug, "stop the program: rs = AbortKind code, message of rd bytes at address rt"),
+    instr!(Abort, "trax.abort", 0x1D, [S_GPR, T_GPR, D_GPR_USE], Debug, "stop the program: rs = AbortKind code, message of rd bytes at address rt (with rs flag 0x100: rt/rd is an argument record, see abortmsg)"),
     instr!(Seed, "trax.seed", 0x1E, [S_GPR, T_GPR], FpAdd, "reseed this thread's trax.rand stream for pixel rs, sample rt (and the run's seed): the same numbers on any thread or chip"),
     instr!(ProfBegin, "trax.profbegin", 0x20, [IMM], Debug, "begin profile region sa"),
     instr!(ProfEnd, "trax.profend", 0x21, [IMM], Debug, "end profile region sa"),
@@ -351,9 +351,9 @@ pub enum AbortKind {
 }
 
 impl AbortKind {
-    /// Decodes an abort code.
+    /// Decodes an abort code (the [`crate::abortmsg::ABORT_FORMATTED`] flag is ignored).
     pub fn from_code(code: u32) -> Option<AbortKind> {
-        Some(match code {
+        Some(match code & !crate::abortmsg::ABORT_FORMATTED {
             0 => AbortKind::Panic,
             1 => AbortKind::Bounds,
             2 => AbortKind::DivideByZero,

@@ -2,6 +2,7 @@
 //! the memory map and scene header ABI ([`abi`]), and the kernel prelude sources.
 
 pub mod abi;
+pub mod abortmsg;
 pub mod cheader;
 pub mod fops;
 pub mod host;

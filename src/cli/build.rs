@@ -5,7 +5,7 @@ use super::prepare::{build_executable, PrepareError};
 use clap::{Args, ValueEnum};
 use std::path::PathBuf;
 use std::process::ExitCode;
-use trax_compiler::{compile_file, CompileError, CompileOptions, Emit, Prelude};
+use trax_compiler::{compile_file, CompileOptions, Emit, Prelude};
 
 /// Output kind of `trax build`.
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -63,17 +63,8 @@ pub fn run(a: BuildArgs) -> ExitCode {
                 ExitCode::from(1)
             }
         },
-        Err(PrepareError::Compile(e)) => {
-            match &e {
-                CompileError::Diagnostics(_) => eprint!("{e}"),
-                CompileError::Internal(_) => eprintln!(
-                    "error: {e}\nnote: this is a bug in the trax compiler; please report it"
-                ),
-            }
-            ExitCode::from(e.exit_code())
-        }
         Err(e) => {
-            eprintln!("error: {e}");
+            eprint!("{}", e.render());
             ExitCode::from(e.exit_code())
         }
     }

@@ -58,6 +58,23 @@ impl PrepareError {
             _ => 1,
         }
     }
+
+    /// The whole text to print on stderr, ending in a newline. Compile diagnostics are
+    /// already rendered (`error[id]: ...`) and printed as they are; every other error gets
+    /// one `error: ` prefix, and an internal compiler error a note asking for a report.
+    pub fn render(&self) -> String {
+        let mut s = match self {
+            PrepareError::Compile(e @ CompileError::Diagnostics(_)) => e.to_string(),
+            PrepareError::Compile(e @ CompileError::Internal(_)) => {
+                format!("error: {e}\nnote: this is a bug in the trax compiler; please report it")
+            }
+            e => format!("error: {e}"),
+        };
+        if !s.ends_with('\n') {
+            s.push('\n');
+        }
+        s
+    }
 }
 
 /// Builds `kernel` if it is Rust source (`.rs`), else reads it as a linked executable, then

@@ -222,7 +222,7 @@ pub fn execute(a: &ExecArgs, extras: &Extras) -> Result<Executed, String> {
     let prepared = match prepare(&a.kernel, a.opt_level, &a.render) {
         Ok(p) => p,
         Err(e) => {
-            eprint!("{}", with_newline(format!("error: {e}")));
+            eprint!("{}", e.render());
             return Ok(Executed {
                 code: ExitCode::from(e.exit_code()),
                 profile: None,

@@ -648,7 +648,7 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                     i32t.const_int(4, false),
                     "",
                 )?;
-                self.check(ok, AbortKind::Bounds, "index out of bounds")?;
+                self.check_with(ok, |l| l.bounds_abort(4, idx))?;
                 self.b
                     .build_extract_element(vals[0].into_vector_value(), idx, "")?
             }
@@ -967,7 +967,8 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                 for p in pieces {
                     match p {
                         FmtPiece::Lit(s) => lit.push_str(s),
-                        FmtPiece::Arg(e) => {
+                        // `{:?}` prints as `{}` (the print instructions render `Display`).
+                        FmtPiece::Arg(e) | FmtPiece::Debug(e) => {
                             let t = self.ty_of(e);
                             let v = self.expr(e)?;
                             self.print_str(&std::mem::take(&mut lit))?;
@@ -980,36 +981,11 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                 self.print_str(&lit)?;
                 Ok(None)
             }
-            MacroCall::Abort {
-                kind,
-                msg,
-                cond,
-                cmp,
-            } => {
-                match (cond, cmp) {
-                    (Some(c), _) => {
-                        let v = self.expr(c)?;
-                        let v = self.val(v, &Ty::Bool).into_int_value();
-                        self.check(v, *kind, msg)?;
-                    }
-                    (None, Some((a, b, ne))) => {
-                        let ta = self.ty_of(a);
-                        let va = self.expr(a)?;
-                        let va = self.val(va, &ta);
-                        let vb = self.expr(b)?;
-                        let vb = self.val(vb, &ta);
-                        let c = self
-                            .arith(if *ne { "!=" } else { "==" }, va, vb, &ta, &ta)?
-                            .into_int_value();
-                        self.check(c, *kind, msg)?;
-                    }
-                    (None, None) => {
-                        self.abort(*kind, msg)?;
-                        self.dead_block();
-                    }
-                }
+            MacroCall::Abort { .. } => {
+                self.abort_macro(m, call)?;
                 Ok(None)
             }
+            MacroCall::Nothing => Ok(None),
             MacroCall::TraxOp { instr, args } => {
                 let mut regs = Vec::new();
                 let mut imms = Vec::new();

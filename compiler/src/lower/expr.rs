@@ -543,11 +543,7 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                     i32t.const_int(n as u64, false),
                     "inbounds",
                 )?;
-                self.check(
-                    ok,
-                    AbortKind::Bounds,
-                    &format!("index out of bounds: the len is {n}"),
-                )?;
+                self.check_with(ok, |l| l.bounds_abort(n, idx))?;
                 // SAFETY: the bounds check above guarantees `idx < n`.
                 Ok(unsafe {
                     self.b

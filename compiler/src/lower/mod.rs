@@ -7,6 +7,7 @@
 mod builtins;
 mod debug;
 mod expr;
+mod panic;
 
 use crate::diag::{Diagnostic, FileId, Loc};
 use crate::resolve::{FnId, GlobalId, InlineHint, Program};
@@ -68,6 +69,9 @@ struct FnState<'ctx> {
     ret: Ty,
     /// False while evaluating constant initializers (no subprogram to describe).
     debug: bool,
+    /// The function's panic-message argument record and its size in words, shared by
+    /// every panic site (`lower/panic.rs`).
+    panic_args: Option<(PointerValue<'ctx>, u32)>,
 }
 
 /// Lowers a checked program to one LLVM module.
@@ -342,6 +346,7 @@ impl<'ctx, 'p, 'a> Lowerer<'ctx, 'p, 'a> {
             scope: sp.as_debug_info_scope(),
             ret: fd.ret.clone(),
             debug: true,
+            panic_args: None,
         });
         // Parameters are spilled to their slots in the entry block with no source location
         // (as clang does), so the first located instruction, which LLVM marks
@@ -547,6 +552,7 @@ impl<'ctx, 'p, 'a> Lowerer<'ctx, 'p, 'a> {
             scope: di_file.as_debug_info_scope(),
             ret: Ty::Unit,
             debug: false,
+            panic_args: None,
         });
         let r = self.with_body(g, |l| l.expr(gd.expr));
         let ty = gd.ty.clone();

@@ -1,0 +1,4 @@
+fn trax_main() {
+    let x = 1;
+}
+}

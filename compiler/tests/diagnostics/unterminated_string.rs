@@ -1,0 +1,4 @@
+fn trax_main() {
+    let s = "abc;
+    println!("{}", s);
+}

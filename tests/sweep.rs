@@ -745,3 +745,65 @@ fn a_point_ends_when_its_sweep_is_gone() {
         std::thread::sleep(Duration::from_millis(50));
     }
 }
+
+#[test]
+fn the_example_experiments_are_valid_sweeps() {
+    let mut n = 0;
+    for e in std::fs::read_dir(root().join("experiments")).unwrap() {
+        let p = e.unwrap().path();
+        if p.extension().is_some_and(|x| x == "toml") {
+            let out = trax(&["sweep", p.to_str().unwrap(), "--dry-run"]);
+            assert!(
+                out.status.success(),
+                "{}: {}",
+                p.display(),
+                text(&out.stderr)
+            );
+            assert!(!out.stdout.is_empty());
+            n += 1;
+        }
+    }
+    assert!(n > 0);
+}
+
+#[test]
+fn a_changed_kernel_is_reported_and_rerun_on_request() {
+    let dir = scratch("stale");
+    let k = dir.join("gradient.rs");
+    let src = std::fs::read_to_string(root().join("examples/gradient.rs")).unwrap();
+    std::fs::write(&k, &src).unwrap();
+    let f = sweep_file(
+        &dir,
+        "kernel = \"gradient.rs\"\nwidth = 8\nheight = 8\nmode = \"functional\"\n[axes]\ntms = [1, 2]\n",
+    );
+    let out_dir = dir.join("results");
+    let args = [
+        "sweep",
+        f.to_str().unwrap(),
+        "-o",
+        out_dir.to_str().unwrap(),
+    ];
+    assert!(trax(&args).status.success());
+    let first = finished(&out_dir);
+    // Edit the kernel: the finished points ran the old build.
+    assert!(src.contains("0.25"));
+    std::fs::write(&k, src.replace("0.25", "0.75")).unwrap();
+    let out = trax(&args);
+    let err = text(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(
+        err.contains("warning: 2 finished point(s) ran a different build"),
+        "{err}"
+    );
+    assert_eq!(finished(&out_dir), first, "kept unless asked");
+    let mut rerun = args.to_vec();
+    rerun.push("--rerun-stale");
+    let out = trax(&rerun);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let second = finished(&out_dir);
+    for (id, json) in &second {
+        assert_ne!(&first[id], json);
+        let v: serde_json::Value = serde_json::from_str(json).unwrap();
+        assert_eq!(v["kernel"]["source_sha256"], sha256sum(&k));
+    }
+}

@@ -79,6 +79,10 @@ pub struct SweepArgs {
     /// Run the points that failed before again (default: they keep their recorded error).
     #[arg(long)]
     retry_failed: bool,
+    /// Run the finished points whose kernel has changed since (its executable's SHA-256
+    /// differs from the one they ran) again.
+    #[arg(long)]
+    rerun_stale: bool,
     /// List the points (id and parameters) and run nothing.
     #[arg(long)]
     dry_run: bool,
@@ -196,16 +200,33 @@ fn sweep(a: &SweepArgs) -> Result<ExitCode, String> {
     let (exe, exe_sha256) = this_exe()?;
     plan::build_kernels(&mut plan, &exe)?;
     plan.save(&dir)?;
-    std::fs::copy(file, dir.join("sweep.toml")).map_err(|e| format!("{}: {e}", file.display()))?;
-    let pending: Vec<usize> = (0..plan.points.len())
-        .filter(
-            |&i| match runner::recorded_status(&dir, &plan.points[i].id).as_deref() {
-                None => true,
-                Some("failed") => a.retry_failed,
-                Some(_) => false,
-            },
-        )
-        .collect();
+    let copy = dir.join("sweep.toml");
+    let same = |a: &Path, b: &Path| matches!((a.canonicalize(), b.canonicalize()), (Ok(a), Ok(b)) if a == b);
+    if !same(file, &copy) {
+        std::fs::copy(file, &copy).map_err(|e| format!("{}: {e}", file.display()))?;
+    }
+    // Points to run: not run yet; failed (with --retry-failed); run with another build of
+    // their kernel (with --rerun-stale; otherwise they are only counted and reported).
+    let mut stale = 0;
+    let mut pending: Vec<usize> = Vec::new();
+    for (i, p) in plan.points.iter().enumerate() {
+        let run = match runner::recorded(&dir, &p.id) {
+            None => true,
+            Some(r) => {
+                let old = r.elf_sha256 != plan.kernels[p.kernel].elf_sha256;
+                stale += usize::from(old);
+                (r.status == "failed" && a.retry_failed) || (old && a.rerun_stale)
+            }
+        };
+        if run {
+            pending.push(i);
+        }
+    }
+    if stale > 0 && !a.rerun_stale {
+        eprintln!(
+            "warning: {stale} finished point(s) ran a different build of their kernel (the source or compiler changed since); --rerun-stale runs them again"
+        );
+    }
     let done = plan.points.len() - pending.len();
     if a.slurm {
         let ids: Vec<String> = pending.iter().map(|&i| plan.points[i].id.clone()).collect();
@@ -237,6 +258,13 @@ fn sweep(a: &SweepArgs) -> Result<ExitCode, String> {
             "error: {} point(s) failed: see the error column of results.csv and {}",
             c.failed,
             dir.join("points").join("ID.json").display()
+        );
+        return Ok(ExitCode::FAILURE);
+    }
+    if c.pending > 0 {
+        eprintln!(
+            "error: {} point(s) were interrupted; run the sweep again to finish them",
+            c.pending
         );
         return Ok(ExitCode::FAILURE);
     }
@@ -447,7 +475,10 @@ fn run_task(dir: &Path, tasks: &Path, index: usize) -> Result<ExitCode, String> 
             plan.points.iter().find(|p| &p.id == id).ok_or_else(|| {
                 format!("point {id} is not in {}", dir.join("plan.json").display())
             })?;
-        if runner::recorded_status(dir, id).as_deref() == Some("ok") {
+        // Done already (a requeued task) with this build of the kernel.
+        if runner::recorded(dir, id)
+            .is_some_and(|r| r.status == "ok" && r.elf_sha256 == plan.kernels[p.kernel].elf_sha256)
+        {
             eprintln!("{id} already done");
             continue;
         }

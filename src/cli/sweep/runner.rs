@@ -65,11 +65,23 @@ pub fn point_path(dir: &Path, id: &str) -> PathBuf {
     dir.join("points").join(format!("{id}.json"))
 }
 
-/// The recorded status of a point (`ok`, `failed`), none if it has not run.
-pub fn recorded_status(dir: &Path, id: &str) -> Option<String> {
+/// What a point's JSON says about its run.
+#[derive(Debug)]
+pub struct Recorded {
+    /// `ok` or `failed`.
+    pub status: String,
+    /// SHA-256 of the kernel executable it ran.
+    pub elf_sha256: String,
+}
+
+/// The record of a point, none if it has not run.
+pub fn recorded(dir: &Path, id: &str) -> Option<Recorded> {
     let text = std::fs::read_to_string(point_path(dir, id)).ok()?;
     let v: Value = serde_json::from_str(&text).ok()?;
-    Some(v.get("status")?.as_str()?.to_string())
+    Some(Recorded {
+        status: v.get("status")?.as_str()?.to_string(),
+        elf_sha256: v["kernel"]["elf_sha256"].as_str().unwrap_or("").to_string(),
+    })
 }
 
 /// Creates the directories of a results directory.

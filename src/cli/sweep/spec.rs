@@ -238,6 +238,9 @@ pub struct At<T> {
     pub loc: Loc,
 }
 
+/// A parameter as given in the file: its name and value, each with its position.
+pub type Param = (At<String>, At<PVal>);
+
 /// One varied parameter.
 #[derive(Clone, Debug)]
 pub struct Axis {
@@ -308,11 +311,11 @@ pub struct SweepSpec {
     /// Sweep name.
     pub name: String,
     /// Parameters every point shares, in file order.
-    pub fixed: Vec<(At<String>, At<PVal>)>,
+    pub fixed: Vec<Param>,
     /// Grid axes, in file order.
     pub axes: Vec<Axis>,
     /// Explicit cases, each a list of parameters.
-    pub cases: Vec<Vec<(At<String>, At<PVal>)>>,
+    pub cases: Vec<Vec<Param>>,
     /// Runs of each point.
     pub repetitions: u32,
     /// Slurm defaults.
@@ -504,10 +507,7 @@ fn value_type(v: &Value) -> &'static str {
 }
 
 /// `(name, scalar)` parameters of a table (the top level, or a case).
-fn params_of(
-    src: &Src,
-    leaves: Vec<(At<String>, &Value)>,
-) -> Result<Vec<(At<String>, At<PVal>)>, SpecError> {
+fn params_of(src: &Src, leaves: Vec<(At<String>, &Value)>) -> Result<Vec<Param>, SpecError> {
     leaves
         .into_iter()
         .map(|(n, v)| {
@@ -567,11 +567,7 @@ fn parse_axes(src: &Src, item: &Item, kloc: Option<Loc>) -> Result<Vec<Axis>, Sp
     Ok(axes)
 }
 
-fn parse_cases(
-    src: &Src,
-    item: &Item,
-    kloc: Option<Loc>,
-) -> Result<Vec<Vec<(At<String>, At<PVal>)>>, SpecError> {
+fn parse_cases(src: &Src, item: &Item, kloc: Option<Loc>) -> Result<Vec<Vec<Param>>, SpecError> {
     let mut cases = Vec::new();
     match item {
         Item::ArrayOfTables(a) => {
@@ -651,13 +647,16 @@ fn int_item(src: &Src, name: &str, item: &Item, min: i64, max: i64) -> Result<i6
     }
 }
 
+/// A key of a table, its item and the key's position.
+type Entry<'a> = (&'a str, Item, Option<Loc>);
+
 /// The `(key, item)` pairs of a table item, with the key's position.
 fn table_entries<'a>(
     src: &Src,
     name: &str,
     item: &'a Item,
     kloc: Option<Loc>,
-) -> Result<Vec<(&'a str, Item, Option<Loc>)>, SpecError> {
+) -> Result<Vec<Entry<'a>>, SpecError> {
     match item {
         Item::Table(t) => Ok(t
             .iter()
@@ -922,7 +921,7 @@ pub fn expand(spec: &SweepSpec) -> Result<(Vec<Point>, usize), SpecError> {
         msg,
     };
     let empty = Vec::new();
-    let cases: Vec<&Vec<(At<String>, At<PVal>)>> = if spec.cases.is_empty() {
+    let cases: Vec<&Vec<Param>> = if spec.cases.is_empty() {
         vec![&empty]
     } else {
         spec.cases.iter().collect()

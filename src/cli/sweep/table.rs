@@ -26,6 +26,8 @@ pub struct Collected {
     pub failed: usize,
     /// Not run yet.
     pub pending: usize,
+    /// Results in `points/` of points the plan no longer has (left out of the table).
+    pub extra: usize,
     /// Plot files written.
     pub plots: Vec<std::path::PathBuf>,
     /// Plots that could not be drawn.
@@ -118,6 +120,15 @@ pub fn collect(dir: &Path) -> Result<Collected, String> {
         row.push(error);
         w.write_record(&row).map_err(|e| e.to_string())?;
     }
+    let ids: std::collections::HashSet<&str> = plan.points.iter().map(|p| p.id.as_str()).collect();
+    if let Ok(entries) = std::fs::read_dir(dir.join("points")) {
+        c.extra = entries
+            .filter_map(|e| e.ok()?.file_name().into_string().ok())
+            .filter(|n| !n.starts_with('.'))
+            .filter_map(|n| n.strip_suffix(".json").map(str::to_string))
+            .filter(|id| !ids.contains(id.as_str()))
+            .count();
+    }
     let bytes = w.into_inner().map_err(|e| e.to_string())?;
     write_atomic(&dir.join("results.csv"), &bytes)?;
     let (plots, errors) = crate::cli::plot::draw_plan_plots(dir, &plan.plots);
@@ -136,6 +147,13 @@ pub fn report(dir: &Path, c: &Collected) {
         c.pending,
         dir.join("results.csv").display()
     );
+    if c.extra > 0 {
+        eprintln!(
+            "note: {} result(s) in {} are of points the sweep no longer has (left out)",
+            c.extra,
+            dir.join("points").display()
+        );
+    }
     for p in &c.plots {
         eprintln!("wrote {}", p.display());
     }

@@ -807,3 +807,117 @@ fn a_changed_kernel_is_reported_and_rerun_on_request() {
         assert_eq!(v["kernel"]["source_sha256"], sha256sum(&k));
     }
 }
+
+#[test]
+fn cases_cross_the_grid_and_repetitions_repeat() {
+    let dir = scratch("cases");
+    let k = gradient();
+    let body = |reps: u32| {
+        format!(
+            r#"kernel = {k:?}
+width = 8
+height = 8
+mode = "functional"
+repetitions = {reps}
+
+[axes]
+tms = [1, 2]
+
+[[cases]]
+threads = 4
+
+[[cases]]
+threads = 8
+width = 16
+
+[[cases]]
+threads = 4
+"#
+        )
+    };
+    let f = sweep_file(&dir, &body(2));
+    let out_dir = dir.join("results");
+    let out = trax(&[
+        "sweep",
+        f.to_str().unwrap(),
+        "-o",
+        out_dir.to_str().unwrap(),
+    ]);
+    let err = text(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(
+        err.contains("note: 4 point(s) repeat another's parameters"),
+        "{err}"
+    );
+    let (header, rows) = read_csv(&out_dir.join("results.csv"));
+    assert_eq!(
+        &header[2..6],
+        ["tms", "threads", "width", "kernel"],
+        "{header:?}"
+    );
+    assert!(header.contains(&"rep".to_string()));
+    let got: Vec<(&str, &str, &str, &str)> = rows
+        .iter()
+        .map(|r| {
+            (
+                r["threads"].as_str(),
+                r["width"].as_str(),
+                r["tms"].as_str(),
+                r["rep"].as_str(),
+            )
+        })
+        .collect();
+    assert_eq!(
+        got,
+        [
+            ("4", "8", "1", "0"),
+            ("4", "8", "1", "1"),
+            ("4", "8", "2", "0"),
+            ("4", "8", "2", "1"),
+            ("8", "16", "1", "0"),
+            ("8", "16", "1", "1"),
+            ("8", "16", "2", "0"),
+            ("8", "16", "2", "1"),
+        ]
+    );
+    for pair in rows.chunks(2) {
+        assert_ne!(pair[0]["id"], pair[1]["id"]);
+        assert_eq!(
+            pair[0]["instructions"], pair[1]["instructions"],
+            "deterministic"
+        );
+    }
+    // Threads per TM reached the chip: 8 threads x 2 TMs print 16 hello lines... here, the
+    // recorded config says so.
+    let rec: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(out_dir.join(format!("points/{}.json", rows[6]["id"]))).unwrap(),
+    )
+    .unwrap();
+    assert_eq!(rec["config"]["threads_per_tm"], 8);
+    assert_eq!(rec["config"]["tms"], 2);
+    // A repetition index of 0 is not hashed: without repetitions the ids are the rep-0 ids.
+    let f1 = sweep_file(&dir, &body(1));
+    let dry = trax(&["sweep", f1.to_str().unwrap(), "--dry-run"]);
+    let ids: Vec<String> = text(&dry.stdout)
+        .lines()
+        .map(|l| l.split_whitespace().next().unwrap().to_string())
+        .collect();
+    let rep0: Vec<String> = rows
+        .iter()
+        .filter(|r| r["rep"] == "0")
+        .map(|r| r["id"].clone())
+        .collect();
+    assert_eq!(ids, rep0);
+    // Plots average repetitions.
+    let out = trax(&[
+        "plot",
+        out_dir.to_str().unwrap(),
+        "--x",
+        "tms",
+        "--y",
+        "instructions",
+        "--by",
+        "threads",
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+}

@@ -11,7 +11,6 @@
 //! different experiments, so that is an error naming the parameter (choose it with `--by`,
 //! or fix it with `--where PARAM=VALUE`).
 
-use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::Once;
@@ -303,19 +302,22 @@ fn gather(t: &Table, spec: &PlotSpec, ycols: &[&str]) -> Result<Data, String> {
     if rows.is_empty() {
         return Err("no finished points (status ok) match".into());
     }
-    // Another parameter varying would mix experiments in one line.
+    // Another parameter varying within one (x, by) pair would mix experiments in one mark.
+    let group = |r: &Vec<String>| (r[xc].clone(), bc.map(|b| r[b].clone()));
     for p in &params {
         if *p == spec.x || Some(*p) == spec.by.as_deref() || *p == "rep" {
             continue;
         }
         let c = t.col(p).unwrap_or(0);
-        let vals: BTreeSet<&str> = rows.iter().map(|r| r[c].as_str()).collect();
-        if vals.len() > 1 {
-            let list: Vec<&str> = vals.into_iter().take(6).collect();
-            return Err(format!(
-                "parameter `{p}` also varies ({}): choose it with --by {p}, or one value with --where {p}=VALUE",
-                list.join(", ")
-            ));
+        let mut seen: std::collections::HashMap<_, &str> = std::collections::HashMap::new();
+        for r in &rows {
+            let v = r[c].as_str();
+            if let Some(prev) = seen.insert(group(r), v).filter(|prev| *prev != v) {
+                return Err(format!(
+                    "parameter `{p}` also varies ({prev}, {v}) for the same {}: choose it with --by {p}, or one value with --where {p}=VALUE",
+                    spec.x
+                ));
+            }
         }
     }
     let xs = ordered(rows.iter().map(|r| r[xc].clone()));

@@ -78,7 +78,8 @@ fn plot_cmd(a: &PlotArgs) -> Result<(PathBuf, PathBuf), String> {
     let kind = a.kind.unwrap_or(PlotKind::Line);
     let y = match (&a.y, kind) {
         (Some(y), _) => y.clone(),
-        (None, _) => "energy_j".into(),
+        (None, PlotKind::Energy) => "energy_j".into(),
+        (None, _) => return Err("--y METRIC is needed (unless --kind energy)".into()),
     };
     let mut filter = Vec::new();
     for f in &a.filter {

@@ -74,11 +74,13 @@ impl RenderArgs {
 /// number of L2s, TMs split evenly among them).
 pub fn chip_config(
     config: &str,
+    sets: &[(String, toml::Value)],
     tms: Option<u32>,
     threads: Option<u32>,
     l2s: Option<u32>,
 ) -> Result<ChipConfig, String> {
     let mut chip = ChipConfig::load(config).map_err(|e| e.to_string())?;
+    chip.apply_overrides(sets).map_err(|e| e.to_string())?;
     for (flag, v) in [("tms", tms), ("threads", threads), ("l2s", l2s)] {
         if v == Some(0) {
             return Err(format!("--{flag} must be at least 1"));

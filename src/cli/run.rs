@@ -105,6 +105,11 @@ pub struct ExecArgs {
     /// Number of L2 caches; TMs are split evenly among them (overrides the config).
     #[arg(long)]
     pub l2s: Option<u32>,
+    /// Set any chip config field by its dotted path, as a line of the config file would
+    /// (`--set memory.l2.capacity_bytes=262144`, `--set memory.dram.preset=hbm2`); VALUE is
+    /// TOML (a bare word is a string). Repeatable; applied before `--tms/--threads/--l2s`.
+    #[arg(long = "set", value_name = "PATH=VALUE", value_parser = parse_set)]
+    pub set: Vec<(String, toml::Value)>,
     /// Functional mode: execute without the timing model (fast; no cycle statistics).
     #[arg(long)]
     pub functional: bool,
@@ -189,9 +194,26 @@ fn write_profile(a: &RunArgs, p: &Profile) -> Result<(), String> {
 /// Call-tree nodes below this inclusive percentage are left out of the printed tree.
 const TREE_MIN_PERCENT: f64 = 0.1;
 
+/// Parses `--set PATH=VALUE`: VALUE as a TOML value, or else as a string.
+pub fn parse_set(s: &str) -> Result<(String, toml::Value), String> {
+    let (path, raw) = s
+        .split_once('=')
+        .ok_or_else(|| format!("{s:?}: expected PATH=VALUE"))?;
+    let path = path.trim();
+    if path.is_empty() {
+        return Err(format!("{s:?}: no field path before `=`"));
+    }
+    let raw = raw.trim();
+    let value = toml::from_str::<toml::Table>(&format!("v = {raw}"))
+        .ok()
+        .and_then(|mut t| t.remove("v"))
+        .unwrap_or_else(|| toml::Value::String(raw.to_string()));
+    Ok((path.to_string(), value))
+}
+
 /// The chip: the named config with the command-line overrides applied.
 fn chip_config(a: &ExecArgs) -> Result<ChipConfig, String> {
-    common::chip_config(&a.config, a.tms, a.threads, a.l2s)
+    common::chip_config(&a.config, &a.set, a.tms, a.threads, a.l2s)
 }
 
 /// Prepares and runs the kernel, reports statistics, writes the PNG; with `extras`,

@@ -122,7 +122,8 @@ fn native(a: &NativeArgs) -> Result<(), NativeError> {
             return Err(NativeError::BadFlag { flag });
         }
     }
-    let chip = common::chip_config(&a.config, &[], a.tms, a.threads, None).map_err(NativeError::Chip)?;
+    let chip =
+        common::chip_config(&a.config, &[], a.tms, a.threads, None).map_err(NativeError::Chip)?;
     let (tms, threads) = (chip.tms, chip.threads_per_tm);
     let total = tms as u64 * threads as u64;
     if total > 4096 {

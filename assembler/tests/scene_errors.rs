@@ -217,7 +217,7 @@ fn missing_files() {
         d.join("x.obj").to_str().unwrap(),
         &LoadOptions {
             view: Some(d.join("none.view")),
-            light: None,
+            ..LoadOptions::default()
         },
     ) {
         Err(SceneError::Io { .. }) => {}
@@ -229,7 +229,7 @@ fn missing_files() {
         obj.to_str().unwrap(),
         &LoadOptions {
             view: Some(d.join("none.view")),
-            light: None,
+            ..LoadOptions::default()
         },
     ) {
         Err(SceneError::Io { path, .. }) => assert!(path.ends_with("none.view")),

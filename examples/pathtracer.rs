@@ -9,13 +9,15 @@
 //! Emitters emit from both faces. Point lights are isotropic with intensity `color`
 //! (falloff 1/d²).
 
+use trax::ray::SurfacePoint;
 use trax::{Ray, Vec3};
 
-/// Direct light at `p` (unit normal `n`, diffuse albedo `albedo`) from one uniformly
-/// chosen emissive triangle and every point light, with shadow rays.
-fn direct_light(p: Vec3, n: Vec3, albedo: Vec3, eps: f32) -> Vec3 {
+/// Direct light at surface point `sp` (diffuse albedo `albedo`) from one uniformly chosen
+/// emissive triangle and every point light, with shadow rays.
+fn direct_light(sp: &SurfacePoint, albedo: Vec3) -> Vec3 {
     let brdf = albedo.scale(1.0 / trax::PI);
-    let origin = p + n.scale(eps);
+    let n = sp.n;
+    let origin = sp.origin();
     let mut sum = Vec3::zero();
     let emitters = trax::scene::emitter_count();
     if emitters > 0 {
@@ -26,19 +28,19 @@ fn direct_light(p: Vec3, n: Vec3, albedo: Vec3, eps: f32) -> Vec3 {
         let tri_index = trax::scene::emitter(k);
         let tri = trax::scene::triangle(tri_index);
         let q = trax::sampling::triangle_point(&tri);
-        let to_light = q - origin;
-        let dist2 = to_light.length_squared();
-        let dist = dist2.sqrt();
-        let l = to_light.scale(1.0 / dist);
+        // Direction, distance, area / distance² and the light's normal, right at every
+        // scale.
+        let eg = trax::sampling::emitter_geometry(&tri, origin, q);
+        let l = eg.dir;
+        let dist = eg.dist;
         let cos_surf = n.dot(l);
-        let ln = tri.normal();
-        let cos_light = ln.dot(l).abs();
+        let cos_light = eg.normal.dot(l).abs();
         if cos_surf > 0.0 && cos_light > 0.0 {
             // Stop just short of the light so its own triangle does not occlude.
             if !trax::bvh::occluded(&Ray::new(origin, l), 0.0, dist * (1.0 - 1e-4)) {
                 let mat = trax::scene::triangle_material(tri_index);
                 // pdf (area) = 1 / (emitters * area); solid-angle conversion cos_light / d².
-                let g = cos_surf * cos_light / dist2 * tri.area() * emitters as f32;
+                let g = cos_surf * cos_light / eg.dist2 * eg.area * emitters as f32;
                 sum += brdf * mat.emission.scale(g);
             }
         }
@@ -48,7 +50,9 @@ fn direct_light(p: Vec3, n: Vec3, albedo: Vec3, eps: f32) -> Vec3 {
         let light = trax::scene::point_light(k);
         let to_light = light.position - origin;
         let dist2 = to_light.length_squared();
-        let dist = dist2.sqrt();
+        // Direction and distance right at every scale (`length` rescales; `dist2` may
+        // overflow, giving the contribution's limit of 0).
+        let dist = to_light.length();
         let l = to_light.scale(1.0 / dist);
         let cos = n.dot(l);
         if cos > 0.0 && !trax::bvh::occluded(&Ray::new(origin, l), 0.0, dist) {
@@ -59,7 +63,7 @@ fn direct_light(p: Vec3, n: Vec3, albedo: Vec3, eps: f32) -> Vec3 {
 }
 
 /// Radiance along a camera ray.
-fn radiance(camera_ray: Ray, max_depth: u32, eps: f32) -> Vec3 {
+fn radiance(camera_ray: Ray, max_depth: u32) -> Vec3 {
     let mut ray = camera_ray;
     let mut throughput = Vec3::splat(1.0);
     let mut l = Vec3::zero();
@@ -74,19 +78,16 @@ fn radiance(camera_ray: Ray, max_depth: u32, eps: f32) -> Vec3 {
         if depth == 0 {
             l += mat.emission;
         }
-        let mut n = trax::scene::triangle(hit.tri).normal();
-        if n.dot(ray.dir) > 0.0 {
-            n = -n;
-        }
-        let p = ray.at(hit.t);
-        l += throughput * direct_light(p, n, mat.diffuse, eps);
+        // New rays start just off the surface, by the hit point's rounding error.
+        let sp = SurfacePoint::new(&ray, &hit, &trax::scene::triangle(hit.tri));
+        l += throughput * direct_light(&sp, mat.diffuse);
         depth += 1;
         if depth >= max_depth || mat.diffuse.is_black() {
             break;
         }
         // Cosine sampling: brdf * cos / pdf = albedo.
         throughput *= mat.diffuse;
-        ray = Ray::new(p + n.scale(eps), trax::sampling::cosine_hemisphere(n));
+        ray = Ray::new(sp.origin(), trax::sampling::cosine_hemisphere(sp.n));
     }
     l
 }
@@ -94,7 +95,6 @@ fn radiance(camera_ray: Ray, max_depth: u32, eps: f32) -> Vec3 {
 fn trax_main() {
     let cam = trax::Camera::load();
     let w = trax::scene::width();
-    let eps = trax::scene::epsilon();
     let max_depth = trax::scene::max_depth();
     let mut spp = trax::scene::spp();
     if spp == 0 {
@@ -112,7 +112,7 @@ fn trax_main() {
         let mut c = Vec3::zero();
         for s in 0..spp {
             trax::seed_pixel(i, s);
-            c += radiance(cam.jittered_ray(i % w, i / w), max_depth, eps);
+            c += radiance(cam.jittered_ray(i % w, i / w), max_depth);
         }
         trax::scene::set_pixel_index(i, c.scale(inv_spp));
     }

@@ -167,6 +167,46 @@ fn bad_inputs_are_named() {
     );
 }
 
+/// `--scene-scale` and `icosphere:N` from the command line: a scaled run works, `trax scene
+/// info` shows the scaled bounds, and unusable scales are errors naming the flag's value.
+#[test]
+fn scene_scale_flag() {
+    let out = trax(&[
+        "run",
+        "examples/raycast.rs",
+        "--functional",
+        "--scene",
+        "icosphere:2",
+        "--scene-scale",
+        "1e-20",
+        "--width",
+        "8",
+        "--height",
+        "8",
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let out = trax(&["scene", "info", "cornell", "--scene-scale", "1e20"]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let info = text(&out.stdout);
+    assert!(info.contains("5.56e22"), "{info}");
+    for bad in ["0", "-2", "1e36"] {
+        let out = trax(&["scene", "info", "cornell", "--scene-scale", bad]);
+        assert_eq!(out.status.code(), Some(1), "{bad}");
+        assert!(
+            text(&out.stderr).contains("scene scale"),
+            "{}",
+            text(&out.stderr)
+        );
+        let out = trax(&["run", "examples/hello.rs", "--scene-scale", bad]);
+        assert_eq!(out.status.code(), Some(1), "{bad}");
+        assert!(
+            text(&out.stderr).contains("scene scale"),
+            "{}",
+            text(&out.stderr)
+        );
+    }
+}
+
 /// The acceptance check: the same path-tracer run on 1 and 2 host threads writes
 /// identical JSON statistics and an identical image (4 TMs of detailed-DRAM baseline chip).
 #[test]

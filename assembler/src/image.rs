@@ -94,7 +94,7 @@ pub struct RenderOptions {
     pub spp: u32,
     /// Maximum path depth.
     pub max_depth: u32,
-    /// Ray offset; `None` = 1e-4 × the scene's bounding-box diagonal.
+    /// Ray offset; `None` = 1e-4 × the scene's bounding-box diagonal (see [`default_epsilon`]).
     pub epsilon: Option<f32>,
     /// Seed for per-thread random streams.
     pub seed: u32,
@@ -122,6 +122,18 @@ impl Default for RenderOptions {
     }
 }
 
+/// The header's default `epsilon`: 1e-4 × the scene's bounding-box diagonal, computed in
+/// f64, with no absolute floor, so it scales with the scene at every scale (an absolute
+/// floor would swamp scenes smaller than it). A scene of zero size gets 1e-4 × 2^-20 × its
+/// distance from the origin (or the smallest positive f32 at the origin).
+pub fn default_epsilon(scene: &Scene) -> f32 {
+    let b = scene.bounds();
+    let mut size = b.diagonal_f64();
+    if size == 0.0 {
+        size = b.magnitude() as f64 * f64::powi(2.0, -20);
+    }
+    ((1e-4 * size) as f32).max(f32::from_bits(1))
+}
 /// The per-thread stack window: every thread sees its own `size` bytes below `top`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct StackLayout {
@@ -451,9 +463,7 @@ pub fn build_image_from_symbols(
         inv_height: 1.0 / opts.height as f32,
         spp: opts.spp,
         max_depth: opts.max_depth,
-        epsilon: opts
-            .epsilon
-            .unwrap_or_else(|| (1e-4 * scene.bounds().diagonal()).max(1e-7)),
+        epsilon: opts.epsilon.unwrap_or_else(|| default_epsilon(scene)),
         seed: opts.seed,
         background: opts.background,
         ..SceneHeader::default()

@@ -10,10 +10,16 @@ use trax_emulator::timing::ChipConfig;
 /// Scene and image parameters.
 #[derive(Args, Debug, Clone)]
 pub struct RenderArgs {
-    /// Scene: `cornell` (embedded default), `procedural:N` (about N triangles), or an
-    /// .obj/.objl file.
+    /// Scene: `cornell` (embedded default), `procedural:N` (about N triangles),
+    /// `icosphere:N` (a closed sphere mesh of 20·4^N triangles), or an .obj/.objl file.
     #[arg(long, default_value = "cornell")]
     pub scene: String,
+    /// Scale the whole scene by this factor (e.g. 1e-20 or 1e20): vertices, camera eye and
+    /// point-light positions, after the .view/.light files are applied. Directions and the
+    /// image window are kept, so a scale-invariant kernel draws the same image; point lights
+    /// keep their intensity (with a 1/d² falloff they look 1/S² as bright).
+    #[arg(long, value_name = "S", allow_negative_numbers = true)]
+    pub scene_scale: Option<f64>,
     /// Camera file (simtrax .view); default: beside the scene file, or framing the scene.
     #[arg(long)]
     pub view: Option<PathBuf>,
@@ -44,6 +50,7 @@ impl RenderArgs {
         LoadOptions {
             view: self.view.clone(),
             light: self.light.clone(),
+            scale: self.scene_scale,
         }
     }
 

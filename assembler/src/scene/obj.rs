@@ -377,31 +377,44 @@ fn file_name(path: &Path) -> String {
 /// Loads an OBJ file (and its MTL libraries). The camera is a framing default; see
 /// [`super::load_scene`] for `.view`/`.light` lookup.
 pub fn load_obj(path: &Path) -> Result<Scene, SceneError> {
-    let mut scene = Scene::new(
+    let mut scene = read_obj(path)?;
+    scene.view = View::framing(&scene.bounds());
+    scene.validate()?;
+    Ok(scene)
+}
+
+/// A scene with a placeholder camera, before anything is validated.
+fn unframed(path: &Path) -> Scene {
+    Scene::new(
         file_name(path),
         View::framing(&super::Bounds {
             min: [0.0; 3],
             max: [1.0; 3],
         }),
-    );
+    )
+}
+
+/// [`load_obj`] without the framing camera and validation (the caller sets the camera first).
+pub(crate) fn read_obj(path: &Path) -> Result<Scene, SceneError> {
+    let mut scene = unframed(path);
     append_obj(&mut scene, path)?;
-    scene.view = View::framing(&scene.bounds());
-    scene.validate()?;
     Ok(scene)
 }
 
 /// Loads a simtrax `.objl` list: one OBJ file name per line, relative to the list file;
 /// material ids of later files are offset by the materials loaded before them.
 pub fn load_objl(path: &Path) -> Result<Scene, SceneError> {
+    let mut scene = read_objl(path)?;
+    scene.view = View::framing(&scene.bounds());
+    scene.validate()?;
+    Ok(scene)
+}
+
+/// [`load_objl`] without the framing camera and validation.
+pub(crate) fn read_objl(path: &Path) -> Result<Scene, SceneError> {
     let text = read(path)?;
     let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
-    let mut scene = Scene::new(
-        file_name(path),
-        View::framing(&super::Bounds {
-            min: [0.0; 3],
-            max: [1.0; 3],
-        }),
-    );
+    let mut scene = unframed(path);
     let mut files = 0;
     for (i, line) in text.lines().enumerate() {
         let name = line.trim();
@@ -434,7 +447,5 @@ pub fn load_objl(path: &Path) -> Result<Scene, SceneError> {
     if files == 0 {
         return Err(SceneError::Empty(scene.name));
     }
-    scene.view = View::framing(&scene.bounds());
-    scene.validate()?;
     Ok(scene)
 }

@@ -195,8 +195,8 @@ pub fn compile_source(
 pub mod fuzzing {
     use super::*;
 
-    /// Compiles `data` (if UTF-8) as a kernel without the prelude, at `-O0` when the
-    /// first byte is even, else `-O1`.
+    /// Compiles `data` (if UTF-8) as a kernel with the prelude, at `-O0` when the first
+    /// byte is even, else `-O1`.
     pub fn kernel(data: &[u8]) {
         let Ok(text) = std::str::from_utf8(data) else {
             return;
@@ -207,7 +207,7 @@ pub mod fuzzing {
             } else {
                 0
             },
-            prelude: None,
+            prelude: Some(Prelude::runtime()),
             ..CompileOptions::default()
         };
         if let Err(CompileError::Internal(msg)) = compile_source("fuzz", text, &opts) {

@@ -389,3 +389,62 @@ fn run_reports_scene_components_and_what_was_left_out() {
         }
     }
 }
+
+/// Messages name each thing once, list the choices and say where a config is wrong.
+#[test]
+fn messages_name_the_input_once_and_list_choices() {
+    let count = |hay: &str, needle: &str| hay.matches(needle).count();
+    for (scene, name) in [
+        ("/nonexistent.obj", "nonexistent.obj"),
+        ("nosuch", "nosuch"),
+        ("procedural:x", "procedural:x"),
+    ] {
+        let out = trax(&["run", "examples/hello.rs", "--scene", scene]);
+        assert_eq!(out.status.code(), Some(1));
+        let err = text(&out.stderr);
+        assert_eq!(count(&err, name), 1, "scene named once:\n{err}");
+    }
+    // A scene error that does not name the scene itself still gets its name.
+    let dir = scratch("messages");
+    let empty = dir.join("empty.obj");
+    std::fs::write(&empty, "# nothing\n").unwrap();
+    let out = trax(&[
+        "run",
+        "examples/hello.rs",
+        "--scene",
+        empty.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        text(&out.stderr).contains("empty.obj"),
+        "{}",
+        text(&out.stderr)
+    );
+
+    let out = trax(&["run", "examples/hello.rs", "--config", "huge"]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = text(&out.stderr);
+    assert!(
+        err.contains("`huge`") && err.contains("tiny, baseline, strata"),
+        "{err}"
+    );
+
+    let bad = dir.join("bad.toml");
+    std::fs::write(
+        &bad,
+        "preset = \"tiny\"\n[units.fp_add]\ncount = \"four\"\n",
+    )
+    .unwrap();
+    let out = trax(&[
+        "run",
+        "examples/hello.rs",
+        "--config",
+        bad.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = text(&out.stderr);
+    assert!(
+        err.contains("bad.toml:3:9") && err.contains("`units.fp_add.count`"),
+        "{err}"
+    );
+}

@@ -1,6 +1,8 @@
 //! The machine's initial memory: program segments from the linked ELF, the scene header at
-//! [`abi::SCENE_HEADER_ADDR`], scene components after the program (64-byte aligned), the
-//! framebuffer, and descriptions of the null guard and the per-thread stack window.
+//! [`abi::SCENE_HEADER_ADDR`], scene components after the program (64-byte aligned, each
+//! after an unmapped guard gap of [`GUARD_GAP`] bytes, so an index just past one component
+//! faults instead of reading the next), the framebuffer, and descriptions of the null guard
+//! and the per-thread stack window.
 //!
 //! Scene components are linked on demand: a program that references the header field
 //! `<field>` carries the absolute symbol `__trax_scene_<field>` in its `.symtab` (the linker
@@ -36,8 +38,11 @@ pub const OPTIONAL_COMPONENTS: [&str; 10] = [
 
 /// Alignment of every placed component.
 pub const COMPONENT_ALIGN: u32 = 64;
-/// Bytes of the stored camera (22 × f32).
-pub const CAMERA_BYTES: u32 = 88;
+/// Unmapped bytes left before every placed component (after the program and between
+/// components): accesses up to this far past a component's end or before its start fault.
+pub const GUARD_GAP: u32 = 4096;
+/// Bytes of the stored camera (18 × f32, [`Camera`]).
+pub const CAMERA_BYTES: u32 = std::mem::size_of::<Camera>() as u32;
 
 /// A contiguous range of initial memory. Bytes past `data.len()` up to `size` are zero.
 #[derive(Clone, Debug, PartialEq)]
@@ -406,15 +411,15 @@ pub fn build_image_from_symbols(
             ("emitters", 4),
         ] {
             if wants(f) {
-                probe += per * n_tris + COMPONENT_ALIGN as u64;
+                probe += per * n_tris + (GUARD_GAP + COMPONENT_ALIGN) as u64;
             }
         }
         for (f, per) in [("bvh_nodes", 32u64), ("bvh_parents", 4), ("treelet_ids", 4)] {
             if wants(f) {
-                probe += per * 2 * n_tris + COMPONENT_ALIGN as u64;
+                probe += per * 2 * n_tris + (GUARD_GAP + COMPONENT_ALIGN) as u64;
             }
         }
-        probe += fb_bytes + CAMERA_BYTES as u64;
+        probe += fb_bytes + CAMERA_BYTES as u64 + 2 * (GUARD_GAP + COMPONENT_ALIGN) as u64;
         if probe > limit {
             let what = if fb_bytes > limit {
                 "framebuffer"
@@ -695,7 +700,7 @@ pub fn build_image_from_symbols(
     })
 }
 
-/// Places components one after another below a limit.
+/// Places components one after another below a limit, each after a guard gap.
 struct Placer {
     cursor: u64,
     limit: u64,
@@ -703,7 +708,7 @@ struct Placer {
 
 impl Placer {
     fn place(&mut self, what: &'static str, bytes: u64, align: u32) -> Result<u32, ImageError> {
-        let addr = self.cursor.div_ceil(align as u64) * align as u64;
+        let addr = (self.cursor + GUARD_GAP as u64).div_ceil(align as u64) * align as u64;
         let end = addr + bytes;
         if end > self.limit {
             return Err(ImageError::TooLarge {
@@ -792,7 +797,7 @@ fn words(it: impl Iterator<Item = u32>) -> Vec<u8> {
     out
 }
 
-/// The camera's 88 bytes: eye, u, v, w, left, right, bottom, top, distance, aperture.
+/// The camera's 72 bytes: eye, u, v, w, left, right, bottom, top, distance, aperture.
 pub fn camera_bytes(c: &Camera) -> Vec<u8> {
     words(
         c.eye

@@ -14,6 +14,7 @@ pub mod disasm;
 pub mod elf;
 pub mod exec;
 pub mod fpu;
+pub mod fuzzing;
 pub mod gdb;
 pub mod machine;
 pub mod memory;
@@ -26,6 +27,7 @@ pub mod regs;
 pub mod session;
 pub mod thread;
 pub mod timing;
+pub mod tomlerr;
 pub mod trax;
 
 pub use decode::{decode, Inst};

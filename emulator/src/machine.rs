@@ -68,6 +68,8 @@ pub struct Crash {
     pub tm: u32,
     /// Instructions the thread retired before the fault.
     pub retired: u64,
+    /// Core cycle of the fault (timing mode; `None` in functional mode).
+    pub cycle: Option<u64>,
     /// Address of the faulting instruction.
     pub pc: u32,
     /// The faulting instruction was in a delay slot or forbidden slot.
@@ -87,6 +89,7 @@ impl Crash {
             tid: t.tid,
             tm: t.tm,
             retired: t.retired,
+            cycle: None,
             pc: t.pc,
             in_slot: t.slot_pc == t.pc,
             calls: t.calls.clone(),

@@ -139,3 +139,51 @@ fn inline_chain_is_reported() {
         "{report}"
     );
 }
+
+/// A store in a branch's delay slot is reported on its own source line (once the line
+/// after it).
+#[test]
+fn store_in_a_delay_slot_names_its_line() {
+    let src = "#include \"trax.h\"\nint *volatile p = (int *)0x40000000;\nvoid trax_main(void) {\n  int *q = p;\n  __asm__ volatile(\".set noreorder\\n\\tbeq $0, $0, 1f\\n\\tsw $0, 0(%0)\\n1:\\n\\t.set reorder\" :: \"r\"(q) : \"memory\"); // CRASH\n  trax_printi(1);\n  trax_printi(2);\n}\n";
+    let (_, report, line) = crash("slotstore", src, "-O1");
+    assert!(report.contains("(in a delay/forbidden slot)"), "{report}");
+    assert!(report.contains("sw $0, 0("), "{report}");
+    assert_line("slotstore", &report, line);
+}
+
+/// The same slot store in timing mode: the report names the line and the cycle of the fault.
+#[test]
+fn timing_crash_names_the_line_and_cycle() {
+    let src = "#include \"trax.h\"\nint *volatile p = (int *)0x40000000;\nvoid trax_main(void) {\n  int *q = p;\n  __asm__ volatile(\".set noreorder\\n\\tbeq $0, $0, 1f\\n\\tsw $0, 0(%0)\\n1:\\n\\t.set reorder\" :: \"r\"(q) : \"memory\"); // CRASH\n  trax_printi(1);\n  trax_printi(2);\n}\n";
+    let line = 5;
+    let elf = build_c("slotstore_timing", src, "-O1");
+    let data = std::fs::read(&elf).unwrap();
+    let path = elf.display().to_string();
+    let chip = trax_emulator::timing::ChipConfig::preset("tiny").unwrap();
+    let mut chip1 = chip.clone();
+    chip1.threads_per_tm = 1;
+    let r = trax_emulator::timing::run(
+        trax_emulator::timing::TimingRequest {
+            elf_path: &path,
+            elf: &data,
+            segments: None,
+            host_threads: 1,
+            max_cycles: None,
+        },
+        &chip1,
+        &mut std::io::sink(),
+    )
+    .unwrap();
+    let report = r.report.clone().unwrap_or_default();
+    let Outcome::Crashed(c) = &r.outcome else {
+        panic!("expected a crash:\n{report}");
+    };
+    assert!(c.in_slot, "{report}");
+    assert!(report.contains("(in a delay/forbidden slot)"), "{report}");
+    assert_line("slotstore_timing", &report, line);
+    let cycles = r.stats.cycles;
+    assert!(
+        report.contains(&format!("at cycle {cycles}")),
+        "the report names the cycle of the fault ({cycles}):\n{report}"
+    );
+}

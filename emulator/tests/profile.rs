@@ -230,7 +230,7 @@ fn charge_api_matches_chunked_profile() {
     let tree = b.render_tree(0.0);
     assert!(tree.contains("data-stall"), "{tree}");
     assert!(
-        tree.starts_with(&format!("# {} cycles", b.total())),
+        tree.starts_with(&format!("# {} thread-cycles", b.total())),
         "{tree}"
     );
 }

@@ -214,3 +214,53 @@ tRCD = "12ns"
         assert_eq!(c, tiny, "{path}: unchanged after an error");
     }
 }
+
+/// A mistyped value names its field path and where it is in the file (once it said only
+/// `invalid type: string "four", expected u32`).
+#[test]
+fn type_errors_name_the_field_path_and_position() {
+    let err = |text: &str| {
+        ChipConfig::from_toml_str(text, "t.toml")
+            .unwrap_err()
+            .to_string()
+    };
+    let e = err("preset = \"baseline\"\n[units.fp_add]\ncount = \"four\"\n");
+    assert!(
+        e.contains("t.toml:3:9") && e.contains("`units.fp_add.count`"),
+        "{e}"
+    );
+    assert!(e.contains("invalid type: string \"four\""), "{e}");
+    let e = err("tms = 2\n[memory]\nl1 = { banks = 2.5 }\n");
+    assert!(
+        e.contains("t.toml:3:16") && e.contains("`memory.l1.banks`"),
+        "{e}"
+    );
+    let e = err("tms = 2\n\n  threads_per_tm = true\n");
+    assert!(
+        e.contains("t.toml:3:20") && e.contains("`threads_per_tm`"),
+        "{e}"
+    );
+    let e = err("[memory.dram.detailed.timing]\ntCAS = [1]\n");
+    assert!(
+        e.contains("t.toml:2:8") && e.contains("memory.dram.detailed.timing.tCAS"),
+        "{e}"
+    );
+    // Syntax errors have a position too.
+    let e = err("tms = 4\ntms = ]\n");
+    assert!(e.contains("t.toml:2:"), "{e}");
+    // The memory-system and DRAM documents alike.
+    let e = trax_emulator::memsys::MemSysConfig::from_toml_str("[l1]\ncapacity_bytes = \"big\"\n")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("line 2, column 18") && e.contains("`l1.capacity_bytes`"),
+        "{e}"
+    );
+    let e = trax_emulator::memsys::DramConfig::from_toml_str("[detailed]\nchannels = -1\n")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("line 2, column 12") && e.contains("`detailed.channels`"),
+        "{e}"
+    );
+}

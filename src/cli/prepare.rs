@@ -36,7 +36,7 @@ pub enum PrepareError {
         path: String,
         source: Box<trax_assembler::link::LinkError>,
     },
-    #[error("scene `{scene}`: {source}")]
+    #[error("{}", scene_message(scene, source))]
     Scene {
         scene: String,
         source: trax_assembler::scene::SceneError,
@@ -48,6 +48,17 @@ pub enum PrepareError {
     },
     #[error("{0}")]
     Flag(String),
+}
+
+/// A scene error, prefixed with the scene's name unless the message already names it
+/// (most name the file, and the line, themselves).
+fn scene_message(scene: &str, e: &trax_assembler::scene::SceneError) -> String {
+    let msg = e.to_string();
+    if msg.contains(scene) {
+        msg
+    } else {
+        format!("scene `{scene}`: {msg}")
+    }
 }
 
 impl PrepareError {

@@ -11,9 +11,9 @@ mod view;
 use std::path::{Path, PathBuf};
 
 pub use cornell::cornell_box;
-pub use obj::{load_obj, load_objl};
+pub use obj::{load_obj, load_obj_with, load_objl, ReadText};
 pub use procedural::{icosphere, procedural};
-pub use view::{parse_light, parse_view, View};
+pub use view::{parse_light, parse_light_str, parse_view, parse_view_str, View};
 
 /// A 3-component vector.
 pub type Vec3 = [f32; 3];

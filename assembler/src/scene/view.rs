@@ -124,6 +124,11 @@ fn read_numbers(path: &Path, want: usize, what: &str) -> Result<Vec<f32>, SceneE
         path: path.to_path_buf(),
         source,
     })?;
+    numbers(path, &text, want, what)
+}
+
+/// The numbers of a `.view`/`.light` text (`path` names it in errors).
+fn numbers(path: &Path, text: &str, want: usize, what: &str) -> Result<Vec<f32>, SceneError> {
     let mut nums = Vec::with_capacity(want);
     let mut last_line = 1;
     for (i, line) in text.lines().enumerate() {
@@ -161,13 +166,26 @@ fn read_numbers(path: &Path, want: usize, what: &str) -> Result<Vec<f32>, SceneE
     Ok(nums)
 }
 
+/// What a `.view` file holds, for errors.
+const VIEW_WHAT: &str = ".view (eye, gaze, up, aperture, left, right, bottom, top, distance)";
+
 /// Parses a simtrax `.view` file.
 pub fn parse_view(path: &Path) -> Result<View, SceneError> {
-    let n = read_numbers(
-        path,
-        15,
-        ".view (eye, gaze, up, aperture, left, right, bottom, top, distance)",
-    )?;
+    view_from(path, read_numbers(path, 15, VIEW_WHAT)?)
+}
+
+/// Parses the text of a simtrax `.view` file (`path` names it in errors).
+pub fn parse_view_str(path: &Path, text: &str) -> Result<View, SceneError> {
+    view_from(path, numbers(path, text, 15, VIEW_WHAT)?)
+}
+
+/// Parses the text of a simtrax `.light` file (`path` names it in errors).
+pub fn parse_light_str(path: &Path, text: &str) -> Result<Vec3, SceneError> {
+    let n = numbers(path, text, 3, ".light (position)")?;
+    Ok([n[0], n[1], n[2]])
+}
+
+fn view_from(path: &Path, n: Vec<f32>) -> Result<View, SceneError> {
     let view = View {
         eye: [n[0], n[1], n[2]],
         gaze: [n[3], n[4], n[5]],

@@ -36,6 +36,17 @@ pub enum ConfigError {
     /// A value out of range.
     #[error("chip config: {0}")]
     Invalid(String),
+    /// Neither a preset name nor a file that exists.
+    #[error(
+        "chip config `{spec}` is neither a preset ({}) nor a file: {err}",
+        CHIP_PRESETS.join(", ")
+    )]
+    Unknown {
+        /// The name as given.
+        spec: String,
+        /// Why it could not be read as a file.
+        err: std::io::Error,
+    },
     /// Reading the file failed.
     #[error("chip config {path}: {err}")]
     Io {
@@ -341,9 +352,18 @@ impl ChipConfig {
         if let Some(c) = ChipConfig::preset(spec) {
             return Ok(c);
         }
-        let text = std::fs::read_to_string(spec).map_err(|err| ConfigError::Io {
-            path: spec.to_string(),
-            err,
+        let text = std::fs::read_to_string(spec).map_err(|err| {
+            if err.kind() == std::io::ErrorKind::NotFound {
+                ConfigError::Unknown {
+                    spec: spec.to_string(),
+                    err,
+                }
+            } else {
+                ConfigError::Io {
+                    path: spec.to_string(),
+                    err,
+                }
+            }
         })?;
         ChipConfig::from_toml_str(&text, spec)
     }
@@ -354,7 +374,16 @@ impl ChipConfig {
             origin: origin.to_string(),
             msg,
         };
-        let mut user: toml::Table = toml::from_str(text).map_err(|e| perr(e.to_string()))?;
+        let mut user: toml::Table = toml::from_str(text).map_err(|e| ConfigError::Parse {
+            origin: match e.span() {
+                Some(s) => {
+                    let (l, c) = crate::tomlerr::line_col(text, s.start);
+                    format!("{origin}:{l}:{c}")
+                }
+                None => origin.to_string(),
+            },
+            msg: e.message().trim_end().to_string(),
+        })?;
         let base = match user.remove("preset") {
             None => ChipConfig::default(),
             Some(toml::Value::String(n)) => ChipConfig::preset(&n).ok_or_else(|| {
@@ -395,7 +424,15 @@ impl ChipConfig {
         }
         merge(&mut base_val, toml::Value::Table(user));
         let cfg: ChipConfig =
-            ChipConfig::deserialize(base_val).map_err(|e| perr(e.message().to_string()))?;
+            crate::tomlerr::deserialize(base_val, Some(text), &[]).map_err(|e| {
+                ConfigError::Parse {
+                    origin: match e.at {
+                        Some((l, c)) => format!("{origin}:{l}:{c}"),
+                        None => origin.to_string(),
+                    },
+                    msg: e.message(),
+                }
+            })?;
         cfg.validate()?;
         Ok(cfg)
     }

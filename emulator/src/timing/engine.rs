@@ -532,8 +532,9 @@ impl Driver<'_, '_> {
                 retire(c, &mut sim.sb[tid], &info, idx, ready.max(to));
             }
             // Stop on a fault.
-            if let Some((cyc, cr)) = crash {
+            if let Some((cyc, mut cr)) = crash {
                 *self.now = cyc;
+                cr.cycle = Some(cyc);
                 return Outcome::Crashed(cr);
             }
             // The L2s and DRAM serve what the L1s sent.

@@ -364,7 +364,7 @@ fn run_reports_scene_components_and_what_was_left_out() {
                 );
                 // Element sizes of the scene ABI.
                 let per = match name {
-                    "camera" => 88,
+                    "camera" => std::mem::size_of::<trax_runtime::abi::Camera>() as u64,
                     "framebuffer" => 12,
                     "triangles" => 36,
                     "bvh_nodes" => 32,

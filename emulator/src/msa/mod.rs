@@ -6,13 +6,12 @@
 //! `MsaInst` implements `Display` in LLVM's syntax (`fadd.w $w0, $w1, $w2`).
 //!
 //! Choices where the architecture leaves behaviour open (UNPREDICTABLE or
-//! implementation-defined) are documented in [`exec`] and [`float`].
+//! implementation-defined) are documented in [`exec`] and, for floating point, in
+//! [`crate::softfloat`] (shared with the scalar FPU).
 
 pub mod decode;
 pub mod disasm;
 pub mod exec;
-pub mod float;
-mod float_fast;
 mod int_fast;
 mod ops;
 

@@ -8,13 +8,37 @@ use super::{
     Env, Fmt, MinMax, Round, FLAG_I, FLAG_O, FLAG_U, FLAG_V, FLAG_Z, REL_EQ, REL_LT, REL_UN,
 };
 
-/// An unpacked operand. Finite values are `mant * 2^exp` with bit 62 of `mant` set.
+/// An unpacked operand.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Val {
     Nan { signaling: bool },
     Inf(bool),
     Zero(bool),
-    Fin { sign: bool, exp: i32, mant: u64 },
+    Fin(Fin),
+}
+
+/// A finite nonzero value `(-1)^sign * mant * 2^exp` with bit 62 of `mant` set.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Fin {
+    sign: bool,
+    exp: i32,
+    mant: u64,
+}
+
+impl Fin {
+    /// (sign, exponent, mantissa) with a 128-bit mantissa, for [`add_fin`].
+    fn wide(self) -> (bool, i32, u128) {
+        (self.sign, self.exp, self.mant as u128)
+    }
+
+    /// The exact product, as [`Fin::wide`].
+    fn times(self, o: Fin) -> (bool, i32, u128) {
+        (
+            self.sign ^ o.sign,
+            self.exp + o.exp,
+            self.mant as u128 * o.mant as u128,
+        )
+    }
 }
 
 /// Unpacks an operand; with flush-to-zero a subnormal reads as zero and raises Inexact.
@@ -47,11 +71,11 @@ fn unpack(env: &mut Env, f: Fmt, bits: u64) -> Val {
 
 fn normalized(sign: bool, exp: i32, mant: u64) -> Val {
     let s = mant.leading_zeros() as i32 - 1;
-    Val::Fin {
+    Val::Fin(Fin {
         sign,
         exp: exp - s,
         mant: mant << s,
-    }
+    })
 }
 
 /// Handles NaN operands: `Some(result)` if any operand is a NaN (see module docs).
@@ -172,7 +196,7 @@ fn pack_val(env: &mut Env, f: Fmt, v: Val) -> u64 {
         Val::Nan { .. } => f.default_nan(),
         Val::Inf(s) => f.inf(s),
         Val::Zero(s) => f.zero(s),
-        Val::Fin { sign, exp, mant } => round_pack(env, f, sign, exp, mant as u128),
+        Val::Fin(x) => round_pack(env, f, x.sign, x.exp, x.mant as u128),
     }
 }
 
@@ -213,18 +237,7 @@ pub(super) fn add_exact(env: &mut Env, f: Fmt, a: u64, b: u64) -> u64 {
         (Val::Inf(x), _) | (_, Val::Inf(x)) => f.inf(x),
         (Val::Zero(x), Val::Zero(y)) => f.zero(if x == y { x } else { env.mode == Round::Down }),
         (Val::Zero(_), v) | (v, Val::Zero(_)) => pack_val(env, f, v),
-        (
-            Val::Fin {
-                sign: s1,
-                exp: e1,
-                mant: m1,
-            },
-            Val::Fin {
-                sign: s2,
-                exp: e2,
-                mant: m2,
-            },
-        ) => add_fin(env, f, (s1, e1, m1 as u128), (s2, e2, m2 as u128)),
+        (Val::Fin(x), Val::Fin(y)) => add_fin(env, f, x.wide(), y.wide()),
         _ => f.default_nan(),
     }
 }
@@ -256,18 +269,10 @@ pub(super) fn mul_exact(env: &mut Env, f: Fmt, a: u64, b: u64) -> u64 {
         (Val::Inf(_), Val::Zero(_)) | (Val::Zero(_), Val::Inf(_)) => invalid(env, f),
         (Val::Inf(x), v) | (v, Val::Inf(x)) => f.inf(x ^ sign_of(v)),
         (Val::Zero(x), v) | (v, Val::Zero(x)) => f.zero(x ^ sign_of(v)),
-        (
-            Val::Fin {
-                sign: s1,
-                exp: e1,
-                mant: m1,
-            },
-            Val::Fin {
-                sign: s2,
-                exp: e2,
-                mant: m2,
-            },
-        ) => round_pack(env, f, s1 ^ s2, e1 + e2, m1 as u128 * m2 as u128),
+        (Val::Fin(x), Val::Fin(y)) => {
+            let (sign, exp, mant) = x.times(y);
+            round_pack(env, f, sign, exp, mant)
+        }
         _ => f.default_nan(),
     }
 }
@@ -276,7 +281,7 @@ fn sign_of(v: Val) -> bool {
     match v {
         Val::Nan { .. } => false,
         Val::Inf(s) | Val::Zero(s) => s,
-        Val::Fin { sign, .. } => sign,
+        Val::Fin(x) => x.sign,
     }
 }
 
@@ -294,22 +299,17 @@ pub(super) fn div_exact(env: &mut Env, f: Fmt, a: u64, b: u64) -> u64 {
             env.flags |= FLAG_Z;
             f.inf(x ^ sign_of(v))
         }
-        (
-            Val::Fin {
-                sign: s1,
-                exp: e1,
-                mant: m1,
-            },
-            Val::Fin {
-                sign: s2,
-                exp: e2,
-                mant: m2,
-            },
-        ) => {
-            let n = (m1 as u128) << 64;
-            let q = n / m2 as u128;
-            let r = n % m2 as u128;
-            round_pack(env, f, s1 ^ s2, e1 - 64 - e2, q | (r != 0) as u128)
+        (Val::Fin(x), Val::Fin(y)) => {
+            let n = (x.mant as u128) << 64;
+            let q = n / y.mant as u128;
+            let r = n % y.mant as u128;
+            round_pack(
+                env,
+                f,
+                x.sign ^ y.sign,
+                x.exp - 64 - y.exp,
+                q | (r != 0) as u128,
+            )
         }
         _ => f.default_nan(),
     }
@@ -323,11 +323,11 @@ pub(super) fn sqrt_exact(env: &mut Env, f: Fmt, a: u64) -> u64 {
     match unpack(env, f, a) {
         Val::Zero(s) => f.zero(s),
         Val::Inf(false) => f.inf(false),
-        Val::Fin {
+        Val::Fin(Fin {
             sign: false,
             exp,
             mant,
-        } => {
+        }) => {
             let (exp, mant) = if exp & 1 != 0 {
                 (exp - 1, (mant as u128) << 1)
             } else {
@@ -374,34 +374,17 @@ pub(super) fn fma_exact(env: &mut Env, f: Fmt, a: u64, b: u64, c: u64, negate: b
             env.mode == Round::Down
         }),
         (true, v) => pack_val(env, f, v),
-        (false, Val::Zero(_)) => match (va, vb) {
-            (
-                Val::Fin {
-                    exp: e1, mant: m1, ..
-                },
-                Val::Fin {
-                    exp: e2, mant: m2, ..
-                },
-            ) => round_pack(env, f, psign, e1 + e2, m1 as u128 * m2 as u128),
+        (false, vc) => match (va, vb, vc) {
+            (Val::Fin(x), Val::Fin(y), Val::Zero(_)) => {
+                let (_, exp, mant) = x.times(y);
+                round_pack(env, f, psign, exp, mant)
+            }
+            (Val::Fin(x), Val::Fin(y), Val::Fin(z)) => {
+                let (_, exp, mant) = x.times(y);
+                add_fin(env, f, (psign, exp, mant), z.wide())
+            }
             _ => f.default_nan(),
         },
-        (false, Val::Fin { sign, exp, mant }) => match (va, vb) {
-            (
-                Val::Fin {
-                    exp: e1, mant: m1, ..
-                },
-                Val::Fin {
-                    exp: e2, mant: m2, ..
-                },
-            ) => add_fin(
-                env,
-                f,
-                (psign, e1 + e2, m1 as u128 * m2 as u128),
-                (sign, exp, mant as u128),
-            ),
-            _ => f.default_nan(),
-        },
-        _ => f.default_nan(),
     }
 }
 
@@ -434,7 +417,7 @@ fn total_key(v: Val) -> (i32, i64, i64) {
     match v {
         Val::Zero(_) | Val::Nan { .. } => (0, 0, 0),
         Val::Inf(s) => (if s { -2 } else { 2 }, 0, 0),
-        Val::Fin { sign, exp, mant } => {
+        Val::Fin(Fin { sign, exp, mant }) => {
             let k = (exp as i64, mant as i64);
             if sign {
                 (-1, -k.0, -k.1)
@@ -473,11 +456,7 @@ fn min_max_unpacked(env: &mut Env, f: Fmt, a: u64, b: u64, kind: MinMax) -> u64 
     let abs = |v: Val| match v {
         Val::Inf(_) => total_key(Val::Inf(false)),
         Val::Zero(_) => (0, 0, 0),
-        Val::Fin { exp, mant, .. } => total_key(Val::Fin {
-            sign: false,
-            exp,
-            mant,
-        }),
+        Val::Fin(x) => total_key(Val::Fin(Fin { sign: false, ..x })),
         Val::Nan { .. } => (0, 0, 0),
     };
     // For equal values, order -0 below +0.
@@ -533,7 +512,7 @@ fn val_to_int(env: &mut Env, v: Val, mode: Round, signed: bool, bits: u32, sat_f
         }
         Val::Inf(s) => sat(env, if s { lo } else { hi }),
         Val::Zero(_) => 0,
-        Val::Fin { sign, exp, mant } => {
+        Val::Fin(Fin { sign, exp, mant }) => {
             if exp > 64 {
                 return sat(env, if sign { lo } else { hi });
             }
@@ -563,7 +542,7 @@ pub(super) fn rint_exact(env: &mut Env, f: Fmt, a: u64) -> u64 {
         return n;
     }
     match unpack(env, f, a) {
-        Val::Fin { sign, exp, mant } if exp < 0 => {
+        Val::Fin(Fin { sign, exp, mant }) if exp < 0 => {
             let (k, inexact) = round_shift(mant as u128, -exp, sign, env.mode);
             if inexact {
                 env.flags |= FLAG_I;
@@ -590,9 +569,9 @@ pub fn log2(env: &mut Env, f: Fmt, a: u64) -> u64 {
             f.inf(true)
         }
         Val::Inf(false) => f.inf(false),
-        Val::Fin {
+        Val::Fin(Fin {
             sign: false, exp, ..
-        } => super::from_int(env, f, (exp + 62) as i128),
+        }) => super::from_int(env, f, (exp + 62) as i128),
         _ => invalid(env, f),
     }
 }
@@ -603,7 +582,7 @@ pub fn exp2(env: &mut Env, f: Fmt, a: u64, n: i64) -> u64 {
         return r;
     }
     match unpack(env, f, a) {
-        Val::Fin { sign, exp, mant } => {
+        Val::Fin(Fin { sign, exp, mant }) => {
             let e = (exp as i64).saturating_add(n).clamp(-100_000, 100_000) as i32;
             round_pack(env, f, sign, e, mant as u128)
         }
@@ -669,11 +648,10 @@ pub fn from_fixed(env: &mut Env, f: Fmt, q: i64, frac: i32) -> u64 {
 /// per the environment; NaN gives 0 (Invalid), out-of-range saturates (Overflow, Inexact).
 pub fn to_fixed(env: &mut Env, f: Fmt, a: u64, frac: i32, bits: u32) -> u64 {
     let v = match unpack(env, f, a) {
-        Val::Fin { sign, exp, mant } => Val::Fin {
-            sign,
-            exp: exp + frac,
-            mant,
-        },
+        Val::Fin(x) => Val::Fin(Fin {
+            exp: x.exp + frac,
+            ..x
+        }),
         v => v,
     };
     let mode = env.mode;

@@ -293,13 +293,14 @@ impl Thread {
                 }
             };
         }
-        // Branch with a delay slot.
+        // Branch with a delay slot (`Cti::DelaySlot`; `npc` is `pc + 4`, as a branch in a
+        // slot has faulted).
         macro_rules! branch {
             ($cond:expr, $off:expr) => {{
                 cti!();
                 self.slot_pc = npc;
                 if $cond {
-                    next = npc.wrapping_add($off as u32);
+                    next = Inst::rel_target(pc, $off);
                 }
             }};
         }
@@ -308,7 +309,7 @@ impl Thread {
             ($cond:expr, $off:expr) => {{
                 cti!();
                 if $cond {
-                    let t = pc.wrapping_add(4).wrapping_add($off as u32);
+                    let t = Inst::rel_target(pc, $off);
                     return Ok((t, t.wrapping_add(4)));
                 }
                 self.slot_pc = pc.wrapping_add(4);
@@ -628,13 +629,13 @@ impl Thread {
             J { target } => {
                 cti!();
                 self.slot_pc = npc;
-                next = (npc & 0xF000_0000) | target;
+                next = Inst::region_target(pc, target);
                 self.note_jump(next);
             }
             Jal { target } => {
                 cti!();
                 self.slot_pc = npc;
-                next = (npc & 0xF000_0000) | target;
+                next = Inst::region_target(pc, target);
                 g!(31) = pc.wrapping_add(8);
                 self.push_call(pc, pc.wrapping_add(8), next);
             }
@@ -655,7 +656,7 @@ impl Thread {
             Balc { off } => {
                 cti!();
                 g!(31) = pc.wrapping_add(4);
-                let t = pc.wrapping_add(4).wrapping_add(off as u32);
+                let t = Inst::rel_target(pc, off);
                 self.push_call(pc, pc.wrapping_add(4), t);
                 compact!(true, off);
             }
@@ -696,7 +697,7 @@ impl Thread {
                 // The link register is written whether or not the branch is taken.
                 g!(31) = pc.wrapping_add(4);
                 if cond {
-                    let t = pc.wrapping_add(4).wrapping_add(off as u32);
+                    let t = Inst::rel_target(pc, off);
                     self.push_call(pc, pc.wrapping_add(4), t);
                 }
                 compact!(cond, off);
@@ -1090,6 +1091,153 @@ mod tests {
         init(&mut t);
         let stop = t.run(&mut sh, 1000);
         (t, stop)
+    }
+
+    /// One word per branch/jump variant (and two that are not), testing `$2`/`$3`, `$f1`
+    /// or `$w1`, branching +16 bytes (from the instruction after it).
+    fn cti_words() -> Vec<u32> {
+        let (s, t) = (2u32 << 21, 3u32 << 16);
+        let op = |o: u32| o << 26;
+        let off16 = 4u32;
+        vec![
+            op(4) | s | t | off16,                       // beq
+            op(5) | s | t | off16,                       // bne
+            op(6) | s | off16,                           // blez
+            op(7) | s | off16,                           // bgtz
+            op(1) | s | off16,                           // bltz
+            op(1) | s | (1 << 16) | off16,               // bgez
+            op(1) | (0x11 << 16) | off16,                // bal
+            op(2) | 0x4_0010,                            // j
+            op(3) | 0x4_0010,                            // jal
+            s | 9,                                       // jr $2
+            s | (31 << 11) | 9,                          // jalr $2
+            s | (5 << 11) | 9,                           // jalr $5, $2
+            op(0x11) | (9 << 21) | (1 << 16) | off16,    // bc1eqz $f1
+            op(0x11) | (13 << 21) | (1 << 16) | off16,   // bc1nez $f1
+            op(0x32) | off16,                            // bc
+            op(0x3A) | off16,                            // balc
+            op(8) | (2 << 21) | t | off16,               // beqc $2, $3
+            op(0x18) | (2 << 21) | t | off16,            // bnec $2, $3
+            op(0x17) | (2 << 21) | t | off16,            // bltc $2, $3
+            op(0x16) | (2 << 21) | t | off16,            // bgec $2, $3
+            op(7) | (2 << 21) | t | off16,               // bltuc $2, $3
+            op(6) | (2 << 21) | t | off16,               // bgeuc $2, $3
+            op(8) | (3 << 21) | (2 << 16) | off16,       // bovc $3, $2
+            op(0x18) | (3 << 21) | (2 << 16) | off16,    // bnvc $3, $2
+            op(0x36) | s | off16,                        // beqzc $2
+            op(0x3E) | s | off16,                        // bnezc $2
+            op(0x16) | t | off16,                        // blezc $3
+            op(0x16) | (3 << 21) | t | off16,            // bgezc $3
+            op(0x17) | t | off16,                        // bgtzc $3
+            op(0x17) | (3 << 21) | t | off16,            // bltzc $3
+            op(6) | t | off16,                           // blezalc $3
+            op(6) | (3 << 21) | t | off16,               // bgezalc $3
+            op(7) | t | off16,                           // bgtzalc $3
+            op(7) | (3 << 21) | t | off16,               // bltzalc $3
+            op(8) | t | off16,                           // beqzalc $3
+            op(0x18) | t | off16,                        // bnezalc $3
+            op(0x36) | t | 0x10,                         // jic $3, 16
+            op(0x3E) | t | 0x10,                         // jialc $3, 16
+            op(0x11) | (0x0B << 21) | (1 << 16) | off16, // bz.v $w1
+            op(0x11) | (0x0F << 21) | (1 << 16) | off16, // bnz.v $w1
+            0x2404_0001,                                 // addiu $4, $0, 1
+            0x7C08_103B,                                 // rdhwr $8, $2
+        ]
+    }
+
+    /// The interpreter does what `Inst`'s control-flow facts say: a delay slot follows
+    /// exactly the `Cti::DelaySlot` instructions, a forbidden slot exactly the untaken
+    /// `Cti::CompactBranch`es, taken branches go to `branch_target`, calls write
+    /// `return_address` to `link_reg` (and nothing else writes `$31`).
+    #[test]
+    fn control_flow_facts_match_execution() {
+        use crate::decode::{decode, Cti};
+        let pc = 0x10_0000u32;
+        let mut seen = std::collections::BTreeSet::new();
+        let (mut taken, mut untaken) = (0, 0);
+        for w in cti_words() {
+            let inst = decode(w);
+            let name = format!("{inst:?}");
+            seen.insert(name.split([' ', '(']).next().unwrap().to_string());
+            for (v2, v3) in [
+                (0u32, 0u32),
+                (1, 0),
+                (0, 1),
+                (u32::MAX, 1),
+                (0x7FFF_FFFF, 1),
+                (5, 5),
+            ] {
+                let (mut t, mut sh) = setup(&[w, 0, 0, 0, 0, 0, 0, 0], None);
+                t.regs.gpr[2] = v2;
+                t.regs.gpr[3] = v3;
+                t.regs.gpr[5] = 0xAAAA;
+                t.regs.gpr[31] = 0x5555;
+                t.regs.fpr[1] = v2 as u128;
+                assert_eq!(t.step_once(&mut sh), Stop::Budget, "{name}");
+                let what = format!("{name} with $2={v2:#x} $3={v3:#x}");
+                // Where a taken branch goes: its static target, or the register's.
+                let dynamic = match inst {
+                    Inst::Jalr { .. } => v2,
+                    Inst::Jic { off, .. } | Inst::Jialc { off, .. } => {
+                        v3.wrapping_add(off as i32 as u32)
+                    }
+                    _ => inst.branch_target(pc).unwrap_or(u32::MAX),
+                };
+                match inst.cti() {
+                    Cti::None => {
+                        assert_eq!((t.pc, t.npc), (pc + 4, pc + 8), "{what}");
+                        assert_ne!(t.slot_pc, pc + 4, "{what}");
+                    }
+                    Cti::DelaySlot => {
+                        assert_eq!((t.pc, t.slot_pc), (pc + 4, pc + 4), "{what}");
+                        if t.npc == pc + 8 && dynamic != pc + 8 {
+                            untaken += 1;
+                        } else {
+                            assert_eq!(t.npc, dynamic, "{what}");
+                            taken += 1;
+                        }
+                    }
+                    Cti::CompactBranch => {
+                        if t.pc == pc + 4 {
+                            assert_eq!(
+                                (t.npc, t.slot_pc),
+                                (pc + 8, pc + 4),
+                                "{what}: forbidden slot"
+                            );
+                            untaken += 1;
+                        } else {
+                            assert_eq!((t.pc, t.npc), (dynamic, dynamic + 4), "{what}");
+                            assert_ne!(t.slot_pc, pc + 4, "{what}");
+                            taken += 1;
+                        }
+                    }
+                    Cti::CompactJump => {
+                        assert_eq!((t.pc, t.npc), (dynamic, dynamic + 4), "{what}");
+                        assert_ne!(t.slot_pc, pc + 4, "{what}");
+                    }
+                }
+                match inst.link_reg() {
+                    Some(r) => {
+                        assert_eq!(t.regs.gpr[r as usize], inst.return_address(pc), "{what}");
+                        if r != 31 {
+                            assert_eq!(t.regs.gpr[31], 0x5555, "{what}");
+                        }
+                    }
+                    None => {
+                        assert_eq!(t.regs.gpr[31], 0x5555, "{what}");
+                        assert_eq!(t.regs.gpr[5], 0xAAAA, "{what}");
+                    }
+                }
+            }
+        }
+        // Every branch and jump variant was run, taken and not.
+        let all = "Beq Bne Blez Bgtz Bltz Bgez Bal J Jal Jalr Bc1eqz Bc1nez Bc Balc Beqc Bnec \
+                   Bltc Bgec Bltuc Bgeuc Bovc Bnvc Beqzc Bnezc Blezc Bgezc Bgtzc Bltzc Blezalc \
+                   Bgezalc Bgtzalc Bltzalc Beqzalc Bnezalc Jic Jialc Msa Addiu Rdhwr";
+        let want: std::collections::BTreeSet<String> =
+            all.split_whitespace().map(String::from).collect();
+        assert_eq!(seen, want);
+        assert!(taken > 50 && untaken > 50, "{taken} taken, {untaken} not");
     }
 
     /// addiu $4,$0,1 ; beq $0,$0,+8 ; addiu $5,$0,1 (delay slot) ; addiu $6,$0,1

@@ -52,4 +52,10 @@ impl MsaInst {
     pub fn is_branch(&self) -> bool {
         self.op.form() == Form::Branch
     }
+
+    /// A branch's target offset in bytes from the branch itself (see
+    /// [`crate::Inst::branch_offset`]).
+    pub fn branch_offset(&self) -> Option<i32> {
+        self.is_branch().then(|| self.imm.wrapping_add(4))
+    }
 }

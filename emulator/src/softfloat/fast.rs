@@ -5,7 +5,7 @@
 //! runs the exact path. Arithmetic (`lane`) qualifies in round to nearest without flush
 //! to zero when the result is finite and larger in magnitude than the smallest normal
 //! (so nothing overflowed, underflowed, was a NaN or divided by zero, and only Inexact
-//! can arise); compares, min/max, rounding to an integer and integer conversions are
+//! can arise), or an exact zero or infinity no rounding produced; compares, min/max, rounding to an integer and integer conversions are
 //! exact on the host in every rounding mode. `tests::fast_paths_match_the_exact_path`
 //! checks that both paths agree.
 

@@ -6,8 +6,8 @@
 //! Every operation has an exact path (module `exact`: operands unpacked to integers,
 //! computed exactly, rounded once) and, where the host can give the same answer, a fast
 //! path (module `fast`) tried first: arithmetic in round to nearest whose result is a
-//! finite number above the smallest normal, and compares, min/max, rounding to integral
-//! values and integer conversions in any mode. The fast path answers only when its result
+//! finite number above the smallest normal (or an exact zero or infinity), and compares,
+//! min/max, rounding to integral values and integer conversions in any mode. The fast path answers only when its result
 //! and flags are provably those of the exact path (checked by this module's tests).
 //!
 //! Policy (MIPS32r6 with NaN-2008 and ABS-2008; QEMU's choices where the architecture
@@ -38,10 +38,10 @@
 //!
 //! `rustc_apfloat` (0.2.3, LLVM's APFloat in Rust; Apache-2.0 WITH LLVM-exception; kept by
 //! rust-lang for rustc and Miri, API declared unstable) was evaluated as the exact path and
-//! kept as a test oracle instead (`tests/softfloat_apfloat.rs`). Its values agree with this
-//! core on 3.6M boundary-biased add/sub/mul/div/fma cases in binary16/32/64 and all four
-//! modes, and on round-to-integral and i32 conversion; but it differs from MIPS/QEMU where
-//! it matters here: it propagates the first NaN operand rather than the first signalling
+//! kept as a test oracle instead (`tests/softfloat_apfloat.rs`). Its non-NaN results agree
+//! with this core on 3.6M boundary-biased add/sub/mul/div/fma cases in binary16/32/64 and
+//! all four modes, and on round-to-integral and i32 conversion; but it differs from
+//! MIPS/QEMU where it matters here: it propagates the first NaN operand rather than the first signalling
 //! one, raises no Overflow when a directed mode rounds to the largest finite number, judges
 //! tininess on the format-rounded result (no Underflow for a tiny value rounded up to the
 //! smallest normal), and has no square root, flush to zero or trapped-underflow rule. The

@@ -1,9 +1,10 @@
 //! The machine: MIPS32r6 + FPU + MSA + TRaX execution, threads, timing, tooling.
 //!
 //! Layers: [`decode`] (word -> [`Inst`], once per word) and [`disasm`] (LLVM syntax);
-//! [`exec`] (the interpreter loop over a [`thread::Thread`]) with [`fpu`] (IEEE arithmetic
-//! with FCSR semantics), [`trax`] (extension ops) and [`msa`] (SIMD); [`memory`] (global
-//! memory, null guard, per-thread local stores); [`machine`] (threads and scheduling);
+//! [`exec`] (the interpreter loop over a [`thread::Thread`]) with [`fpu`] (FCSR),
+//! [`softfloat`] (IEEE arithmetic shared by the FPU and MSA), [`trax`] (extension ops)
+//! and [`msa`] (SIMD); [`memory`] (global memory, null guard, per-thread local stores);
+//! [`machine`] (threads and scheduling);
 //! [`elf`], [`debuginfo`] and [`crash`] (loading and reports); [`session`] (one-call runs).
 
 pub mod chip;
@@ -25,6 +26,7 @@ pub mod profile;
 pub mod program;
 pub mod regs;
 pub mod session;
+pub mod softfloat;
 pub mod thread;
 pub mod timing;
 pub mod tomlerr;

@@ -3,6 +3,8 @@
 //! instruction table (`trax_runtime::isa`).
 #![allow(dead_code)]
 
+pub mod qemu;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 

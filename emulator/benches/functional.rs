@@ -14,8 +14,8 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
 
-use trax_emulator::machine::{Machine, MachineConfig};
 use trax_emulator::Outcome;
+use trax_emulator::{Machine, MachineConfig};
 
 const KERNEL: &str = r#"
 typedef struct { float mn[3], mx[3]; } Box;
@@ -83,7 +83,7 @@ fn main() {
         return;
     };
     let data = std::fs::read(&elf).unwrap();
-    let exe = trax_emulator::elf::Executable::parse("bench", &data).unwrap();
+    let exe = trax_emulator::Executable::parse("bench", &data).unwrap();
     let config = MachineConfig {
         quantum: 1_000_000,
         ..MachineConfig::default()

@@ -103,10 +103,6 @@ pub trait Float: Copy + PartialOrd + PartialEq + std::fmt::Debug {
     const MIN_NORMAL: Self;
     /// Positive zero.
     const ZERO: Self;
-    /// One.
-    const ONE: Self;
-    /// Infinity.
-    const INF: Self;
     /// From raw bits.
     fn from_b(b: Self::Bits) -> Self;
     /// To raw bits.
@@ -139,8 +135,6 @@ macro_rules! impl_float {
             const MAX: $t = <$t>::MAX;
             const MIN_NORMAL: $t = <$t>::MIN_POSITIVE;
             const ZERO: $t = 0.0;
-            const ONE: $t = 1.0;
-            const INF: $t = <$t>::INFINITY;
             #[inline(always)]
             fn from_b(b: $b) -> $t {
                 <$t>::from_bits(b)

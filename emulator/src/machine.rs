@@ -11,8 +11,8 @@
 use std::io::Write;
 
 use crate::memory::{LayoutError, Memory, Segment};
-use crate::profile::sched::{Driven, Executor, PlainExec, Scheduler};
 use crate::program::Program;
+use crate::sched::{Driven, Executor, PlainExec, Scheduler};
 use crate::thread::{CallFrame, ChipShape, Fault, Shared, Thread};
 use crate::RegFile;
 use trax_runtime::abi;
@@ -109,6 +109,8 @@ pub enum Outcome {
     },
     /// The instruction limit was reached.
     InstructionLimit,
+    /// The cycle limit was reached (timing mode).
+    CycleLimit,
 }
 
 /// Summary of a run.

@@ -2,7 +2,7 @@
 
 mod common;
 use common::*;
-use trax_emulator::thread::Fault;
+use trax_emulator::Fault;
 use trax_emulator::Outcome;
 
 /// Builds and runs `src`; returns the fault and the report. `marker` is a comment on the
@@ -15,8 +15,8 @@ fn crash(name: &str, src: &str, opt: &str) -> (Fault, String, u32) {
         + 1;
     let elf = build_c(name, src, opt);
     let (r, _) = run_elf(&elf, 1, 1);
-    let report = r.report.clone().unwrap_or_default();
-    match r.summary.outcome {
+    let report = r.failure.clone().unwrap_or_default();
+    match r.outcome {
         Outcome::Crashed(c) => (c.fault, report, line),
         o => panic!("{name}: expected a crash, got {o:?}"),
     }
@@ -35,7 +35,7 @@ fn null_dereference() {
     let src = "#include \"trax.h\"\nint *volatile p = 0;\nint get(void) {\n  return *p; // CRASH\n}\nvoid trax_main(void) { trax_printi(get()); }\n";
     let (f, report, line) = crash("null", src, "-O1");
     assert!(
-        matches!(f, Fault::Memory { fault, .. } if fault.kind == trax_emulator::memory::MemFaultKind::Null),
+        matches!(f, Fault::Memory { fault, .. } if fault.kind == trax_emulator::MemFaultKind::Null),
         "{f:?}"
     );
     assert!(report.contains("null pointer dereference"), "{report}");

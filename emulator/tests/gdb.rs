@@ -11,9 +11,9 @@ use std::process::Command;
 use std::sync::mpsc;
 use std::time::Duration;
 
-use trax_emulator::elf::Executable;
 use trax_emulator::gdb;
-use trax_emulator::machine::{Machine, MachineConfig, Outcome};
+use trax_emulator::Executable;
+use trax_emulator::{Machine, MachineConfig, Outcome};
 
 fn line_of(src: &str, marker: &str) -> usize {
     src.lines()

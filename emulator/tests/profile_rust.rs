@@ -5,10 +5,10 @@
 
 use trax_assembler::link::{link, Input, LinkOptions};
 use trax_compiler::{compile_file, CompileOptions, Emit, Prelude};
-use trax_emulator::debuginfo::DebugInfo;
-use trax_emulator::elf::Executable;
-use trax_emulator::machine::{Machine, MachineConfig, Outcome};
 use trax_emulator::profile::{profile_run, Profile};
+use trax_emulator::DebugInfo;
+use trax_emulator::Executable;
+use trax_emulator::{Machine, MachineConfig, Outcome};
 
 const KERNEL: &str = r#"
 struct Work {

@@ -12,9 +12,9 @@ use std::fmt::Write as _;
 use std::path::Path;
 use std::process::Command;
 
-use trax_emulator::machine::{Machine, MachineConfig};
-use trax_emulator::thread::Fault;
+use trax_emulator::Fault;
 use trax_emulator::Outcome;
+use trax_emulator::{Machine, MachineConfig};
 
 mod common;
 
@@ -419,7 +419,7 @@ fn build(dir: &Path, name: &str, asm: &str) -> std::path::PathBuf {
 
 fn run_emulator(elf: &Path) -> Result<Vec<u8>, String> {
     let data = std::fs::read(elf).unwrap();
-    let exe = trax_emulator::elf::Executable::parse("diff", &data).map_err(|e| e.to_string())?;
+    let exe = trax_emulator::Executable::parse("diff", &data).map_err(|e| e.to_string())?;
     let mut m = Machine::new(
         &exe.segments,
         exe.text_start,

@@ -51,28 +51,37 @@ pub struct AreaBreakdown {
     pub total: f64,
 }
 
-/// Everything a timing run reports (`--stats-json`).
+/// Everything a timing run reports. Serialized as the `timing` object of the statistics
+/// document (`--stats-json`, see `docs/STATS.md`); the fields marked `skip` are there at
+/// the top level (`chip`, `cycles`, `instructions`, `rays`, `counters`).
 #[derive(Clone, Debug, Serialize)]
 pub struct TimingStats {
     /// Chip config name.
+    #[serde(skip)]
     pub chip: String,
     /// TMs.
+    #[serde(skip)]
     pub tms: u32,
     /// Threads per TM.
+    #[serde(skip)]
     pub threads_per_tm: u32,
     /// Core clock, GHz.
+    #[serde(skip)]
     pub clock_ghz: f64,
     /// Core cycles until the last thread halted.
+    #[serde(skip)]
     pub cycles: u64,
     /// Simulated seconds.
     pub seconds: f64,
     /// Frames per second (one run = one frame).
     pub fps: f64,
     /// Thread-instructions issued (Debug-class ops excluded).
+    #[serde(skip)]
     pub instructions: u64,
     /// Debug-class ops executed at zero cost.
     pub debug_ops: u64,
     /// Rays (statistics counter 0).
+    #[serde(skip)]
     pub rays: u64,
     /// Million rays per second.
     pub mrps: f64,
@@ -111,6 +120,7 @@ pub struct TimingStats {
     /// MRPS per mm².
     pub mrps_per_mm2: f64,
     /// The `trax.stat` counters.
+    #[serde(skip)]
     pub counters: Vec<u64>,
 }
 

@@ -6,8 +6,8 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use trax_emulator::machine::MachineConfig;
-use trax_emulator::session::{run, RunRequest, RunResult};
+use trax_emulator::timing::{ChipConfig, DEFAULT_CHIP};
+use trax_emulator::{run, Mode, RunReport, RunRequest};
 use trax_runtime::isa::{Field, OperandKind, TraxOp, TRAX_INSTRUCTIONS};
 
 /// Scratch directory for one test.
@@ -171,23 +171,24 @@ pub fn build_c(name: &str, src: &str, opt: &str) -> PathBuf {
     elf
 }
 
-/// Runs an ELF with `tms` x `threads`; returns the result and the printed output.
-pub fn run_elf(elf: &Path, tms: u32, threads: u32) -> (RunResult, String) {
+/// The default chip reshaped to `tms` x `threads` (one L2 for all).
+pub fn chip(tms: u32, threads: u32) -> ChipConfig {
+    let mut c = ChipConfig::preset(DEFAULT_CHIP).unwrap();
+    c.tms = tms;
+    c.threads_per_tm = threads;
+    c.tms_per_l2 = tms;
+    c
+}
+
+/// Runs an ELF functionally with `tms` x `threads`; returns the report and the printed
+/// output.
+pub fn run_elf(elf: &Path, tms: u32, threads: u32) -> (RunReport, String) {
     let data = std::fs::read(elf).unwrap();
     let path = elf.display().to_string();
-    let config = MachineConfig {
-        tms,
-        threads_per_tm: threads,
-        ..MachineConfig::default()
-    };
+    let chip = chip(tms, threads);
     let mut out = Vec::new();
     let r = run(
-        RunRequest {
-            elf_path: &path,
-            elf: &data,
-            segments: None,
-            config,
-        },
+        RunRequest::new(&path, &data, &chip, Mode::Functional),
         &mut out,
     )
     .unwrap();

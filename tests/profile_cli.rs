@@ -129,7 +129,7 @@ fn timing_profile_total_is_the_live_thread_cycles() {
     let stdout = text(&out.stdout);
     let total = tree_total(&stdout, "cycles");
     let st = json(&stats);
-    let tc = st["thread_cycles"].as_object().unwrap();
+    let tc = st["timing"]["thread_cycles"].as_object().unwrap();
     // Every thread-cycle is charged except those of threads that already halted.
     let live: u64 = tc
         .iter()

@@ -337,9 +337,9 @@ where = {{ mode = "timing" }}
         if r["mode"] == "timing" {
             assert_eq!(r["cycles"], stats["cycles"].to_string());
             let e: f64 = r["energy_j"].parse().unwrap();
-            assert_eq!(e, stats["energy"]["total"].as_f64().unwrap());
+            assert_eq!(e, stats["timing"]["energy"]["total"].as_f64().unwrap());
             let dram: f64 = r["energy_dram_j"].parse().unwrap();
-            assert_eq!(dram, stats["energy"]["dram"].as_f64().unwrap());
+            assert_eq!(dram, stats["timing"]["energy"]["dram"].as_f64().unwrap());
         } else {
             assert_eq!(r["cycles"], "", "functional runs have no cycles");
         }

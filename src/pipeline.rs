@@ -12,7 +12,7 @@
 use std::path::{Path, PathBuf};
 
 use trax_assembler::image::{
-    build_image, build_image_from_symbols, read_program, MemoryImage, RenderOptions,
+    build_image, build_image_from_symbols, read_program, ImageError, MemoryImage, RenderOptions,
     OPTIONAL_COMPONENTS,
 };
 use trax_assembler::link::{link, Input, LinkOptions};
@@ -274,18 +274,29 @@ pub fn scene_image(req: &Request) -> Result<(MemoryImage, Vec<String>), PrepareE
         }
     };
     let referenced: Vec<&str> = referenced.iter().map(String::as_str).collect();
-    let image = build_image_from_symbols(
-        Vec::new(),
-        trax_runtime::abi::TEXT_BASE,
-        &referenced,
-        &scene,
-        &req.render_options(),
-    )
-    .map_err(|source| PrepareError::Image {
-        path: req.kernel.display().to_string(),
-        source,
+    let image = lay_out_scene(&scene, &referenced, &req.render_options()).map_err(|source| {
+        PrepareError::Image {
+            path: req.kernel.display().to_string(),
+            source,
+        }
     })?;
     Ok((image, warnings))
+}
+
+/// The memory image of `scene` alone (no program), with the optional components in
+/// `referenced` (camera and framebuffer always).
+pub fn lay_out_scene(
+    scene: &Scene,
+    referenced: &[&str],
+    opts: &RenderOptions,
+) -> Result<MemoryImage, ImageError> {
+    build_image_from_symbols(
+        Vec::new(),
+        trax_runtime::abi::TEXT_BASE,
+        referenced,
+        scene,
+        opts,
+    )
 }
 
 impl Prepared {

@@ -188,30 +188,18 @@ fn max_instructions_counts_instructions_in_timing_mode() {
         "{err}"
     );
     // The same stop with any number of host threads.
-    let (_, v2) = run(
-        "imax2",
-        "examples/raycast.rs",
-        &[
+    let limited = |host_threads: &str| {
+        let args = [
             "--max-instructions",
             &LIMIT.to_string(),
             "--tms",
-            "1",
-            "--host-threads",
             "2",
-        ],
-    );
-    let (_, v1) = run(
-        "imax1",
-        "examples/raycast.rs",
-        &[
-            "--max-instructions",
-            &LIMIT.to_string(),
-            "--tms",
-            "1",
             "--host-threads",
-            "1",
-        ],
-    );
+            host_threads,
+        ];
+        run(&format!("imax{host_threads}"), "examples/raycast.rs", &args).1
+    };
+    let (v1, v2) = (limited("1"), limited("2"));
     assert_eq!(v1["timing"], v2["timing"]);
     assert_eq!(v1["cycles"], v2["cycles"]);
 }

@@ -349,7 +349,15 @@ where = {{ mode = "timing" }}
                 .unwrap(),
         )
         .unwrap();
-        assert_eq!(rec["stats"], stats);
+        // The same document but for the inputs: the point ran the sweep's prebuilt ELF.
+        let without_inputs = |v: &serde_json::Value| {
+            let mut v = v.clone();
+            v.as_object_mut().unwrap().remove("inputs");
+            v
+        };
+        assert_eq!(without_inputs(&rec["stats"]), without_inputs(&stats));
+        assert_eq!(rec["stats"]["inputs"]["kernel"], rec["command"][2]);
+        assert_eq!(rec["stats"]["inputs"]["opt_level"], serde_json::Value::Null);
         assert_eq!(rec["config"]["tms"].to_string(), r["tms"]);
         assert_eq!(rec["config"]["name"], "tiny");
         assert_eq!(rec["trax"]["version"], env!("CARGO_PKG_VERSION"));
@@ -920,4 +928,41 @@ threads = 4
         "threads",
     ]);
     assert!(out.status.success(), "{}", text(&out.stderr));
+}
+
+/// `scene = "icosphere:N"` is a built-in scene (sweep plans took it for a file name and
+/// refused it), and `max_cycles` is a knob: timing points stop at that cycle.
+#[test]
+fn icosphere_scenes_and_cycle_limits_are_sweep_parameters() {
+    let dir = scratch("icosphere");
+    let k = gradient();
+    let f = sweep_file(
+        &dir,
+        &format!(
+            "kernel = {k:?}\nwidth = 8\nheight = 8\nscene = \"icosphere:1\"\n[axes]\nmax_cycles = [100, 100000000]\n"
+        ),
+    );
+    let out_dir = dir.join("results");
+    let out = trax(&[
+        "sweep",
+        f.to_str().unwrap(),
+        "-o",
+        out_dir.to_str().unwrap(),
+    ]);
+    assert!(!out.status.success(), "the 100-cycle point fails");
+    let (_, rows) = read_csv(&out_dir.join("results.csv"));
+    assert_eq!(rows.len(), 2, "{}", text(&out.stderr));
+    for r in &rows {
+        assert_eq!(r["scene"], "icosphere:1");
+        if r["max_cycles"] == "100" {
+            assert_eq!(r["status"], "failed", "{r:?}");
+            assert!(
+                r["error"].contains("cycle limit reached after 100 cycles"),
+                "{r:?}"
+            );
+        } else {
+            assert_eq!(r["status"], "ok", "{r:?}");
+            assert!(r["cycles"].parse::<u64>().unwrap() > 100);
+        }
+    }
 }

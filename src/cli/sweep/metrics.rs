@@ -44,11 +44,8 @@ const fn m(
 
 const fn e(column: &'static str, label: &'static str, path: &'static str) -> Metric {
     Metric {
-        column,
-        label,
-        unit: "J",
-        path,
         energy_part: true,
+        ..m(column, label, "J", path)
     }
 }
 

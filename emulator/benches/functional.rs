@@ -91,14 +91,7 @@ fn main() {
     let mut best = f64::MAX;
     let mut instructions = 0;
     for _ in 0..3 {
-        let mut m = Machine::new(
-            &exe.segments,
-            exe.text_start,
-            exe.text_end,
-            exe.entry,
-            config,
-        )
-        .unwrap();
+        let mut m = Machine::load(&exe, None, config).unwrap();
         let t = Instant::now();
         let s = m.run(&mut std::io::sink());
         let secs = t.elapsed().as_secs_f64();

@@ -80,16 +80,7 @@ fn main() {
         threads_per_tm: 4,
         ..MachineConfig::default()
     };
-    let new = || {
-        Machine::new(
-            &exe.segments,
-            exe.text_start,
-            exe.text_end,
-            exe.entry,
-            config,
-        )
-        .unwrap()
-    };
+    let new = || Machine::load(&exe, None, config).unwrap();
     let (mut plain, mut profiled) = (f64::MAX, f64::MAX);
     let mut instructions = 0;
     let mut last = None;

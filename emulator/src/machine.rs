@@ -10,6 +10,7 @@
 
 use std::io::Write;
 
+use crate::elf::Executable;
 use crate::memory::{LayoutError, Memory, Segment};
 use crate::program::Program;
 use crate::sched::{Driven, Executor, PlainExec, Scheduler};
@@ -186,6 +187,17 @@ impl Machine {
             threads,
             config,
         })
+    }
+
+    /// A machine running the executable `exe` on every thread, with memory `segments`
+    /// (`None`: the executable's own segments).
+    pub fn load(
+        exe: &Executable,
+        segments: Option<&[Segment]>,
+        config: MachineConfig,
+    ) -> Result<Machine, SetupError> {
+        let segments = segments.unwrap_or(&exe.segments);
+        Machine::new(segments, exe.text_start, exe.text_end, exe.entry, config)
     }
 
     /// Runs to completion, writing print output to `out` as it is produced.

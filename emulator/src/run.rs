@@ -249,8 +249,7 @@ fn load(req: &RunRequest<'_>, quantum: u32) -> Result<(Executable, Machine), Run
             Mode::Timing => None,
         },
     };
-    let segments = req.segments.as_deref().unwrap_or(&exe.segments);
-    let machine = Machine::new(segments, exe.text_start, exe.text_end, exe.entry, config)?;
+    let machine = Machine::load(&exe, req.segments.as_deref(), config)?;
     Ok((exe, machine))
 }
 

@@ -44,14 +44,7 @@ fn machine(elf: &std::path::Path, threads: u32) -> (Machine, Executable, DebugIn
         quantum: 37,
         ..MachineConfig::default()
     };
-    let m = Machine::new(
-        &exe.segments,
-        exe.text_start,
-        exe.text_end,
-        exe.entry,
-        config,
-    )
-    .unwrap();
+    let m = Machine::load(&exe, None, config).unwrap();
     let dbg = DebugInfo::parse(&path, &data).unwrap();
     (m, exe, dbg)
 }

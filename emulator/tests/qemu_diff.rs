@@ -420,14 +420,7 @@ fn build(dir: &Path, name: &str, asm: &str) -> std::path::PathBuf {
 fn run_emulator(elf: &Path) -> Result<Vec<u8>, String> {
     let data = std::fs::read(elf).unwrap();
     let exe = trax_emulator::Executable::parse("diff", &data).map_err(|e| e.to_string())?;
-    let mut m = Machine::new(
-        &exe.segments,
-        exe.text_start,
-        exe.text_end,
-        exe.entry,
-        MachineConfig::default(),
-    )
-    .map_err(|e| e.to_string())?;
+    let mut m = Machine::load(&exe, None, MachineConfig::default()).map_err(|e| e.to_string())?;
     let summary = m.run(&mut std::io::sink());
     match summary.outcome {
         Outcome::Crashed(c) if matches!(c.fault, Fault::Syscall(_)) => {

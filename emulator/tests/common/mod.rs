@@ -171,6 +171,27 @@ pub fn build_c(name: &str, src: &str, opt: &str) -> PathBuf {
     elf
 }
 
+/// Compiles a TRaX-Rust kernel at `opt` and links it with the runtime start-up code, as
+/// `trax build` does; returns the executable.
+pub fn build_rust(kernel: &Path, opt: u8) -> Vec<u8> {
+    use trax_assembler::link::{link, Input, LinkOptions};
+    use trax_compiler::{compile_file, CompileOptions, Emit, Prelude};
+    let copts = CompileOptions {
+        opt_level: opt,
+        emit: Emit::Obj,
+        prelude: Some(Prelude::runtime()),
+    };
+    let obj = compile_file(kernel, &copts)
+        .unwrap_or_else(|e| panic!("compile {}: {e}", kernel.display()));
+    let input = Input {
+        name: kernel.file_name().unwrap().to_string_lossy().into_owned(),
+        bytes: obj.bytes,
+    };
+    link(&[input], &LinkOptions::default())
+        .unwrap_or_else(|e| panic!("link {}: {e}", kernel.display()))
+        .elf
+}
+
 /// The default chip reshaped to `tms` x `threads` (one L2 for all).
 pub fn chip(tms: u32, threads: u32) -> ChipConfig {
     let mut c = ChipConfig::preset(DEFAULT_CHIP).unwrap();

@@ -1,4 +1,5 @@
-//! Flag groups shared by the subcommands that run kernels (`trax run`, `trax native`).
+//! Flag groups shared by the subcommands that run kernels (`trax run`, `trax annotate`,
+//! `trax native`).
 
 use std::path::{Path, PathBuf};
 
@@ -6,7 +7,21 @@ use clap::Args;
 use trax::pipeline::Request;
 use trax_assembler::image::RenderOptions;
 use trax_assembler::scene::LoadOptions;
-use trax_emulator::timing::ChipConfig;
+use trax_emulator::timing::{ChipConfig, DEFAULT_CHIP};
+
+/// The chip and its thread shape.
+#[derive(Args, Debug, Clone)]
+pub struct ShapeArgs {
+    /// Chip configuration: a preset (`tiny`, `baseline`, `strata`) or a TOML file.
+    #[arg(long, default_value = DEFAULT_CHIP)]
+    pub config: String,
+    /// Thread multiprocessors (overrides the config).
+    #[arg(long)]
+    pub tms: Option<u32>,
+    /// Threads per TM (overrides the config).
+    #[arg(long)]
+    pub threads: Option<u32>,
+}
 
 /// Scene and image parameters.
 #[derive(Args, Debug, Clone)]

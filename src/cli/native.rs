@@ -3,7 +3,7 @@
 //! functional reference for the emulator.
 //!
 //! The machine matches `trax run`'s: the thread shape comes from the same chip config
-//! (`--config`, default [`DEFAULT_CHIP`], with `--tms`/`--threads` overrides), and the
+//! (`--config`, default `trax_emulator::timing::DEFAULT_CHIP`, with `--tms`/`--threads` overrides), and the
 //! memory image holds the scene components `trax run` would lay out — the kernel is also
 //! built with the trax compiler (as `trax run` does, at `-O2`) to learn which header
 //! fields it references — so per-triangle data is in the same order (BVH leaf order only
@@ -25,10 +25,9 @@ use std::process::{Command, ExitCode, Stdio};
 
 use clap::Args;
 
-use super::common::RenderArgs;
+use super::common::{RenderArgs, ShapeArgs};
 use trax::pipeline::{self, chip_config, scene_report, PrepareError, DEFAULT_OPT_LEVEL};
 use trax_assembler::image::MemoryImage as SceneImage;
-use trax_emulator::timing::DEFAULT_CHIP;
 use trax_runtime::host::{framebuffer_rgb8, ImageError, MemoryImage, Segment};
 use trax_runtime::prelude::{self, Fnv1a};
 
@@ -40,16 +39,9 @@ pub struct NativeArgs {
     /// Scene and image parameters.
     #[command(flatten)]
     pub render: RenderArgs,
-    /// Chip configuration whose thread shape (TMs x threads) to run: a preset (`tiny`,
-    /// `baseline`, `strata`) or a TOML file, as for `trax run`.
-    #[arg(long, default_value = DEFAULT_CHIP)]
-    pub config: String,
-    /// Thread multiprocessors (overrides the config).
-    #[arg(long)]
-    pub tms: Option<u32>,
-    /// Threads per TM (overrides the config).
-    #[arg(long)]
-    pub threads: Option<u32>,
+    /// The chip whose thread shape (TMs x threads) to run, as for `trax run`.
+    #[command(flatten)]
+    pub shape: ShapeArgs,
     /// Write the framebuffer as PNG (clamped, top row first).
     #[arg(short = 'o', long = "output")]
     pub output: Option<PathBuf>,
@@ -117,7 +109,8 @@ fn native(a: &NativeArgs) -> Result<(), NativeError> {
             return Err(NativeError::BadFlag { flag });
         }
     }
-    let chip = chip_config(&a.config, &[], a.tms, a.threads, None).map_err(NativeError::Chip)?;
+    let s = &a.shape;
+    let chip = chip_config(&s.config, &[], s.tms, s.threads, None).map_err(NativeError::Chip)?;
     let (tms, threads) = (chip.tms, chip.threads_per_tm);
     let total = tms as u64 * threads as u64;
     if total > 4096 {

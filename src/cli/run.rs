@@ -15,11 +15,11 @@ use clap::{Args, ValueEnum};
 use trax::pipeline::{self, prepare, scene_report};
 use trax::stats::StatsDocument;
 use trax_emulator::profile::Profile;
-use trax_emulator::timing::{ChipConfig, DEFAULT_CHIP};
+use trax_emulator::timing::ChipConfig;
 use trax_emulator::{gdb, DebugInfo, Limits, Mode, DEFAULT_QUANTUM};
 use trax_runtime::host::framebuffer_rgb8;
 
-use super::common::RenderArgs;
+use super::common::{RenderArgs, ShapeArgs};
 use super::native::write_png;
 use super::progress::ProgressLine;
 
@@ -88,15 +88,9 @@ pub struct ExecArgs {
     /// Scene and image parameters.
     #[command(flatten)]
     pub render: RenderArgs,
-    /// Chip configuration: a preset (`tiny`, `baseline`, `strata`) or a TOML file.
-    #[arg(long, default_value = DEFAULT_CHIP)]
-    pub config: String,
-    /// Thread multiprocessors (overrides the config).
-    #[arg(long)]
-    pub tms: Option<u32>,
-    /// Threads per TM (overrides the config).
-    #[arg(long)]
-    pub threads: Option<u32>,
+    /// Chip and thread shape.
+    #[command(flatten)]
+    pub shape: ShapeArgs,
     /// Number of L2 caches; TMs are split evenly among them (overrides the config).
     #[arg(long)]
     pub l2s: Option<u32>,
@@ -214,7 +208,8 @@ pub fn parse_set(s: &str) -> Result<(String, toml::Value), String> {
 
 /// The chip: the named config with the command-line overrides applied.
 fn chip_config(a: &ExecArgs) -> Result<ChipConfig, String> {
-    pipeline::chip_config(&a.config, &a.set, a.tms, a.threads, a.l2s)
+    let s = &a.shape;
+    pipeline::chip_config(&s.config, &a.set, s.tms, s.threads, a.l2s)
 }
 
 /// Prepares and runs the kernel, reports statistics, writes the PNG; with `extras`,

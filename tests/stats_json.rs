@@ -67,11 +67,10 @@ fn fields(v: &Value, path: &str, maps: &BTreeSet<String>, out: &mut BTreeSet<Str
         }
     };
     match v {
-        Value::Object(m) if maps.contains(path) => {
-            if !m.is_empty() {
-                out.insert(join("*"));
-            }
+        Value::Object(m) if maps.contains(path) && !m.is_empty() => {
+            out.insert(join("*"));
         }
+        Value::Object(_) if maps.contains(path) => {}
         Value::Object(m) => {
             for (k, x) in m {
                 fields(x, &join(k), maps, out);

@@ -72,6 +72,21 @@ fn sha256sum(path: &Path) -> String {
         .to_string()
 }
 
+/// Runs the sweep file `body` in `dir` (results in `dir/results`): the process output, the
+/// results directory and the rows of its `results.csv`.
+fn sweep_rows(dir: &Path, body: &str) -> (Output, PathBuf, Vec<BTreeMap<String, String>>) {
+    let f = sweep_file(dir, body);
+    let out_dir = dir.join("results");
+    let out = trax(&[
+        "sweep",
+        f.to_str().unwrap(),
+        "-o",
+        out_dir.to_str().unwrap(),
+    ]);
+    let (_, rows) = read_csv(&out_dir.join("results.csv"));
+    (out, out_dir, rows)
+}
+
 #[test]
 fn bad_sweep_files_name_the_field_and_line() {
     let dir = scratch("errors");
@@ -387,19 +402,12 @@ where = {{ mode = "timing" }}
 fn a_failed_point_is_recorded_and_the_sweep_goes_on() {
     let dir = scratch("failed");
     let k = gradient();
-    let f = sweep_file(
+    let (out, out_dir, rows) = sweep_rows(
         &dir,
         &format!(
             "kernel = {k:?}\nwidth = 8\nheight = 8\nmode = \"functional\"\n[axes]\nmax_instructions = [50, 1000000]\ntms = [1, 2]\n"
         ),
     );
-    let out_dir = dir.join("results");
-    let out = trax(&[
-        "sweep",
-        f.to_str().unwrap(),
-        "-o",
-        out_dir.to_str().unwrap(),
-    ]);
     assert!(
         !out.status.success(),
         "a sweep with failed points exits non-zero"
@@ -409,7 +417,6 @@ fn a_failed_point_is_recorded_and_the_sweep_goes_on() {
         "{}",
         text(&out.stderr)
     );
-    let (_, rows) = read_csv(&out_dir.join("results.csv"));
     assert_eq!(rows.len(), 4);
     for r in &rows {
         if r["max_instructions"] == "50" {
@@ -429,6 +436,7 @@ fn a_failed_point_is_recorded_and_the_sweep_goes_on() {
         }
     }
     // Failed points keep their record on a re-run, unless asked to retry.
+    let f = dir.join("sweep.toml");
     let again = trax(&[
         "sweep",
         f.to_str().unwrap(),
@@ -936,21 +944,13 @@ threads = 4
 fn icosphere_scenes_and_cycle_limits_are_sweep_parameters() {
     let dir = scratch("icosphere");
     let k = gradient();
-    let f = sweep_file(
+    let (out, _, rows) = sweep_rows(
         &dir,
         &format!(
             "kernel = {k:?}\nwidth = 8\nheight = 8\nscene = \"icosphere:1\"\n[axes]\nmax_cycles = [100, 100000000]\n"
         ),
     );
-    let out_dir = dir.join("results");
-    let out = trax(&[
-        "sweep",
-        f.to_str().unwrap(),
-        "-o",
-        out_dir.to_str().unwrap(),
-    ]);
     assert!(!out.status.success(), "the 100-cycle point fails");
-    let (_, rows) = read_csv(&out_dir.join("results.csv"));
     assert_eq!(rows.len(), 2, "{}", text(&out.stderr));
     for r in &rows {
         assert_eq!(r["scene"], "icosphere:1");

@@ -45,7 +45,7 @@ use crate::thread::{Shared, Thread};
 pub const NUM_CLASSES: usize = 24;
 
 /// Thread-cycle accounting (each live thread lands in exactly one bucket per cycle).
-#[derive(Clone, Debug, Default, PartialEq, Eq, serde::Serialize)]
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct ThreadCycles {
     /// Issued an instruction.
     pub issued: u64,

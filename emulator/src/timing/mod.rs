@@ -17,6 +17,7 @@ mod config;
 pub(crate) mod engine;
 pub(crate) mod operands;
 pub(crate) mod stats;
+mod stats_doc;
 mod tm;
 mod workers;
 

@@ -8,6 +8,7 @@ use trax_runtime::isa::UnitClass;
 
 use super::config::{class_name, ChipConfig, UNIT_NAMES};
 use super::engine::{Counters, ThreadCycles};
+use super::stats_doc;
 use crate::memsys::{CacheStats, MemStats};
 use crate::program::Program;
 
@@ -90,6 +91,7 @@ pub struct TimingStats {
     /// Average threads issuing per cycle.
     pub avg_threads_issuing: f64,
     /// Where every thread-cycle went.
+    #[serde(serialize_with = "stats_doc::thread_cycles")]
     pub thread_cycles: ThreadCycles,
     /// Data-dependence stalls by the mnemonic of the producing instruction.
     pub data_stalls_by_producer: BTreeMap<String, u64>,
@@ -110,6 +112,7 @@ pub struct TimingStats {
     /// DRAM -> L2 bandwidth, GB/s.
     pub dram_gbps: f64,
     /// Memory-system statistics (caches and DRAM).
+    #[serde(serialize_with = "stats_doc::memory")]
     pub memory: MemStats,
     /// Energy, joules.
     pub energy: EnergyBreakdown,

@@ -7,10 +7,10 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use clap::{Args, Subcommand};
+use trax::pipeline::lay_out_scene;
 use trax_assembler::bvh::{Bvh, BvhOptions, TreeletOptions};
-use trax_assembler::image::{build_image_from_symbols, RenderOptions, OPTIONAL_COMPONENTS};
+use trax_assembler::image::{RenderOptions, OPTIONAL_COMPONENTS};
 use trax_assembler::scene::{load_scene, LoadOptions};
-use trax_runtime::abi;
 
 /// Arguments of `trax scene`.
 #[derive(Args, Debug)]
@@ -150,13 +150,7 @@ fn info(a: &InfoArgs) -> Result<(), Box<dyn std::error::Error>> {
         ..RenderOptions::default()
     };
     let t2 = Instant::now();
-    let image = build_image_from_symbols(
-        Vec::new(),
-        abi::TEXT_BASE,
-        &OPTIONAL_COMPONENTS,
-        &scene,
-        &opts,
-    )?;
+    let image = lay_out_scene(&scene, &OPTIONAL_COMPONENTS, &opts)?;
     let image_time = t2.elapsed();
     outln!("memory (all components referenced):");
     for c in &image.components {

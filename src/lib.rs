@@ -6,5 +6,6 @@
 //!   lay out memory). Runs then go through [`trax_emulator::run()`].
 //! - [`stats`]: the statistics document of a run (`--stats-json`, schema 1).
 
+pub mod clang;
 pub mod pipeline;
 pub mod stats;

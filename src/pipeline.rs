@@ -21,14 +21,21 @@ use trax_compiler::{compile_file, CompileError, CompileOptions, Emit, Prelude};
 use trax_emulator::timing::{ChipConfig, DEFAULT_CHIP};
 use trax_emulator::{Mode, RunReport, RunRequest, Segment};
 
+use crate::clang::{self, ClangError, Lang};
+
 /// The optimisation level kernels are built at by default.
 pub const DEFAULT_OPT_LEVEL: u8 = 2;
 
 /// What a kernel file is, by its extension.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum KernelFile {
-    /// TRaX-Rust source (`.rs`): compiled and linked with the runtime.
+    /// TRaX-Rust source (`.rs`): compiled by the trax compiler and linked with the runtime.
     Rust,
+    /// C (`.c`) or C++ (`.cpp`, `.cc`, `.cxx`) source: compiled by clang-14 against the
+    /// generated `trax.h` (see [`crate::clang`]) and linked with the runtime.
+    C(Lang),
+    /// A relocatable object (`.o`), linked with the others.
+    Object,
     /// A linked executable (any other name): read as it is.
     Executable,
 }
@@ -36,10 +43,19 @@ pub enum KernelFile {
 impl KernelFile {
     /// The kind of `path`.
     pub fn of(path: &Path) -> KernelFile {
+        if let Some(lang) = clang::lang_of(path) {
+            return KernelFile::C(lang);
+        }
         match path.extension().and_then(|e| e.to_str()) {
             Some("rs") => KernelFile::Rust,
+            Some("o") => KernelFile::Object,
             _ => KernelFile::Executable,
         }
+    }
+
+    /// True for files that are compiled (source), false for objects and executables.
+    pub fn is_source(self) -> bool {
+        matches!(self, KernelFile::Rust | KernelFile::C(_))
     }
 }
 
@@ -48,6 +64,8 @@ impl KernelFile {
 pub struct Request {
     /// The kernel: source or a linked executable (see [`KernelFile`]).
     pub kernel: PathBuf,
+    /// Further sources and objects linked with a kernel source (C, C++, TRaX-Rust, `.o`).
+    pub more: Vec<PathBuf>,
     /// Optimisation level when building from source (0..=3).
     pub opt_level: u8,
     /// Scene: `cornell`, `procedural:N`, `icosphere:N`, or an .obj/.objl file.
@@ -67,12 +85,20 @@ impl Request {
     pub fn new(kernel: impl Into<PathBuf>) -> Request {
         Request {
             kernel: kernel.into(),
+            more: Vec::new(),
             opt_level: DEFAULT_OPT_LEVEL,
             scene: "cornell".into(),
             load: LoadOptions::default(),
             render: RenderOptions::default(),
             chip: ChipConfig::preset(DEFAULT_CHIP).expect("the default chip is a preset"),
         }
+    }
+
+    /// The kernel and the files linked with it.
+    pub fn files(&self) -> Vec<PathBuf> {
+        std::iter::once(self.kernel.clone())
+            .chain(self.more.iter().cloned())
+            .collect()
     }
 
     /// The image options with the chip's stack size.
@@ -111,6 +137,9 @@ pub enum PrepareError {
     /// Compile errors, already rendered with source spans.
     #[error("{0}")]
     Compile(CompileError),
+    /// clang could not build a C or C++ file (its diagnostics, or why it did not run).
+    #[error("{0}")]
+    Clang(ClangError),
     /// The linker failed.
     #[error("linking {path}: {source}")]
     Link {
@@ -155,6 +184,7 @@ impl PrepareError {
     pub fn render(&self) -> String {
         let mut s = match self {
             PrepareError::Compile(e @ CompileError::Diagnostics(_)) => e.to_string(),
+            PrepareError::Clang(e @ ClangError::Diagnostics { .. }) => e.to_string(),
             PrepareError::Compile(e @ CompileError::Internal(_)) => {
                 format!("error: {e}\nnote: this is a bug in the trax compiler; please report it")
             }
@@ -174,7 +204,7 @@ pub fn prepare(req: &Request) -> Result<Prepared, PrepareError> {
             return Err(PrepareError::Flag(format!("--{flag} must be at least 1")));
         }
     }
-    let elf = executable(&req.kernel, req.opt_level)?;
+    let elf = executable_of(&req.files(), req.opt_level)?;
     let scene = load_scene(&req.scene, &req.load)?;
     lay_out(
         &req.kernel.display().to_string(),
@@ -186,19 +216,29 @@ pub fn prepare(req: &Request) -> Result<Prepared, PrepareError> {
 
 /// The linked executable of `kernel`: built from source, or read as it is.
 pub fn executable(kernel: &Path, opt_level: u8) -> Result<Vec<u8>, PrepareError> {
-    match KernelFile::of(kernel) {
-        KernelFile::Rust => build_executable(kernel, opt_level),
-        KernelFile::Executable => std::fs::read(kernel).map_err(|source| PrepareError::Io {
-            path: kernel.display().to_string(),
-            source,
-        }),
+    executable_of(&[kernel.to_path_buf()], opt_level)
+}
+
+/// The linked executable of `files`: one executable read as it is, or sources and objects
+/// built and linked together.
+pub fn executable_of(files: &[PathBuf], opt_level: u8) -> Result<Vec<u8>, PrepareError> {
+    match files {
+        [one] if KernelFile::of(one) == KernelFile::Executable => {
+            std::fs::read(one).map_err(|source| PrepareError::Io {
+                path: one.display().to_string(),
+                source,
+            })
+        }
+        _ => build_executable_of(files, opt_level),
     }
 }
 
-/// Compiles a kernel source file to an object (ELF relocatable with DWARF).
+/// Compiles a kernel source file to an object (ELF relocatable with DWARF), assembly or
+/// LLVM IR: TRaX-Rust with the trax compiler, C and C++ with clang-14.
 pub fn compile_object(kernel: &Path, opt_level: u8, emit: Emit) -> Result<Vec<u8>, PrepareError> {
-    // TRaX-Rust is the only source language: any file given to be built is compiled as
-    // such (a C/C++ front end would dispatch on `KernelFile::of(kernel)` here).
+    if let KernelFile::C(lang) = KernelFile::of(kernel) {
+        return clang::compile(kernel, lang, opt_level, emit).map_err(PrepareError::Clang);
+    }
     let opts = CompileOptions {
         opt_level,
         emit,
@@ -211,17 +251,74 @@ pub fn compile_object(kernel: &Path, opt_level: u8, emit: Emit) -> Result<Vec<u8
 
 /// Compiles and links a kernel source file with the runtime start-up code.
 pub fn build_executable(kernel: &Path, opt_level: u8) -> Result<Vec<u8>, PrepareError> {
-    let name = kernel.display().to_string();
-    let input = Input {
-        name: name.clone(),
-        bytes: compile_object(kernel, opt_level, Emit::Obj)?,
-    };
-    link(&[input], &LinkOptions::default())
-        .map(|l| l.elf)
-        .map_err(|source| PrepareError::Link {
-            path: name,
-            source: Box::new(source),
-        })
+    build_executable_of(&[kernel.to_path_buf()], opt_level)
+}
+
+/// Compiles every source of `files` (objects are taken as they are) and links them, in
+/// order, with the runtime start-up code. Memory functions and 64-bit helpers that C or
+/// C++ objects call are linked in from the trax C runtime when no input defines them.
+pub fn build_executable_of(files: &[PathBuf], opt_level: u8) -> Result<Vec<u8>, PrepareError> {
+    let name = files
+        .iter()
+        .map(|f| f.display().to_string())
+        .collect::<Vec<_>>()
+        .join(" + ");
+    let mut inputs = Vec::new();
+    for f in files {
+        let bytes = match KernelFile::of(f) {
+            KernelFile::Rust | KernelFile::C(_) => compile_object(f, opt_level, Emit::Obj)?,
+            KernelFile::Object => std::fs::read(f).map_err(|source| PrepareError::Io {
+                path: f.display().to_string(),
+                source,
+            })?,
+            KernelFile::Executable => {
+                return Err(PrepareError::Flag(format!(
+                    "{}: only sources (.rs, .c, .cpp, .cc) and objects (.o) can be linked together; an executable is run alone",
+                    f.display()
+                )))
+            }
+        };
+        inputs.push(Input {
+            name: f.display().to_string(),
+            bytes,
+        });
+    }
+    let mut added: Vec<String> = Vec::new();
+    loop {
+        match link(&inputs, &LinkOptions::default()) {
+            Ok(l) => return Ok(l.elf),
+            Err(trax_assembler::link::LinkError::UndefinedSymbol { symbol, .. })
+                if files.iter().any(|f| matches!(KernelFile::of(f), KernelFile::C(_)))
+                    && clang::runtime_provides(&symbol) =>
+            {
+                let (rt_name, bytes) = clang::runtime_object_for(&symbol)
+                    .expect("checked above")
+                    .map_err(PrepareError::Clang)?;
+                if added.contains(&rt_name) {
+                    // The runtime was linked and did not define it: report as undefined.
+                    return Err(PrepareError::Link {
+                        path: name,
+                        source: Box::new(trax_assembler::link::LinkError::UndefinedSymbol {
+                            symbol,
+                            file: rt_name,
+                            section: String::new(),
+                        }),
+                    });
+                }
+                added.push(rt_name.clone());
+                inputs.push(Input {
+                    name: rt_name,
+                    bytes,
+                });
+            }
+            Err(source) => {
+                return Err(PrepareError::Link {
+                    path: name,
+                    source: Box::new(source),
+                })
+            }
+        }
+    }
 }
 
 /// A scene error, prefixed with the scene's name unless the message already names it

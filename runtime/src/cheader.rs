@@ -187,6 +187,397 @@ pub fn render_c_header() -> String {
     out
 }
 
+/// A C struct of the scene data: name, comment, fields as (C type, name, array length
+/// or 0 for a scalar). The layouts are those of `abi.rs` and the prelude's `layout.rs`
+/// (`runtime/tests/c_header.rs` compiles a probe that checks every offset and size).
+pub struct CStruct {
+    /// Type name (`trax_camera_t`).
+    pub name: &'static str,
+    /// What it is.
+    pub doc: &'static str,
+    /// Fields in memory order.
+    pub fields: &'static [(&'static str, &'static str, usize)],
+}
+
+/// The scene element structs of `trax.h`, besides the header (see [`header_field_type`]).
+pub static C_STRUCTS: &[CStruct] = &[
+    CStruct {
+        name: "trax_component_t",
+        doc: "a scene component: address of the first element and element count (0, 0 when absent)",
+        fields: &[("unsigned int", "addr", 0), ("unsigned int", "count", 0)],
+    },
+    CStruct {
+        name: "trax_camera_t",
+        doc: "the camera (simtrax .view semantics, see runtime::abi::Camera)",
+        fields: &[
+            ("float", "eye", 3),
+            ("float", "u", 3),
+            ("float", "v", 3),
+            ("float", "w", 3),
+            ("float", "left", 0),
+            ("float", "right", 0),
+            ("float", "bottom", 0),
+            ("float", "top", 0),
+            ("float", "distance", 0),
+            ("float", "aperture", 0),
+        ],
+    },
+    CStruct {
+        name: "trax_pixel_t",
+        doc: "a framebuffer pixel, linear RGB",
+        fields: &[("float", "r", 0), ("float", "g", 0), ("float", "b", 0)],
+    },
+    CStruct {
+        name: "trax_bvh_node_t",
+        doc: "a BVH node: interior when b == 0 (children a and a + 1), else a leaf of triangles a .. a + b",
+        fields: &[
+            ("float", "min", 3),
+            ("float", "max", 3),
+            ("unsigned int", "a", 0),
+            ("unsigned int", "b", 0),
+        ],
+    },
+    CStruct {
+        name: "trax_triangle_t",
+        doc: "a triangle: three vertices of 3 floats, in BVH leaf order",
+        fields: &[("float", "v0", 3), ("float", "v1", 3), ("float", "v2", 3)],
+    },
+    CStruct {
+        name: "trax_normals_t",
+        doc: "per-vertex normals of one triangle",
+        fields: &[("float", "n0", 3), ("float", "n1", 3), ("float", "n2", 3)],
+    },
+    CStruct {
+        name: "trax_texcoords_t",
+        doc: "per-vertex texture coordinates of one triangle",
+        fields: &[("float", "t0", 2), ("float", "t1", 2), ("float", "t2", 2)],
+    },
+    CStruct {
+        name: "trax_material_t",
+        doc: "a material",
+        fields: &[
+            ("float", "diffuse", 3),
+            ("float", "specular", 3),
+            ("float", "emission", 3),
+            ("float", "shininess", 0),
+            ("unsigned int", "flags", 0),
+            ("unsigned int", "reserved", 0),
+        ],
+    },
+    CStruct {
+        name: "trax_point_light_t",
+        doc: "a point light",
+        fields: &[("float", "position", 3), ("float", "color", 3)],
+    },
+];
+
+/// The C type of scene header field `name` (a name of [`crate::abi::scene_header_fields`])
+/// and its array length (0: scalar); `None` for a field this table does not know (a test
+/// checks every field has one).
+pub fn header_field_type(name: &str) -> Option<(&'static str, usize)> {
+    Some(match name {
+        "magic" | "version" | "width" | "height" | "spp" | "max_depth" | "seed" | "camera" => {
+            ("unsigned int", 0)
+        }
+        "inv_width" | "inv_height" | "epsilon" => ("float", 0),
+        "background" => ("float", 3),
+        "reserved" => ("unsigned int", 8),
+        "framebuffer" | "bvh_nodes" | "triangles" | "normals" | "texcoords" | "material_ids"
+        | "materials" | "emitters" | "point_lights" | "bvh_parents" | "treelet_ids" => {
+            ("trax_component_t", 0)
+        }
+        _ => return None,
+    })
+}
+
+/// Element type of a component field of the header (for typed accessors).
+fn component_element(name: &str) -> &'static str {
+    match name {
+        "framebuffer" => "trax_pixel_t",
+        "bvh_nodes" => "trax_bvh_node_t",
+        "triangles" => "trax_triangle_t",
+        "normals" => "trax_normals_t",
+        "texcoords" => "trax_texcoords_t",
+        "materials" => "trax_material_t",
+        "point_lights" => "trax_point_light_t",
+        _ => "unsigned int",
+    }
+}
+
+fn render_struct(out: &mut String, name: &str, doc: &str, fields: &[(String, String, usize)]) {
+    let _ = writeln!(out, "/* {doc} */\ntypedef struct {name} {{");
+    for (ty, f, n) in fields {
+        if *n == 0 {
+            let _ = writeln!(out, "    {ty} {f};");
+        } else {
+            let _ = writeln!(out, "    {ty} {f}[{n}];");
+        }
+    }
+    let _ = writeln!(out, "}} {name};\n");
+}
+
+/// Friendly wrappers with the Rust prelude's names, over the generated instruction
+/// functions of `trax_isa.h`.
+const C_API: &str = r#"/* ---- Threads and time (the Rust prelude's names) ---- */
+static inline unsigned int trax_thread_id(void) { return trax_tid(); }
+static inline unsigned int trax_tm_id(void) { return trax_tmid(); }
+static inline unsigned int trax_global_id(void) { return trax_gid(); }
+static inline unsigned int trax_num_threads(void) { return trax_nthreads(); }
+static inline unsigned int trax_num_tms(void) { return trax_ntms(); }
+
+/* ---- Global registers: atomics, barriers, semaphores ---- */
+static inline unsigned int trax_atomic_inc(unsigned int reg) { return trax_atominc(reg); }
+static inline unsigned int trax_atomic_dec(unsigned int reg) { return trax_atomdec(reg); }
+static inline unsigned int trax_atomic_add(unsigned int reg, unsigned int v) { return trax_atomadd(reg, v); }
+static inline unsigned int trax_global_read(unsigned int reg) { return trax_gread(reg); }
+static inline void trax_global_write(unsigned int reg, unsigned int v) { trax_gwrite(reg, v); }
+static inline unsigned int trax_inc_reset(unsigned int reg) { return trax_increset(reg); }
+static inline void trax_sem_acquire(unsigned int reg) { trax_semacq(reg); }
+static inline void trax_sem_release(unsigned int reg) { trax_semrel(reg); }
+
+/* ---- Arithmetic ---- */
+static inline float trax_min(float a, float b) { return trax_fmin(a, b); }
+static inline float trax_max(float a, float b) { return trax_fmax(a, b); }
+static inline float trax_sqrt(float x) { return __builtin_sqrtf(x); }
+static inline void trax_count_ray(void) { trax_stat(0); }
+
+/* ---- Printing (one instruction per value; the machine buffers lines per thread) ---- */
+static inline void trax_print_int(int v) { trax_printi((unsigned int)v); }
+static inline void trax_print_uint(unsigned int v) { trax_printu(v); }
+static inline void trax_print_float(float v) { trax_printf(v); }
+static inline void trax_print_double(double v) { trax_printd(v); }
+static inline void trax_print_char(unsigned int c) { trax_printc(c); }
+static inline void trax_print_bool(int b) { trax_printb(b != 0); }
+static inline void trax_print_i64(long long v) {
+    trax_printl((unsigned int)v, (unsigned int)((unsigned long long)v >> 32));
+}
+static inline void trax_print_u64(unsigned long long v) {
+    trax_printul((unsigned int)v, (unsigned int)(v >> 32));
+}
+static inline void trax_print_str(const char *s) {
+    unsigned int n = 0;
+    while (s[n]) n++;
+    trax_prints((unsigned int)s, n);
+}
+
+/* Stops the whole program with MESSAGE, reported like a Rust panic (with the PC's
+ * source line and a backtrace). */
+static inline __attribute__((noreturn)) void trax_panic(const char *message) {
+    unsigned int n = 0;
+    while (message[n]) n++;
+    trax_abort(TRAX_ABORT_PANIC, (unsigned int)message, n);
+    __builtin_unreachable();
+}
+
+/* ---- Fused pipelines: inputs and outputs in coprocessor 2 (runtime::isa::COP2_REGS) ---- */
+#define trax_mtc2(n, x) do { float __trax_x = (x); unsigned int __trax_b; \
+    __builtin_memcpy(&__trax_b, &__trax_x, 4); \
+    __asm__ volatile("mtc2 %0, $" #n :: "r"(__trax_b) : "memory"); } while (0)
+#define trax_mfc2(n) __extension__ ({ unsigned int __trax_b; float __trax_x; \
+    __asm__ volatile("mfc2 %0, $" #n : "=r"(__trax_b) :: "memory"); \
+    __builtin_memcpy(&__trax_x, &__trax_b, 4); __trax_x; })
+static inline void trax_set_pipe_general(void) { trax_setpipe(0); }
+static inline void trax_set_pipe_box(void) { trax_setpipe(1); }
+static inline void trax_set_pipe_tri(void) { trax_setpipe(2); }
+/* Entry distance of the ray (origin o, inverse direction inv) into the box [lo, hi]. */
+static inline float trax_pipe_box_test(const float o[3], const float inv[3],
+                                       const float lo[3], const float hi[3]) {
+    trax_mtc2(0, o[0]); trax_mtc2(1, o[1]); trax_mtc2(2, o[2]);
+    trax_mtc2(3, inv[0]); trax_mtc2(4, inv[1]); trax_mtc2(5, inv[2]);
+    trax_mtc2(6, lo[0]); trax_mtc2(7, lo[1]); trax_mtc2(8, lo[2]);
+    trax_mtc2(9, hi[0]); trax_mtc2(10, hi[1]); trax_mtc2(11, hi[2]);
+    return trax_boxtest();
+}
+/* Hit distance of the ray (o, d) with triangle (a, b, c); barycentrics by
+ * trax_pipe_tri_u/v. */
+static inline float trax_pipe_tri_test(const float o[3], const float d[3], const float a[3],
+                                       const float b[3], const float c[3]) {
+    trax_mtc2(0, o[0]); trax_mtc2(1, o[1]); trax_mtc2(2, o[2]);
+    trax_mtc2(3, d[0]); trax_mtc2(4, d[1]); trax_mtc2(5, d[2]);
+    trax_mtc2(12, a[0]); trax_mtc2(13, a[1]); trax_mtc2(14, a[2]);
+    trax_mtc2(15, b[0]); trax_mtc2(16, b[1]); trax_mtc2(17, b[2]);
+    trax_mtc2(18, c[0]); trax_mtc2(19, c[1]); trax_mtc2(20, c[2]);
+    return trax_tritest();
+}
+static inline float trax_pipe_tri_u(void) { return trax_mfc2(21); }
+static inline float trax_pipe_tri_v(void) { return trax_mfc2(22); }
+
+/* ---- Streams ---- */
+static inline void trax_stream_write_start(unsigned int stream) { trax_strwstart(stream); }
+static inline void trax_stream_write(unsigned int word) { trax_strw(word); }
+static inline void trax_stream_write_end(void) { trax_strwend(); }
+static inline unsigned int trax_stream_read_start(void) { return trax_strrstart(); }
+static inline unsigned int trax_stream_read(void) { return trax_strr(); }
+static inline void trax_stream_read_end(void) { trax_strrend(); }
+static inline unsigned int trax_stream_size(unsigned int stream) { return trax_strsize(stream); }
+static inline unsigned int trax_stream_schedule(void) { return trax_strsched(); }
+"#;
+
+/// The complete text of `trax.h`: the instruction functions (`trax_isa.h`), the scene
+/// structs, the header fields (each an extern linker symbol `__trax_scene_<field>`, so
+/// the image builder lays out only the components the kernel reads) and accessors.
+pub fn render_trax_h() -> String {
+    use crate::abi;
+    let mut out = String::new();
+    out.push_str("/* trax.h: the kernel API for C and C++ kernels (clang-14, MIPS32r6).\n");
+    out.push_str(" * Generated from trax_runtime (isa.rs, abi.rs, cheader.rs) by `trax header`;\n");
+    out.push_str(" * `trax build` puts it on the include path itself. Do not edit. */\n");
+    out.push_str("#ifndef TRAX_H\n#define TRAX_H\n\n#include \"trax_isa.h\"\n\n");
+    out.push_str("#ifdef __cplusplus\nextern \"C\" {\n#endif\n\n");
+    out.push_str("/* The kernel entry point, run by every hardware thread. */\nvoid trax_main(void);\n\n");
+    for kind in (0..32).filter_map(crate::isa::AbortKind::from_code) {
+        let _ = writeln!(
+            out,
+            "#define TRAX_ABORT_{} {}u /* {} */",
+            format!("{kind:?}").to_uppercase(),
+            kind as u32,
+            kind.describe()
+        );
+    }
+    let _ = writeln!(
+        out,
+        "#define TRAX_SCENE_MAGIC 0x{:08x}u\n#define TRAX_SCENE_VERSION {}u\n#define TRAX_SCENE_HEADER_ADDR 0x{:08x}u\n",
+        abi::SCENE_MAGIC,
+        abi::SCENE_VERSION,
+        abi::SCENE_HEADER_ADDR
+    );
+    for st in C_STRUCTS {
+        let fields: Vec<(String, String, usize)> = st
+            .fields
+            .iter()
+            .map(|(t, f, n)| (t.to_string(), f.to_string(), *n))
+            .collect();
+        render_struct(&mut out, st.name, st.doc, &fields);
+    }
+    let fields: Vec<(String, String, usize)> = abi::scene_header_fields()
+        .iter()
+        .map(|(f, _)| {
+            let (t, n) = header_field_type(f).unwrap_or(("unsigned int", 0));
+            (t.to_string(), f.to_string(), n)
+        })
+        .collect();
+    render_struct(
+        &mut out,
+        "trax_scene_header_t",
+        "the scene header at TRAX_SCENE_HEADER_ADDR (kernels read fields through the symbols below)",
+        &fields,
+    );
+    out.push_str(
+        "/* Header fields: each symbol is the field's address, defined by the trax linker. */\n",
+    );
+    for (t, f, n) in &fields {
+        let arr = if *n == 0 {
+            String::new()
+        } else {
+            format!("[{n}]")
+        };
+        let _ = writeln!(
+            out,
+            "extern const {t} {}{f}{arr};",
+            abi::SCENE_SYMBOL_PREFIX
+        );
+    }
+    out.push_str("\n/* ---- Scene access ---- */\n");
+    let p = abi::SCENE_SYMBOL_PREFIX;
+    for (t, f, n) in &fields {
+        match (t.as_str(), *n) {
+            ("trax_component_t", _) => {
+                let el = component_element(f);
+                let cst = if f == "framebuffer" { "" } else { "const " };
+                let _ = writeln!(
+                    out,
+                    "static inline {cst}{el} *trax_scene_{f}(void) {{ return ({cst}{el} *){p}{f}.addr; }}"
+                );
+                let _ = writeln!(
+                    out,
+                    "static inline unsigned int trax_scene_{f}_count(void) {{ return {p}{f}.count; }}"
+                );
+            }
+            (_, 0) if f == "camera" => {
+                let _ = writeln!(
+                    out,
+                    "static inline const trax_camera_t *trax_scene_camera(void) {{ return (const trax_camera_t *){p}camera; }}"
+                );
+            }
+            (_, 0) => {
+                let _ = writeln!(
+                    out,
+                    "static inline {t} trax_scene_{f}(void) {{ return {p}{f}; }}"
+                );
+            }
+            _ if f == "reserved" => {}
+            _ => {
+                let _ = writeln!(
+                    out,
+                    "static inline const {t} *trax_scene_{f}(void) {{ return {p}{f}; }}"
+                );
+            }
+        }
+    }
+    out.push_str(
+        "/* Writes pixel (x, y), linear RGB; row 0 is the top of the image. */\n\
+         static inline void trax_set_pixel(unsigned int x, unsigned int y, float r, float g, float b) {\n\
+         \x20   trax_pixel_t *p = trax_scene_framebuffer() + y * trax_scene_width() + x;\n\
+         \x20   p->r = r;\n    p->g = g;\n    p->b = b;\n}\n\n",
+    );
+    out.push_str(C_API);
+    out.push_str("\n#ifdef __cplusplus\n}\n#endif\n\n#endif /* TRAX_H */\n");
+    out
+}
+
+/// The complete text of `trax.hpp`: a small C++ layer over `trax.h` (`trax::Vec3` with
+/// operators, `trax::Ray`, primary rays from the camera).
+pub fn render_trax_hpp() -> String {
+    TRAX_HPP.to_string()
+}
+
+const TRAX_HPP: &str = r#"/* trax.hpp: a small C++ layer over trax.h. Generated by `trax header --cpp`; do not edit. */
+#ifndef TRAX_HPP
+#define TRAX_HPP
+#include "trax.h"
+
+namespace trax {
+
+struct Vec3 {
+    float x, y, z;
+    constexpr Vec3() : x(0), y(0), z(0) {}
+    constexpr Vec3(float x_, float y_, float z_) : x(x_), y(y_), z(z_) {}
+    static Vec3 load(const float v[3]) { return Vec3(v[0], v[1], v[2]); }
+    Vec3 operator+(Vec3 o) const { return Vec3(x + o.x, y + o.y, z + o.z); }
+    Vec3 operator-(Vec3 o) const { return Vec3(x - o.x, y - o.y, z - o.z); }
+    Vec3 operator*(Vec3 o) const { return Vec3(x * o.x, y * o.y, z * o.z); }
+    Vec3 operator*(float s) const { return Vec3(x * s, y * s, z * s); }
+    Vec3 operator/(float s) const { return Vec3(x / s, y / s, z / s); }
+    Vec3 operator-() const { return Vec3(-x, -y, -z); }
+    Vec3 &operator+=(Vec3 o) { x += o.x; y += o.y; z += o.z; return *this; }
+    float dot(Vec3 o) const { return x * o.x + y * o.y + z * o.z; }
+    Vec3 cross(Vec3 o) const { return Vec3(y * o.z - z * o.y, z * o.x - x * o.z, x * o.y - y * o.x); }
+    float length() const { return trax_sqrt(dot(*this)); }
+    Vec3 normalized() const { return *this * trax_invsqrt(dot(*this)); }
+};
+inline Vec3 operator*(float s, Vec3 v) { return v * s; }
+
+struct Ray {
+    Vec3 origin, dir;
+    Vec3 at(float t) const { return origin + dir * t; }
+};
+
+/* The primary ray through the centre of pixel (x, y) (runtime::abi::Camera semantics). */
+inline Ray primary_ray(unsigned int x, unsigned int y) {
+    trax_camera_t const *c = trax_scene_camera();
+    float s = c->left + (c->right - c->left) * ((float)x + 0.5f) * trax_scene_inv_width();
+    float t = c->bottom + (c->top - c->bottom) * ((float)y + 0.5f) * trax_scene_inv_height();
+    Vec3 d = Vec3::load(c->w) * c->distance + Vec3::load(c->u) * s + Vec3::load(c->v) * t;
+    return Ray{Vec3::load(c->eye), d.normalized()};
+}
+
+inline void set_pixel(unsigned int x, unsigned int y, Vec3 c) { trax_set_pixel(x, y, c.x, c.y, c.z); }
+
+} // namespace trax
+
+#endif /* TRAX_HPP */
+"#;
+
 #[cfg(test)]
 mod tests {
     use super::*;

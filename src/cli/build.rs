@@ -1,10 +1,11 @@
-//! `trax build`: compile a TRaX-Rust kernel and link it with the runtime start-up code into a
-//! MIPS32r6 executable (or stop at an object, assembly or LLVM IR).
+//! `trax build`: compile a kernel (TRaX-Rust, C or C++; several files are linked together)
+//! and link it with the runtime start-up code into a MIPS32r6 executable (or stop at an
+//! object, assembly or LLVM IR).
 
 use clap::{Args, ValueEnum};
 use std::path::PathBuf;
 use std::process::ExitCode;
-use trax::pipeline::{build_executable, compile_object, DEFAULT_OPT_LEVEL};
+use trax::pipeline::{build_executable_of, compile_object, PrepareError, DEFAULT_OPT_LEVEL};
 use trax_compiler::Emit;
 
 /// Output kind of `trax build`.
@@ -23,8 +24,12 @@ pub enum EmitKind {
 /// Arguments of `trax build`.
 #[derive(Args, Debug)]
 pub struct BuildArgs {
-    /// Kernel root file (`mod` files are found next to it).
+    /// Kernel root file: `.rs` (`mod` files are found next to it), `.c`, `.cpp`/`.cc`.
     pub kernel: PathBuf,
+    /// Further sources (`.rs`, `.c`, `.cpp`, `.cc`) and objects (`.o`) linked with the
+    /// kernel (`--emit exe` only).
+    #[arg(value_name = "MORE")]
+    pub more: Vec<PathBuf>,
     /// Output file.
     #[arg(short = 'o', long = "output")]
     pub output: PathBuf,
@@ -39,7 +44,16 @@ pub struct BuildArgs {
 /// Runs `trax build`.
 pub fn run(a: BuildArgs) -> ExitCode {
     let result = match a.emit {
-        EmitKind::Exe => build_executable(&a.kernel, a.opt_level),
+        EmitKind::Exe => {
+            let files: Vec<PathBuf> = std::iter::once(a.kernel.clone())
+                .chain(a.more.iter().cloned())
+                .collect();
+            build_executable_of(&files, a.opt_level)
+        }
+        _ if !a.more.is_empty() => Err(PrepareError::Flag(format!(
+            "{}: only `--emit exe` links several files; build one object at a time",
+            a.more[0].display()
+        ))),
         other => {
             let emit = match other {
                 EmitKind::Asm => Emit::Asm,

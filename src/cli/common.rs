@@ -65,6 +65,7 @@ impl RenderArgs {
     pub fn request(&self, kernel: &Path, opt_level: u8, chip: &ChipConfig) -> Request {
         Request {
             kernel: kernel.to_path_buf(),
+            more: Vec::new(),
             opt_level,
             scene: self.scene.clone(),
             load: self.load_options(),

@@ -6,6 +6,7 @@ mod annotate;
 mod build;
 mod common;
 mod disasm;
+mod header;
 mod native;
 mod plot;
 mod progress;
@@ -26,8 +27,10 @@ pub struct Cli {
 
 #[derive(Subcommand, Debug)]
 enum Command {
-    /// Compile and link a TRaX-Rust kernel into a MIPS32r6 ELF executable with DWARF.
+    /// Compile and link a kernel (TRaX-Rust, C, C++) into a MIPS32r6 ELF executable with DWARF.
     Build(build::BuildArgs),
+    /// Write the generated C/C++ kernel API headers (trax.h, trax_isa.h, trax.hpp).
+    Header(header::HeaderArgs),
     /// Inspect scenes: triangles, materials, bounds, BVH, treelets, memory bytes.
     Scene(scene::SceneArgs),
     /// Build a kernel with rustc against the host prelude and run it on host threads.
@@ -49,6 +52,7 @@ pub fn main() -> std::process::ExitCode {
     let cli = Cli::parse();
     match cli.command {
         Command::Build(a) => build::run(a),
+        Command::Header(a) => header::run(a),
         Command::Scene(a) => scene::run(a),
         Command::Native(a) => native::run(a),
         Command::Run(a) => run::run(a),

@@ -183,22 +183,9 @@ fn host_image(img: &SceneImage) -> Result<MemoryImage, NativeError> {
     Ok(image)
 }
 
-/// The build cache directory: `$TRAX_CACHE_DIR`, else the user's cache directory
-/// (`$XDG_CACHE_HOME/trax` or `~/.cache/trax`), else `<temp>/trax-cache`.
+/// The build cache directory (shared with the C/C++ builds, see `trax::clang::cache_dir`).
 fn cache_dir() -> PathBuf {
-    let var = |name: &str| {
-        std::env::var_os(name)
-            .filter(|v| !v.is_empty())
-            .map(PathBuf::from)
-    };
-    if let Some(d) = var("TRAX_CACHE_DIR") {
-        return d;
-    }
-    match (var("XDG_CACHE_HOME"), var("HOME")) {
-        (Some(x), _) => x.join("trax"),
-        (None, Some(h)) => h.join(".cache").join("trax"),
-        (None, None) => std::env::temp_dir().join("trax-cache"),
-    }
+    trax::clang::cache_dir()
 }
 
 /// The rustc to use and its version (part of every cache key).

@@ -80,8 +80,12 @@ pub struct Executed {
 /// Kernel, scene, chip and run parameters shared by `trax run` and `trax annotate`.
 #[derive(Args, Debug)]
 pub struct ExecArgs {
-    /// The kernel: TRaX-Rust source (`.rs`, built first) or a linked executable (ELF).
+    /// The kernel: TRaX-Rust (`.rs`), C (`.c`) or C++ (`.cpp`, `.cc`) source, built
+    /// first, or a linked executable (ELF).
     pub kernel: PathBuf,
+    /// Further sources (`.rs`, `.c`, `.cpp`, `.cc`) and objects (`.o`) linked with the kernel.
+    #[arg(value_name = "MORE")]
+    pub more: Vec<PathBuf>,
     /// Optimisation level when building from source (`-O0` .. `-O3`).
     #[arg(short = 'O', default_value_t = pipeline::DEFAULT_OPT_LEVEL, value_parser = clap::value_parser!(u8).range(0..=3))]
     pub opt_level: u8,
@@ -237,7 +241,8 @@ pub fn execute(a: &ExecArgs, extras: &Extras) -> Result<Executed, String> {
         }
     }
     let chip = chip_config(a)?;
-    let request = a.render.request(&a.kernel, a.opt_level, &chip);
+    let mut request = a.render.request(&a.kernel, a.opt_level, &chip);
+    request.more = a.more.clone();
     let prepared = match prepare(&request) {
         Ok(p) => p,
         Err(e) => {

@@ -7,7 +7,8 @@ use inkwell::context::Context;
 use inkwell::memory_buffer::MemoryBuffer;
 use inkwell::module::Module;
 
-const INT64_IR: &str = include_str!("int64.ll");
+/// The helpers' LLVM IR (external definitions; `provide` makes them internal).
+pub const INT64_IR: &str = include_str!("int64.ll");
 
 /// True when the module's IR has operations lowered to these library calls.
 fn needs_int64(ir: &str) -> bool {
@@ -45,7 +46,7 @@ pub fn provide<'ctx>(ctx: &'ctx Context, module: &Module<'ctx>) -> Result<(), St
 }
 
 /// The library-call names defined by `int64.ll`.
-const HELPERS: [&str; 12] = [
+pub const HELPERS: &[&str] = &[
     "__udivdi3",
     "__umoddi3",
     "__divdi3",

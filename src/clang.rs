@@ -1,0 +1,352 @@
+//! C and C++ kernels: clang-14 compiles them for the TRaX machine (MIPS32r6, o32, MSA,
+//! FP64, static, no `$gp` data, freestanding) against the generated `trax.h`, and the trax
+//! linker links the objects with the start-up code like the trax compiler's.
+//!
+//! Headers (`trax.h`, `trax_isa.h`, `trax.hpp`, rendered by `trax_runtime::cheader`) are
+//! written once per header text into `<cache>/include-<hash>/` and put on the include
+//! path, so kernels copy nothing. Memory functions and the 64-bit helpers clang calls
+//! (there is no libc or compiler-rt) are compiled from [`RUNTIME_C`] and the trax
+//! compiler's `int64.ll` and linked only when an object references them.
+
+use std::hash::Hasher;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use trax_compiler::Emit;
+
+/// A C-family source language.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Lang {
+    /// C11 (`.c`).
+    C,
+    /// C++17 (`.cpp`, `.cc`, `.cxx`).
+    Cpp,
+}
+
+/// The Debian package that provides the compiler.
+pub const CLANG_PACKAGE: &str = "clang-14";
+
+/// Flags of every TRaX compilation: MIPS32r6 little-endian o32 with MSA and 64-bit FPU
+/// registers (as the trax compiler's objects), static code without abicalls or `$gp`
+/// data (`-G0`: the linker has no small-data section), freestanding (no libc, no errno:
+/// `sqrtf` is the `sqrt.s` instruction), DWARF 5 (clang-14's default, named so a
+/// newer clang gives the same; the linker and the emulator's DWARF reader handle 5 and the
+/// trax compiler's 4 in one executable, see docs/ARCHITECTURE.md).
+pub const TARGET_FLAGS: &[&str] = &[
+    "--target=mipsel-unknown-elf",
+    "-march=mips32r6",
+    "-mabi=32",
+    "-mmsa",
+    "-mfp64",
+    "-fno-pic",
+    "-mno-abicalls",
+    "-G0",
+    "-ffreestanding",
+    "-nostdlib",
+    "-nostdlibinc",
+    "-fno-common",
+    "-fno-math-errno",
+    "-g",
+    "-gdwarf-5",
+];
+
+/// Why a C or C++ file could not be built.
+#[derive(Debug, thiserror::Error)]
+pub enum ClangError {
+    /// No clang on `PATH`.
+    #[error(
+        "{file}: building C and C++ kernels needs clang-14, and neither `clang-14` nor `clang` is on PATH (install the Debian package `{CLANG_PACKAGE}`)"
+    )]
+    Missing {
+        /// The source that needed it.
+        file: String,
+    },
+    /// clang rejected the source; its diagnostics (`file:line:col: error: ...`).
+    #[error("{diagnostics}")]
+    Diagnostics {
+        /// clang's stderr.
+        diagnostics: String,
+    },
+    /// A file could not be written or read.
+    #[error("{path}: {message}")]
+    Io {
+        /// The file.
+        path: String,
+        /// What went wrong.
+        message: String,
+    },
+}
+
+/// The language of `path` by extension, if it is C or C++.
+pub fn lang_of(path: &Path) -> Option<Lang> {
+    match path.extension().and_then(|e| e.to_str()) {
+        Some("c") => Some(Lang::C),
+        Some("cpp" | "cc" | "cxx" | "c++") => Some(Lang::Cpp),
+        _ => None,
+    }
+}
+
+/// The clang to run: `$TRAX_CLANG`, else `clang-14`, else `clang` from `PATH`.
+pub fn find_clang() -> Option<PathBuf> {
+    if let Some(c) = std::env::var_os("TRAX_CLANG").filter(|v| !v.is_empty()) {
+        return Some(PathBuf::from(c));
+    }
+    let path = std::env::var_os("PATH")?;
+    for name in ["clang-14", "clang"] {
+        for dir in std::env::split_paths(&path) {
+            let p = dir.join(name);
+            if p.is_file() {
+                return Some(p);
+            }
+        }
+    }
+    None
+}
+
+/// The build cache directory: `$TRAX_CACHE_DIR`, else the user's cache directory
+/// (`$XDG_CACHE_HOME/trax` or `~/.cache/trax`), else `<temp>/trax-cache`.
+pub fn cache_dir() -> PathBuf {
+    let var = |name: &str| {
+        std::env::var_os(name)
+            .filter(|v| !v.is_empty())
+            .map(PathBuf::from)
+    };
+    if let Some(d) = var("TRAX_CACHE_DIR") {
+        return d;
+    }
+    match (var("XDG_CACHE_HOME"), var("HOME")) {
+        (Some(x), _) => x.join("trax"),
+        (None, Some(h)) => h.join(".cache").join("trax"),
+        (None, None) => std::env::temp_dir().join("trax-cache"),
+    }
+}
+
+/// The generated headers: `(file name, text)`.
+pub fn headers() -> Vec<(&'static str, String)> {
+    use trax_runtime::cheader;
+    vec![
+        ("trax_isa.h", cheader::render_c_header()),
+        ("trax.h", cheader::render_trax_h()),
+        ("trax.hpp", cheader::render_trax_hpp()),
+    ]
+}
+
+/// Writes the generated headers into `dir` (created if needed).
+pub fn write_headers(dir: &Path) -> Result<Vec<PathBuf>, ClangError> {
+    std::fs::create_dir_all(dir).map_err(io(dir))?;
+    let mut written = Vec::new();
+    for (name, text) in headers() {
+        let p = dir.join(name);
+        std::fs::write(&p, text).map_err(io(&p))?;
+        written.push(p);
+    }
+    Ok(written)
+}
+
+fn io(path: &Path) -> impl Fn(std::io::Error) -> ClangError + '_ {
+    move |e| ClangError::Io {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    }
+}
+
+fn hash_texts<'a>(texts: impl IntoIterator<Item = &'a str>) -> u64 {
+    // FNV-1a: stable across runs and Rust versions (a cache key).
+    let mut h = Fnv(0xcbf2_9ce4_8422_2325);
+    for t in texts {
+        h.write(t.as_bytes());
+        h.write(&[0xff]);
+    }
+    h.finish()
+}
+
+struct Fnv(u64);
+
+impl Hasher for Fnv {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for b in bytes {
+            self.0 = (self.0 ^ u64::from(*b)).wrapping_mul(0x0000_0100_0000_01b3);
+        }
+    }
+}
+
+/// A fresh directory `<cache>/<prefix>-<pid>-<n>` for one compilation's temporary files.
+fn scratch(prefix: &str) -> Result<PathBuf, ClangError> {
+    use std::sync::atomic::{AtomicU32, Ordering};
+    static N: AtomicU32 = AtomicU32::new(0);
+    let d = cache_dir().join("tmp").join(format!(
+        "{prefix}-{}-{}",
+        std::process::id(),
+        N.fetch_add(1, Ordering::Relaxed)
+    ));
+    std::fs::create_dir_all(&d).map_err(io(&d))?;
+    Ok(d)
+}
+
+/// The include directory holding this trax's headers, written on first use
+/// (`<cache>/include-<hash of the header texts>`).
+pub fn include_dir() -> Result<PathBuf, ClangError> {
+    let hs = headers();
+    let key = hash_texts(hs.iter().map(|(_, t)| t.as_str()));
+    let dir = cache_dir().join(format!("include-{key:016x}"));
+    if hs.iter().all(|(n, _)| dir.join(n).is_file()) {
+        return Ok(dir);
+    }
+    // Write into a private directory and rename, so a concurrent build never sees a
+    // half-written header.
+    let tmp = scratch("include")?;
+    write_headers(&tmp)?;
+    match std::fs::rename(&tmp, &dir) {
+        Ok(()) => Ok(dir),
+        Err(_) if hs.iter().all(|(n, _)| dir.join(n).is_file()) => {
+            let _ = std::fs::remove_dir_all(&tmp);
+            Ok(dir)
+        }
+        Err(e) => Err(io(&dir)(e)),
+    }
+}
+
+/// The clang command line for `src` (without the output and mode flags).
+pub fn command(clang: &Path, src: &Path, lang: Lang, opt_level: u8, include: &Path) -> Command {
+    let mut cmd = Command::new(clang);
+    cmd.args(TARGET_FLAGS);
+    cmd.arg(format!("-O{opt_level}"));
+    match lang {
+        Lang::C => cmd.args(["-x", "c", "-std=c11"]),
+        Lang::Cpp => cmd.args([
+            "-x",
+            "c++",
+            "-std=c++17",
+            "-fno-exceptions",
+            "-fno-rtti",
+            "-fno-threadsafe-statics",
+            "-fno-use-cxa-atexit",
+        ]),
+    };
+    cmd.arg("-fdiagnostics-color=never");
+    cmd.arg("-I").arg(include);
+    cmd.arg(src);
+    cmd
+}
+
+/// Compiles a C or C++ file for TRaX: an object (ELF relocatable with DWARF), assembly or
+/// LLVM IR, by `emit`.
+pub fn compile(src: &Path, lang: Lang, opt_level: u8, emit: Emit) -> Result<Vec<u8>, ClangError> {
+    let clang = find_clang().ok_or_else(|| ClangError::Missing {
+        file: src.display().to_string(),
+    })?;
+    let include = include_dir()?;
+    let dir = scratch("cc")?;
+    let out = dir.join("out");
+    let mut cmd = command(&clang, src, lang, opt_level, &include);
+    match emit {
+        Emit::Obj => cmd.arg("-c"),
+        Emit::Asm => cmd.arg("-S"),
+        Emit::LlvmIr => cmd.args(["-S", "-emit-llvm"]),
+    };
+    cmd.arg("-o").arg(&out);
+    let result = run(&mut cmd, &clang).and_then(|()| {
+        std::fs::read(&out).map_err(|e| ClangError::Io {
+            path: out.display().to_string(),
+            message: e.to_string(),
+        })
+    });
+    let _ = std::fs::remove_dir_all(&dir);
+    result
+}
+
+fn run(cmd: &mut Command, clang: &Path) -> Result<(), ClangError> {
+    let o = cmd.output().map_err(|e| ClangError::Io {
+        path: clang.display().to_string(),
+        message: format!("cannot run: {e}"),
+    })?;
+    if o.status.success() {
+        return Ok(());
+    }
+    let mut diagnostics = String::from_utf8_lossy(&o.stderr).into_owned();
+    if diagnostics.trim().is_empty() {
+        diagnostics = format!("error: {} failed ({})", clang.display(), o.status);
+    }
+    Err(ClangError::Diagnostics { diagnostics })
+}
+
+/// Memory functions clang may call in freestanding code (struct copies, zeroing).
+/// Weak, so a kernel may define its own; `-fno-builtin` keeps clang from turning the
+/// loops back into calls.
+pub const RUNTIME_C: &str = r#"typedef unsigned int size_t;
+__attribute__((weak)) void *memcpy(void *d, const void *s, size_t n) {
+    unsigned char *dp = d; const unsigned char *sp = s;
+    while (n--) *dp++ = *sp++;
+    return d;
+}
+__attribute__((weak)) void *memmove(void *d, const void *s, size_t n) {
+    unsigned char *dp = d; const unsigned char *sp = s;
+    if (dp < sp) { while (n--) *dp++ = *sp++; }
+    else { dp += n; sp += n; while (n--) *--dp = *--sp; }
+    return d;
+}
+__attribute__((weak)) void *memset(void *d, int c, size_t n) {
+    unsigned char *dp = d;
+    while (n--) *dp++ = (unsigned char)c;
+    return d;
+}
+__attribute__((weak)) int memcmp(const void *a, const void *b, size_t n) {
+    const unsigned char *x = a, *y = b;
+    for (; n; n--, x++, y++) if (*x != *y) return *x - *y;
+    return 0;
+}
+"#;
+
+/// Symbols [`RUNTIME_C`] defines.
+pub const RUNTIME_C_SYMBOLS: &[&str] = &["memcpy", "memmove", "memset", "memcmp"];
+
+/// True if the trax C runtime defines `symbol` (see [`runtime_object_for`]).
+pub fn runtime_provides(symbol: &str) -> bool {
+    RUNTIME_C_SYMBOLS.contains(&symbol) || trax_compiler::rtlib::HELPERS.contains(&symbol)
+}
+
+/// The runtime object (name, bytes) that defines `symbol`, if it is one the trax C
+/// runtime provides: [`RUNTIME_C`] for memory functions, the trax compiler's 64-bit
+/// helpers (`int64.ll`) for 64-bit division and conversions. The linker asks for them
+/// when an object references one that no input defines.
+pub fn runtime_object_for(symbol: &str) -> Option<Result<(String, Vec<u8>), ClangError>> {
+    if RUNTIME_C_SYMBOLS.contains(&symbol) {
+        return Some(
+            compile_text(RUNTIME_C, "c", &["-O2", "-fno-builtin"])
+                .map(|o| ("<trax C runtime: memcpy, memset>".to_string(), o)),
+        );
+    }
+    if trax_compiler::rtlib::HELPERS.contains(&symbol) {
+        return Some(
+            compile_text(trax_compiler::rtlib::INT64_IR, "ir", &["-O2"])
+                .map(|o| ("<trax 64-bit helpers>".to_string(), o)),
+        );
+    }
+    None
+}
+
+/// Compiles `text` (language `x` for clang's `-x`) to an object for TRaX.
+fn compile_text(text: &str, x: &str, extra: &[&str]) -> Result<Vec<u8>, ClangError> {
+    let clang = find_clang().ok_or_else(|| ClangError::Missing {
+        file: "the trax C runtime".into(),
+    })?;
+    let dir = scratch("rt")?;
+    let src = dir.join(if x == "ir" { "rt.ll" } else { "rt.c" });
+    std::fs::write(&src, text).map_err(io(&src))?;
+    let out = dir.join("rt.o");
+    let mut cmd = Command::new(&clang);
+    cmd.args(TARGET_FLAGS)
+        .args(extra)
+        .args(["-x", x, "-c"])
+        .arg(&src)
+        .arg("-o")
+        .arg(&out);
+    // IR carries no target; clang warns that it overrides the module's.
+    cmd.arg("-Wno-override-module");
+    let result = run(&mut cmd, &clang).and_then(|()| std::fs::read(&out).map_err(io(&out)));
+    let _ = std::fs::remove_dir_all(&dir);
+    result
+}

@@ -29,7 +29,8 @@ pub const CLANG_PACKAGE: &str = "clang-14";
 /// Flags of every TRaX compilation: MIPS32r6 little-endian o32 with MSA and 64-bit FPU
 /// registers (as the trax compiler's objects), static code without abicalls or `$gp`
 /// data (`-G0`: the linker has no small-data section), freestanding (no libc, no errno:
-/// `sqrtf` is the `sqrt.s` instruction), DWARF 5 (clang-14's default, named so a
+/// `sqrtf` is the `sqrt.s` instruction), no FMA contraction (float semantics of the
+/// TRaX-Rust kernels), DWARF 5 (clang-14's default, named so a
 /// newer clang gives the same; the linker and the emulator's DWARF reader handle 5 and the
 /// trax compiler's 4 in one executable, see docs/ARCHITECTURE.md).
 pub const TARGET_FLAGS: &[&str] = &[
@@ -46,6 +47,7 @@ pub const TARGET_FLAGS: &[&str] = &[
     "-nostdlibinc",
     "-fno-common",
     "-fno-math-errno",
+    "-ffp-contract=off",
     "-g",
     "-gdwarf-5",
 ];

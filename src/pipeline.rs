@@ -288,7 +288,9 @@ pub fn build_executable_of(files: &[PathBuf], opt_level: u8) -> Result<Vec<u8>, 
         match link(&inputs, &LinkOptions::default()) {
             Ok(l) => return Ok(l.elf),
             Err(trax_assembler::link::LinkError::UndefinedSymbol { symbol, .. })
-                if files.iter().any(|f| matches!(KernelFile::of(f), KernelFile::C(_)))
+                if files
+                    .iter()
+                    .any(|f| matches!(KernelFile::of(f), KernelFile::C(_)))
                     && clang::runtime_provides(&symbol) =>
             {
                 let (rt_name, bytes) = clang::runtime_object_for(&symbol)

@@ -157,7 +157,10 @@ impl<'a> StatsDocument<'a> {
             trax_version: env!("CARGO_PKG_VERSION"),
             inputs: Inputs {
                 kernel: req.kernel.display().to_string(),
-                opt_level: (KernelFile::of(&req.kernel) != KernelFile::Executable)
+                opt_level: req
+                    .files()
+                    .iter()
+                    .any(|f| KernelFile::of(f).is_source())
                     .then_some(req.opt_level),
                 scene: req.scene.clone(),
                 scene_scale: req.load.scale,

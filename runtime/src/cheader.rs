@@ -424,7 +424,9 @@ pub fn render_trax_h() -> String {
     out.push_str(" * `trax build` puts it on the include path itself. Do not edit. */\n");
     out.push_str("#ifndef TRAX_H\n#define TRAX_H\n\n#include \"trax_isa.h\"\n\n");
     out.push_str("#ifdef __cplusplus\nextern \"C\" {\n#endif\n\n");
-    out.push_str("/* The kernel entry point, run by every hardware thread. */\nvoid trax_main(void);\n\n");
+    out.push_str(
+        "/* The kernel entry point, run by every hardware thread. */\nvoid trax_main(void);\n\n",
+    );
     for kind in (0..32).filter_map(crate::isa::AbortKind::from_code) {
         let _ = writeln!(
             out,

@@ -1,0 +1,224 @@
+//! The generated C/C++ kernel API (`trax.h`, `trax.hpp`) against the Rust definitions: a
+//! probe compiled by clang-14 for the TRaX target checks every struct size and field
+//! offset with `_Static_assert` against `abi::SceneHeader`, `abi::Camera` (`offset_of!`)
+//! and the prelude's `layout.rs` (the byte layouts the Rust kernels read), and the C++
+//! layer compiles.
+
+#[path = "../prelude/layout.rs"]
+#[allow(dead_code)]
+mod layout;
+
+use layout as L;
+use std::fmt::Write;
+use std::mem::{offset_of, size_of};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use trax_runtime::abi::{self, Camera, Component, SceneHeader};
+use trax_runtime::cheader::{self, header_field_type, C_STRUCTS};
+
+fn scratch(name: &str) -> PathBuf {
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("c-header-{name}"));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    std::fs::write(d.join("trax_isa.h"), cheader::render_c_header()).unwrap();
+    std::fs::write(d.join("trax.h"), cheader::render_trax_h()).unwrap();
+    std::fs::write(d.join("trax.hpp"), cheader::render_trax_hpp()).unwrap();
+    d
+}
+
+/// Compiles `file` in `dir` with clang-14 for TRaX (syntax and semantic checks only).
+fn compile(dir: &Path, file: &str, lang: &[&str]) {
+    let out = clang(dir, file, lang);
+    assert!(
+        out.status.success(),
+        "{file}:\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+fn clang(dir: &Path, file: &str, lang: &[&str]) -> std::process::Output {
+    Command::new("clang-14")
+        .args([
+            "--target=mipsel-unknown-elf",
+            "-march=mips32r6",
+            "-mmsa",
+            "-mfp64",
+            "-fno-pic",
+            "-mno-abicalls",
+            "-G0",
+            "-ffreestanding",
+            "-nostdlibinc",
+            "-Wall",
+            "-Werror",
+            "-fsyntax-only",
+        ])
+        .args(lang)
+        .arg("-I")
+        .arg(dir)
+        .arg(dir.join(file))
+        .output()
+        .expect("clang-14 is installed (.ci/run installs it)")
+}
+
+/// Every struct of `trax.h` with the size and field offsets the Rust side gives it.
+fn expected_layouts() -> Vec<(&'static str, usize, Vec<(&'static str, usize)>)> {
+    let u = |v: u32| v as usize;
+    vec![
+        (
+            "trax_component_t",
+            size_of::<Component>(),
+            vec![
+                ("addr", offset_of!(Component, addr)),
+                ("count", offset_of!(Component, count)),
+            ],
+        ),
+        (
+            "trax_camera_t",
+            size_of::<Camera>(),
+            vec![
+                ("eye", offset_of!(Camera, eye)),
+                ("u", offset_of!(Camera, u)),
+                ("v", offset_of!(Camera, v)),
+                ("w", offset_of!(Camera, w)),
+                ("left", offset_of!(Camera, left)),
+                ("right", offset_of!(Camera, right)),
+                ("bottom", offset_of!(Camera, bottom)),
+                ("top", offset_of!(Camera, top)),
+                ("distance", offset_of!(Camera, distance)),
+                ("aperture", offset_of!(Camera, aperture)),
+            ],
+        ),
+        (
+            "trax_pixel_t",
+            u(L::PIXEL_SIZE),
+            vec![("r", 0), ("g", 4), ("b", 8)],
+        ),
+        (
+            "trax_bvh_node_t",
+            u(L::BVH_NODE_SIZE),
+            vec![
+                ("min", u(L::BVH_MIN)),
+                ("max", u(L::BVH_MAX)),
+                ("a", u(L::BVH_A)),
+                ("b", u(L::BVH_B)),
+            ],
+        ),
+        (
+            "trax_triangle_t",
+            u(L::TRIANGLE_SIZE),
+            vec![("v0", 0), ("v1", 12), ("v2", 24)],
+        ),
+        (
+            "trax_normals_t",
+            u(L::NORMALS_SIZE),
+            vec![("n0", 0), ("n1", 12), ("n2", 24)],
+        ),
+        (
+            "trax_texcoords_t",
+            u(L::TEXCOORDS_SIZE),
+            vec![("t0", 0), ("t1", 8), ("t2", 16)],
+        ),
+        (
+            "trax_material_t",
+            u(L::MATERIAL_SIZE),
+            vec![
+                ("diffuse", u(L::MAT_DIFFUSE)),
+                ("specular", u(L::MAT_SPECULAR)),
+                ("emission", u(L::MAT_EMISSION)),
+                ("shininess", u(L::MAT_SHININESS)),
+                ("flags", u(L::MAT_FLAGS)),
+            ],
+        ),
+        (
+            "trax_point_light_t",
+            u(L::POINT_LIGHT_SIZE),
+            vec![
+                ("position", u(L::LIGHT_POSITION)),
+                ("color", u(L::LIGHT_COLOR)),
+            ],
+        ),
+        (
+            "trax_scene_header_t",
+            size_of::<SceneHeader>(),
+            abi::scene_header_fields(),
+        ),
+    ]
+}
+
+#[test]
+fn every_header_field_has_a_c_type() {
+    for (f, _) in abi::scene_header_fields() {
+        assert!(
+            header_field_type(f).is_some(),
+            "abi::SceneHeader field `{f}` has no C type in cheader::header_field_type"
+        );
+    }
+}
+
+#[test]
+fn every_c_struct_is_checked() {
+    let checked: Vec<&str> = expected_layouts().iter().map(|e| e.0).collect();
+    for s in C_STRUCTS {
+        assert!(checked.contains(&s.name), "{} has no layout check", s.name);
+    }
+}
+
+#[test]
+fn c_struct_layouts_match_the_rust_abi() {
+    let dir = scratch("layout");
+    let mut probe = String::from("#include <trax.h>\n#include <stddef.h>\n\n");
+    let mut n = 0;
+    for (name, size, fields) in expected_layouts() {
+        let _ = writeln!(
+            probe,
+            "_Static_assert(sizeof({name}) == {size}, \"sizeof({name}) != {size}\");"
+        );
+        for (f, off) in fields {
+            let _ = writeln!(
+                probe,
+                "_Static_assert(offsetof({name}, {f}) == {off}, \"offsetof({name}, {f}) != {off}\");"
+            );
+            n += 1;
+        }
+    }
+    // Every header field accessor reads its own linker symbol.
+    for (f, _) in abi::scene_header_fields() {
+        assert!(
+            cheader::render_trax_h().contains(&format!("{}{f}", abi::SCENE_SYMBOL_PREFIX)),
+            "no symbol for header field {f}"
+        );
+    }
+    std::fs::write(dir.join("probe.c"), probe).unwrap();
+    compile(&dir, "probe.c", &["-x", "c", "-std=c11"]);
+    assert!(n > 40, "only {n} offsets checked");
+}
+
+/// The probe is honest: a wrong expectation fails to compile.
+#[test]
+fn a_wrong_offset_fails_the_probe() {
+    let dir = scratch("wrong");
+    std::fs::write(
+        dir.join("probe.c"),
+        "#include <trax.h>\n#include <stddef.h>\n_Static_assert(offsetof(trax_bvh_node_t, b) == 24, \"b\");\n",
+    )
+    .unwrap();
+    let out = clang(&dir, "probe.c", &["-x", "c", "-std=c11"]);
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("static_assert failed"), "{err}");
+}
+
+#[test]
+fn cpp_layer_compiles() {
+    let dir = scratch("cpp");
+    std::fs::write(
+        dir.join("k.cpp"),
+        "#include <trax.hpp>\nvoid trax_main() {\n    trax::Ray r = trax::primary_ray(1, 2);\n    trax::Vec3 c = 0.5f * (r.dir + trax::Vec3(1, 1, 1));\n    trax::set_pixel(1, 2, c);\n}\n",
+    )
+    .unwrap();
+    compile(
+        &dir,
+        "k.cpp",
+        &["-x", "c++", "-std=c++17", "-fno-exceptions"],
+    );
+}

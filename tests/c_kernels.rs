@@ -1,0 +1,456 @@
+//! C and C++ kernels end to end: clang-14 builds them against the generated `trax.h`, the
+//! trax linker links them (with each other, with TRaX-Rust objects, with the C runtime on
+//! demand), and they run on the functional and timing models. Oracles: the TRaX-Rust
+//! examples (which `tests/native_vs_emulator.rs` checks against native execution) draw
+//! bit-identical images; printed values are computed here on the host; crash reports and
+//! annotations name C source lines; bad input gets clang's diagnostic and exit 1.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use trax::pipeline::{prepare, Request};
+use trax_emulator::{run, Mode};
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("c-kernels-{name}"));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn cache() -> PathBuf {
+    Path::new(env!("CARGO_TARGET_TMPDIR")).join("c-kernels-cache")
+}
+
+fn trax(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_trax"))
+        .args(args)
+        .current_dir(root())
+        .env("TRAX_CACHE_DIR", cache())
+        .env_remove("TRAX_CLANG")
+        .output()
+        .expect("run trax")
+}
+
+fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+/// Runs `files` (the first is the kernel) on a 2-TM, 4-thread chip: stdout, framebuffer
+/// and the run's cycles (timing mode).
+fn emulate(files: &[PathBuf], opt: u8, mode: Mode, w: u32, h: u32) -> (String, Vec<u8>, u64) {
+    let mut req = Request::new(&files[0]);
+    req.more = files[1..].to_vec();
+    req.opt_level = opt;
+    req.render.width = w;
+    req.render.height = h;
+    req.chip.tms = 2;
+    req.chip.threads_per_tm = 4;
+    let name = format!("{files:?} -O{opt}");
+    let prepared = prepare(&req).unwrap_or_else(|e| panic!("{name}: {}", e.render()));
+    let mut out = Vec::new();
+    let result = run(prepared.run_request(&req.chip, mode), &mut out)
+        .unwrap_or_else(|e| panic!("{name}: {e}"));
+    assert!(
+        result.finished(),
+        "{name}: {:?}\n{}",
+        result.outcome,
+        result.failure.clone().unwrap_or_default()
+    );
+    let fb = prepared.framebuffer(&result).unwrap();
+    (
+        String::from_utf8(out).unwrap(),
+        fb,
+        result.cycles.unwrap_or(0),
+    )
+}
+
+#[test]
+fn c_examples_draw_the_rust_examples_images_in_both_modes() {
+    for k in ["gradient", "mandelbrot"] {
+        let rust = root().join(format!("examples/{k}.rs"));
+        let c = root().join(format!("examples/c/{k}.c"));
+        let (_, reference, _) = emulate(&[rust], 2, Mode::Functional, 40, 24);
+        assert!(reference.iter().any(|&b| b != 0));
+        for opt in [0, 2, 3] {
+            let (_, fb, _) = emulate(&[c.clone()], opt, Mode::Functional, 40, 24);
+            assert!(fb == reference, "{k}.c -O{opt}: image differs from {k}.rs");
+        }
+        let (_, fb, cycles) = emulate(&[c.clone()], 2, Mode::Timing, 40, 24);
+        assert!(fb == reference, "{k}.c timing: image differs from {k}.rs");
+        assert!(cycles > 0, "{k}.c: a timing run counts cycles");
+    }
+}
+
+/// The gradient against the formula computed here (an oracle independent of both
+/// compilers): pixel (x, y) = ((x + 0.5) / w, (y + 0.5) / h, 0.25) in f32.
+#[test]
+fn c_gradient_matches_the_host_formula() {
+    let (w, h) = (13u32, 7u32);
+    let (_, fb, _) = emulate(
+        &[root().join("examples/c/gradient.c")],
+        2,
+        Mode::Functional,
+        w,
+        h,
+    );
+    let (iw, ih) = (1.0f32 / w as f32, 1.0f32 / h as f32);
+    for y in 0..h {
+        for x in 0..w {
+            let i = ((y * w + x) * 12) as usize;
+            let px: Vec<f32> = (0..3)
+                .map(|c| f32::from_le_bytes(fb[i + 4 * c..i + 4 * c + 4].try_into().unwrap()))
+                .collect();
+            let want = [(x as f32 + 0.5) * iw, (y as f32 + 0.5) * ih, 0.25];
+            assert_eq!(px, want, "pixel ({x}, {y})");
+        }
+    }
+}
+
+const MAIN_C: &str = r#"#include <trax.h>
+
+struct pair { unsigned long long num; unsigned int den; unsigned int pad[6]; };
+
+unsigned long long mix(struct pair p); /* in lib.cpp */
+
+void trax_main(void) {
+    unsigned int id = trax_global_id();
+    while (trax_global_read(1) != id) {}
+    struct pair p = {0};
+    p.num = 0x123456789abcdefULL * (id + 1);
+    p.den = 7 + id;
+    struct pair q = p; /* a struct copy */
+    trax_print_str("thread ");
+    trax_print_uint(id);
+    trax_print_str(": ");
+    trax_print_u64(mix(q));
+    trax_print_char('\n');
+    trax_atomic_inc(1);
+}
+"#;
+
+const LIB_CPP: &str = r#"#include <trax.h>
+
+struct pair { unsigned long long num; unsigned int den; unsigned int pad[6]; };
+
+namespace {
+template <typename T> T div_plus_rem(T a, T b) { return a / b + a % b; }
+}
+
+extern "C" unsigned long long mix(struct pair p) {
+    return div_plus_rem<unsigned long long>(p.num, p.den) + (unsigned long long)(long long)(-3.75 * p.den);
+}
+"#;
+
+/// A C kernel and a C++ file linked together; 64-bit division (the compiler's 64-bit
+/// helpers) and struct copies (memcpy) come from the trax C runtime, linked on demand.
+#[test]
+fn c_and_cpp_files_link_together_with_the_runtime() {
+    let dir = scratch("multi");
+    std::fs::write(dir.join("main.c"), MAIN_C).unwrap();
+    std::fs::write(dir.join("lib.cpp"), LIB_CPP).unwrap();
+    for opt in [0, 2] {
+        let (out, _, _) = emulate(
+            &[dir.join("main.c"), dir.join("lib.cpp")],
+            opt,
+            Mode::Functional,
+            4,
+            4,
+        );
+        let mut want = String::new();
+        for id in 0..8u64 {
+            let num = 0x123456789abcdefu64.wrapping_mul(id + 1);
+            let den = 7 + id;
+            let v = (num / den + num % den).wrapping_add((-3.75 * den as f64) as i64 as u64);
+            want += &format!("thread {id}: {v}\n");
+        }
+        assert_eq!(out, want, "-O{opt}");
+    }
+}
+
+/// A TRaX-Rust kernel linked with a C file: the C constructor runs (start-up code,
+/// `.init_array`) before the Rust `trax_main` on every thread.
+#[test]
+fn rust_and_c_objects_link_together() {
+    let dir = scratch("mixed");
+    std::fs::write(
+        dir.join("k.rs"),
+        "fn trax_main() {\n    if trax::global_id() == 0 {\n        println!(\"from C: {}\", trax::global_read(7));\n    }\n}\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("init.c"),
+        "#include <trax.h>\n__attribute__((constructor)) static void init(void) { trax_global_write(7, 6 * 7); }\n",
+    )
+    .unwrap();
+    let (out, _, _) = emulate(
+        &[dir.join("k.rs"), dir.join("init.c")],
+        2,
+        Mode::Functional,
+        4,
+        4,
+    );
+    assert_eq!(out, "from C: 42\n");
+}
+
+/// The C++ layer: primary rays through the Cornell box's camera (`trax::primary_ray`),
+/// shaded by direction, against the same arithmetic on the host (the camera from the
+/// scene loader, `1/sqrt` from the runtime's `fops::invsqrt`, the machine's semantics).
+#[test]
+fn cpp_kernel_with_trax_hpp_matches_the_host() {
+    let dir = scratch("cpp");
+    std::fs::write(
+        dir.join("rays.cpp"),
+        r#"#include <trax.hpp>
+
+void trax_main() {
+    unsigned int w = trax_scene_width(), n = w * trax_scene_height();
+    for (unsigned int i = trax_atomic_inc(0); i < n; i = trax_atomic_inc(0)) {
+        trax::Ray r = trax::primary_ray(i % w, i / w);
+        trax::set_pixel(i % w, i / w, (r.dir + trax::Vec3(1, 1, 1)) * 0.5f);
+    }
+}
+"#,
+    )
+    .unwrap();
+    let (w, h) = (9u32, 6u32);
+    let (_, fb, _) = emulate(&[dir.join("rays.cpp")], 2, Mode::Functional, w, h);
+    let scene = trax::pipeline::load_scene("cornell", &Default::default()).unwrap();
+    let c = scene.view.camera().unwrap();
+    let (iw, ih) = (1.0f32 / w as f32, 1.0f32 / h as f32);
+    for y in 0..h {
+        for x in 0..w {
+            let s = c.left + (c.right - c.left) * (x as f32 + 0.5) * iw;
+            let t = c.bottom + (c.top - c.bottom) * (y as f32 + 0.5) * ih;
+            let d: Vec<f32> = (0..3)
+                .map(|k| c.w[k] * c.distance + c.u[k] * s + c.v[k] * t)
+                .collect();
+            let len2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+            let inv = trax_runtime::fops::invsqrt(len2);
+            let i = ((y * w + x) * 12) as usize;
+            for k in 0..3 {
+                let got = f32::from_le_bytes(fb[i + 4 * k..i + 4 * k + 4].try_into().unwrap());
+                let want = (d[k] * inv + 1.0) * 0.5;
+                assert_eq!(got, want, "pixel ({x}, {y}) channel {k}");
+            }
+        }
+    }
+}
+
+#[test]
+fn syntax_error_shows_clangs_diagnostic_and_exits_1() {
+    let dir = scratch("syntax");
+    let bad = dir.join("bad.c");
+    std::fs::write(
+        &bad,
+        "#include <trax.h>\n\nvoid trax_main(void) {\n    unsigned int x = 1\n}\n",
+    )
+    .unwrap();
+    for cmd in ["build", "run"] {
+        let mut args = vec![cmd, bad.to_str().unwrap()];
+        let out_file = dir.join("x.elf");
+        if cmd == "build" {
+            args.extend(["-o", out_file.to_str().unwrap()]);
+        }
+        let out = trax(&args);
+        assert_eq!(out.status.code(), Some(1), "{cmd}: {}", text(&out.stderr));
+        let err = text(&out.stderr);
+        assert!(
+            err.contains("bad.c:4:23: error: expected ';'"),
+            "{cmd}: clang's diagnostic with file:line:col expected:\n{err}"
+        );
+        assert!(!err.contains("panicked"), "{err}");
+    }
+}
+
+#[test]
+fn missing_clang_names_the_debian_package() {
+    let dir = scratch("noclang");
+    let out = Command::new(env!("CARGO_BIN_EXE_trax"))
+        .args(["build", "examples/c/gradient.c", "-o"])
+        .arg(dir.join("g.elf"))
+        .current_dir(root())
+        .env("TRAX_CACHE_DIR", cache())
+        .env("PATH", &dir)
+        .env_remove("TRAX_CLANG")
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let err = text(&out.stderr);
+    assert!(
+        err.starts_with("error: examples/c/gradient.c: building C and C++ kernels needs clang-14")
+            && err.contains("Debian package `clang-14`"),
+        "{err}"
+    );
+}
+
+const FAULT_C: &str = r#"#include <trax.h>
+
+static unsigned int read_at(const unsigned int *p) {
+    return *p;
+}
+
+void trax_main(void) {
+    const unsigned int *bad = (const unsigned int *)(trax_global_id() * 0u + 8u);
+    trax_print_uint(read_at(bad));
+}
+"#;
+
+/// A C kernel that dereferences a null-guard address: the crash report names the C
+/// file, line and column, the inline chain and the source line, at -O0 and -O2.
+#[test]
+fn c_kernel_crash_reports_file_and_line() {
+    let dir = scratch("fault");
+    let f = dir.join("fault.c");
+    std::fs::write(&f, FAULT_C).unwrap();
+    for opt in ["-O0", "-O2"] {
+        let out = trax(&["run", "--functional", opt, f.to_str().unwrap()]);
+        assert!(!out.status.success());
+        let err = text(&out.stderr);
+        assert!(
+            err.contains("null pointer dereference: 4-byte load at address 0x00000008"),
+            "{err}"
+        );
+        assert!(err.contains("fault.c:4:12 in read_at"), "{opt}: {err}");
+        assert!(err.contains("    return *p;"), "{opt}: {err}");
+        assert!(err.contains("trax_main at "), "{opt}: {err}");
+        assert!(err.contains("fault.c:9:"), "{opt}: {err}");
+    }
+}
+
+/// `trax run --panic` style abort from C: `trax_panic` stops the program with the message.
+#[test]
+fn trax_panic_reports_the_message_and_line() {
+    let dir = scratch("panic");
+    let f = dir.join("p.c");
+    std::fs::write(
+        &f,
+        "#include <trax.h>\n\nvoid trax_main(void) {\n    if (trax_global_id() == 3)\n        trax_panic(\"thread three gives up\");\n}\n",
+    )
+    .unwrap();
+    let out = trax(&["run", "--functional", f.to_str().unwrap()]);
+    assert!(!out.status.success());
+    let err = text(&out.stderr);
+    assert!(err.contains("thread three gives up"), "{err}");
+    assert!(err.contains("p.c:5:"), "{err}");
+}
+
+#[test]
+fn annotate_shows_c_source_lines() {
+    let out = trax(&[
+        "annotate",
+        "--functional",
+        "examples/c/mandelbrot.c",
+        "--width",
+        "16",
+        "--height",
+        "8",
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let s = text(&out.stdout);
+    let line = s
+        .lines()
+        .find(|l| l.contains("if (zx2 + zy2 > 4.0f)"))
+        .unwrap_or_else(|| panic!("no annotated inner-loop line in\n{s}"));
+    // The inner loop runs thousands of times on 128 pixels: its line has a cost.
+    assert!(
+        line.chars().any(|c| c.is_ascii_digit() && c != '0'),
+        "{line}"
+    );
+    assert!(s.contains("examples/c/mandelbrot.c"), "{s}");
+}
+
+#[test]
+fn header_command_writes_the_headers() {
+    let dir = scratch("header");
+    let out = trax(&["header", "-o", dir.join("c").to_str().unwrap()]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert!(dir.join("c/trax.h").is_file() && dir.join("c/trax_isa.h").is_file());
+    assert!(!dir.join("c/trax.hpp").exists());
+    let out = trax(&["header", "--cpp", "-o", dir.join("cpp").to_str().unwrap()]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let h = std::fs::read_to_string(dir.join("cpp/trax.h")).unwrap();
+    assert_eq!(h, trax_runtime::cheader::render_trax_h());
+    assert!(dir.join("cpp/trax.hpp").is_file());
+}
+
+#[test]
+fn build_emits_objects_assembly_and_ir_for_c() {
+    let dir = scratch("emit");
+    for (emit, check) in [
+        ("obj", b"\x7fELF".as_slice()),
+        ("asm", b"trax_main".as_slice()),
+        ("llvm-ir", b"define".as_slice()),
+    ] {
+        let o = dir.join(format!("g.{emit}"));
+        let out = trax(&[
+            "build",
+            "examples/c/gradient.c",
+            "--emit",
+            emit,
+            "-o",
+            o.to_str().unwrap(),
+        ]);
+        assert!(out.status.success(), "{emit}: {}", text(&out.stderr));
+        let bytes = std::fs::read(&o).unwrap();
+        assert!(
+            bytes.windows(check.len()).any(|w| w == check),
+            "{emit} output lacks {check:?}"
+        );
+    }
+    // An object from `--emit obj` runs once linked by `trax run`.
+    let out = trax(&[
+        "run",
+        "--functional",
+        dir.join("g.obj").to_str().unwrap(),
+        "--width",
+        "4",
+        "--height",
+        "4",
+    ]);
+    assert!(
+        !out.status.success(),
+        "a `.obj` name is not an object by extension"
+    );
+    std::fs::rename(dir.join("g.obj"), dir.join("g.o")).unwrap();
+    let out = trax(&[
+        "run",
+        "--functional",
+        dir.join("g.o").to_str().unwrap(),
+        "--width",
+        "4",
+        "--height",
+        "4",
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    // Several files only link into an executable.
+    let out = trax(&[
+        "build",
+        "examples/c/gradient.c",
+        "examples/c/mandelbrot.c",
+        "--emit",
+        "obj",
+        "-o",
+        dir.join("x.o").to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(text(&out.stderr).contains("only `--emit exe` links several files"));
+    // Two kernels define `trax_main` twice: the linker says so.
+    let out = trax(&[
+        "build",
+        "examples/c/gradient.c",
+        "examples/c/mandelbrot.c",
+        "-o",
+        dir.join("x.elf").to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        text(&out.stderr).contains("trax_main"),
+        "{}",
+        text(&out.stderr)
+    );
+}

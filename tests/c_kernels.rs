@@ -454,3 +454,102 @@ fn build_emits_objects_assembly_and_ir_for_c() {
         text(&out.stderr)
     );
 }
+
+fn raw_framebuffer(cmd: &[&str], kernel: &Path, tag: &str) -> (String, Vec<u8>) {
+    let dir = scratch(&format!("fb-{tag}"));
+    let raw = dir.join("fb.bin");
+    let mut args = cmd.to_vec();
+    let k = kernel.to_str().unwrap();
+    let r = raw.to_str().unwrap();
+    args.extend([
+        k,
+        "--width",
+        "24",
+        "--height",
+        "16",
+        "--tms",
+        "2",
+        "--threads",
+        "3",
+        "--raw-framebuffer",
+        r,
+    ]);
+    let out = trax(&args);
+    assert!(out.status.success(), "{cmd:?} {k}: {}", text(&out.stderr));
+    (text(&out.stdout), std::fs::read(&raw).unwrap())
+}
+
+const HELLO_C: &str = r#"#include <trax.h>
+
+/* Every thread prints once, in thread order (global register 1 is a ticket). */
+void trax_main(void) {
+    unsigned int id = trax_global_id();
+    while (trax_global_read(1) != id) {}
+    trax_print_str("hello from thread ");
+    trax_print_uint(id);
+    trax_print_str(" of ");
+    trax_print_uint(trax_num_threads());
+    trax_print_str(": x = ");
+    trax_print_float((float)id * 0.1f + 0.25f);
+    trax_print_str(", d = ");
+    trax_print_double(1.0 / (id + 3));
+    trax_print_str(", neg = ");
+    trax_print_int(-(int)id);
+    trax_print_str(", big = ");
+    trax_print_i64(-1234567890123LL * (long long)(id + 1));
+    trax_print_str(", even = ");
+    trax_print_bool(id % 2 == 0);
+    trax_print_char(0x2713);
+    trax_print_char('\n');
+    trax_atomic_inc(1);
+}
+"#;
+
+/// `trax native k.c`: clang compiles the kernel for the host against `trax.h`'s host side
+/// and it runs on host threads. Same framebuffers as `trax run` (the examples, and C++
+/// camera rays through `trax.hpp`), and the same printed text, float formatting included.
+#[test]
+fn native_c_and_cpp_kernels_match_the_emulator() {
+    for k in ["examples/c/gradient.c", "examples/c/mandelbrot.c"] {
+        let (_, run) = raw_framebuffer(&["run", "--functional"], &root().join(k), "run");
+        let (_, native) = raw_framebuffer(&["native"], &root().join(k), "native");
+        assert!(run == native, "{k}: native image differs from trax run");
+    }
+    let dir = scratch("native-src");
+    std::fs::write(
+        dir.join("rays.cpp"),
+        "#include <trax.hpp>\nvoid trax_main() {\n    unsigned int w = trax_scene_width(), n = w * trax_scene_height();\n    for (unsigned int i = trax_atomic_inc(0); i < n; i = trax_atomic_inc(0)) {\n        trax::Ray r = trax::primary_ray(i % w, i / w);\n        trax::set_pixel(i % w, i / w, (r.dir + trax::Vec3(1, 1, 1)) * 0.5f);\n    }\n}\n",
+    )
+    .unwrap();
+    let (_, run) = raw_framebuffer(&["run", "--functional"], &dir.join("rays.cpp"), "run");
+    let (_, native) = raw_framebuffer(&["native"], &dir.join("rays.cpp"), "native");
+    assert!(
+        run == native,
+        "rays.cpp: native image differs from trax run"
+    );
+
+    std::fs::write(dir.join("hello.c"), HELLO_C).unwrap();
+    let (run_out, _) = raw_framebuffer(&["run", "--functional"], &dir.join("hello.c"), "run");
+    let (native_out, _) = raw_framebuffer(&["native"], &dir.join("hello.c"), "native");
+    assert!(
+        run_out.contains("hello from thread 5 of 6: x = 0.75, d = 0.125, neg = -5, big = -7407407340738, even = false✓\n"),
+        "{run_out}"
+    );
+    assert_eq!(run_out, native_out);
+}
+
+#[test]
+fn native_c_syntax_error_shows_clangs_diagnostic() {
+    let dir = scratch("native-bad");
+    let bad = dir.join("bad.c");
+    std::fs::write(
+        &bad,
+        "#include <trax.h>\nvoid trax_main(void) { int x = }\n",
+    )
+    .unwrap();
+    let out = trax(&["native", bad.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = text(&out.stderr);
+    assert!(err.contains("bad.c:2:"), "{err}");
+    assert!(err.contains("error: expected expression"), "{err}");
+}

@@ -268,6 +268,20 @@ pub fn invsqrt(x: f32) -> f32 {
     fops::invsqrt(x)
 }
 
+/// Host address of the simulated byte at `addr`, for C kernels run natively (`trax
+/// native k.c`), which dereference the scene's pointers: memory is one dense span, so
+/// pointer arithmetic within a component stays in it. Panics outside the span, as a load
+/// would. The pointer is valid while the kernel thread runs; accesses through it are
+/// plain (non-atomic) host accesses to the words the Rust side reads with atomics, which
+/// is race-free as long as kernel threads do not write the same word concurrently (the
+/// same rule the machine's memory has for plain loads and stores).
+pub fn host_ptr(addr: u32) -> *mut u8 {
+    with_machine(|m| {
+        let w = m.word(addr & !3, "access");
+        w.as_ptr().cast::<u8>().wrapping_add((addr & 3) as usize)
+    })
+}
+
 // ---- Fused pipelines: the exact TRaX semantics, shared with the emulator ----
 
 pub fn pipe_box_test(o: [f32; 3], inv: [f32; 3], lo: [f32; 3], hi: [f32; 3]) -> f32 {

@@ -50,8 +50,9 @@ pub use scene::{set_pixel, BvhNode, Material, PointLight, Triangle};
 #[cfg(not(target_arch = "mips"))]
 pub mod host {
     pub use super::hw::{
-        framebuffer_segment, host_main, image_bytes, parse_image, run_image, run_image_stats,
-        Image, RunError, RunStats, NUM_GLOBAL_REGS,
+        framebuffer_segment, host_main, host_ptr, image_bytes, parse_image, pipe_box_test,
+        pipe_tri_test, pipe_tri_u, pipe_tri_v, run_image, run_image_stats, seed, Image, RunError,
+        RunStats, NUM_GLOBAL_REGS,
     };
 }
 

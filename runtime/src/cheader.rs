@@ -357,7 +357,11 @@ static inline void trax_print_u64(unsigned long long v) {
 static inline void trax_print_str(const char *s) {
     unsigned int n = 0;
     while (s[n]) n++;
+#ifdef TRAX_HOST
+    __trax_host_print_str(s, n);
+#else
     trax_prints((unsigned int)s, n);
+#endif
 }
 
 /* Stops the whole program with MESSAGE, reported like a Rust panic (with the PC's
@@ -365,17 +369,26 @@ static inline void trax_print_str(const char *s) {
 static inline __attribute__((noreturn)) void trax_panic(const char *message) {
     unsigned int n = 0;
     while (message[n]) n++;
+#ifdef TRAX_HOST
+    __trax_host_panic(message, n);
+#else
     trax_abort(TRAX_ABORT_PANIC, (unsigned int)message, n);
+#endif
     __builtin_unreachable();
 }
 
 /* ---- Fused pipelines: inputs and outputs in coprocessor 2 (runtime::isa::COP2_REGS) ---- */
+#ifdef TRAX_HOST
+#define trax_mtc2(n, x) __trax_host_mtc2(n, x)
+#define trax_mfc2(n) __trax_host_mfc2(n)
+#else
 #define trax_mtc2(n, x) do { float __trax_x = (x); unsigned int __trax_b; \
     __builtin_memcpy(&__trax_b, &__trax_x, 4); \
     __asm__ volatile("mtc2 %0, $" #n :: "r"(__trax_b) : "memory"); } while (0)
 #define trax_mfc2(n) __extension__ ({ unsigned int __trax_b; float __trax_x; \
     __asm__ volatile("mfc2 %0, $" #n : "=r"(__trax_b) :: "memory"); \
     __builtin_memcpy(&__trax_x, &__trax_b, 4); __trax_x; })
+#endif
 static inline void trax_set_pipe_general(void) { trax_setpipe(0); }
 static inline void trax_set_pipe_box(void) { trax_setpipe(1); }
 static inline void trax_set_pipe_tri(void) { trax_setpipe(2); }
@@ -422,7 +435,14 @@ pub fn render_trax_h() -> String {
     out.push_str("/* trax.h: the kernel API for C and C++ kernels (clang-14, MIPS32r6).\n");
     out.push_str(" * Generated from trax_runtime (isa.rs, abi.rs, cheader.rs) by `trax header`;\n");
     out.push_str(" * `trax build` puts it on the include path itself. Do not edit. */\n");
-    out.push_str("#ifndef TRAX_H\n#define TRAX_H\n\n#include \"trax_isa.h\"\n\n");
+    out.push_str("#ifndef TRAX_H\n#define TRAX_H\n\n");
+    out.push_str(
+        "/* TRAX_HOST: the same API on the host (`trax native`), over trax_host.h. */\n\
+         #ifdef TRAX_HOST\n#include \"trax_host.h\"\n\
+         #define TRAX_PTR(T, addr) ((T *)__trax_host_ptr(addr))\n\
+         #else\n#include \"trax_isa.h\"\n\
+         #define TRAX_PTR(T, addr) ((T *)(__UINTPTR_TYPE__)(addr))\n#endif\n\n",
+    );
     out.push_str("#ifdef __cplusplus\nextern \"C\" {\n#endif\n\n");
     out.push_str(
         "/* The kernel entry point, run by every hardware thread. */\nvoid trax_main(void);\n\n",
@@ -467,6 +487,7 @@ pub fn render_trax_h() -> String {
     out.push_str(
         "/* Header fields: each symbol is the field's address, defined by the trax linker. */\n",
     );
+    out.push_str("#ifndef TRAX_HOST\n");
     for (t, f, n) in &fields {
         let arr = if *n == 0 {
             String::new()
@@ -479,6 +500,24 @@ pub fn render_trax_h() -> String {
             abi::SCENE_SYMBOL_PREFIX
         );
     }
+    out.push_str("#else\n");
+    let offsets = abi::scene_header_fields();
+    for ((t, f, n), (_, off)) in fields.iter().zip(&offsets) {
+        let addr = abi::SCENE_HEADER_ADDR + *off as u32;
+        let p = abi::SCENE_SYMBOL_PREFIX;
+        if *n == 0 {
+            let _ = writeln!(
+                out,
+                "#define {p}{f} (*(const {t} *)__trax_host_ptr(0x{addr:08x}u))"
+            );
+        } else {
+            let _ = writeln!(
+                out,
+                "#define {p}{f} ((const {t} *)__trax_host_ptr(0x{addr:08x}u))"
+            );
+        }
+    }
+    out.push_str("#endif\n");
     out.push_str("\n/* ---- Scene access ---- */\n");
     let p = abi::SCENE_SYMBOL_PREFIX;
     for (t, f, n) in &fields {
@@ -488,7 +527,7 @@ pub fn render_trax_h() -> String {
                 let cst = if f == "framebuffer" { "" } else { "const " };
                 let _ = writeln!(
                     out,
-                    "static inline {cst}{el} *trax_scene_{f}(void) {{ return ({cst}{el} *){p}{f}.addr; }}"
+                    "static inline {cst}{el} *trax_scene_{f}(void) {{ return TRAX_PTR({cst}{el}, {p}{f}.addr); }}"
                 );
                 let _ = writeln!(
                     out,
@@ -498,7 +537,7 @@ pub fn render_trax_h() -> String {
             (_, 0) if f == "camera" => {
                 let _ = writeln!(
                     out,
-                    "static inline const trax_camera_t *trax_scene_camera(void) {{ return (const trax_camera_t *){p}camera; }}"
+                    "static inline const trax_camera_t *trax_scene_camera(void) {{ return TRAX_PTR(const trax_camera_t, {p}camera); }}"
                 );
             }
             (_, 0) => {
@@ -525,6 +564,73 @@ pub fn render_trax_h() -> String {
     out.push_str(C_API);
     out.push_str("\n#ifdef __cplusplus\n}\n#endif\n\n#endif /* TRAX_H */\n");
     out
+}
+
+/// The complete text of `trax_host.h`: the instruction functions of `trax_isa.h` as
+/// extern functions of the host runtime (`trax native` links C kernels with a Rust shim
+/// over the host prelude that defines them, see the root crate's `clang::host_shim`).
+pub fn render_host_h() -> String {
+    let mut out = String::new();
+    out.push_str("/* trax_host.h: the TRaX instructions on the host (`trax native`). Generated; do not edit. */\n");
+    out.push_str(
+        "#ifndef TRAX_HOST_H\n#define TRAX_HOST_H\n#ifdef __cplusplus\nextern \"C\" {\n#endif\n",
+    );
+    out.push_str("unsigned char *__trax_host_ptr(unsigned int addr);\n");
+    out.push_str("void __trax_host_print_str(const char *s, unsigned int n);\n");
+    out.push_str(
+        "__attribute__((noreturn)) void __trax_host_panic(const char *s, unsigned int n);\n",
+    );
+    out.push_str("void __trax_host_mtc2(unsigned int reg, float x);\n");
+    out.push_str("float __trax_host_mfc2(unsigned int reg);\n");
+    for i in TRAX_INSTRUCTIONS {
+        let name = c_name(i);
+        if i.operands.iter().any(|o| o.kind == OperandKind::Imm5) {
+            let _ = writeln!(
+                out,
+                "void __trax_host_{name}(unsigned int n);\n#define {name}(n) __trax_host_{name}(n)"
+            );
+            continue;
+        }
+        let def = i.operands.iter().find(|o| o.kind.is_def());
+        let ret = def.map(|d| c_type(i, d.kind)).unwrap_or("void");
+        let params: Vec<String> = i
+            .operands
+            .iter()
+            .filter(|o| !o.kind.is_def())
+            .map(|o| format!("{} {}", c_type(i, o.kind), field_name(o.field)))
+            .collect();
+        let params = if params.is_empty() {
+            "void".to_string()
+        } else {
+            params.join(", ")
+        };
+        let _ = writeln!(out, "{ret} {name}({params});");
+    }
+    out.push_str("#ifdef __cplusplus\n}\n#endif\n#endif /* TRAX_HOST_H */\n");
+    out
+}
+
+/// Rust parameter list and return type of instruction `i` as the host shim defines it:
+/// `(params, ret)`, e.g. `("rs: u32, rt: u32", " -> u32")`.
+pub fn rust_signature(i: &TraxInstr) -> (String, String) {
+    let rty = |k: OperandKind| match k {
+        OperandKind::FprUse | OperandKind::FprDef if i.op == TraxOp::PrintF64 => "f64",
+        OperandKind::FprUse | OperandKind::FprDef => "f32",
+        _ => "u32",
+    };
+    let params: Vec<String> = i
+        .operands
+        .iter()
+        .filter(|o| !o.kind.is_def())
+        .map(|o| format!("{}: {}", field_name(o.field), rty(o.kind)))
+        .collect();
+    let ret = i
+        .operands
+        .iter()
+        .find(|o| o.kind.is_def())
+        .map(|d| format!(" -> {}", rty(d.kind)))
+        .unwrap_or_default();
+    (params.join(", "), ret)
 }
 
 /// The complete text of `trax.hpp`: a small C++ layer over `trax.h` (`trax::Vec3` with

@@ -34,7 +34,8 @@ use trax_runtime::prelude::{self, Fnv1a};
 /// Arguments of `trax native`.
 #[derive(Args, Debug)]
 pub struct NativeArgs {
-    /// The kernel source (`fn trax_main()`).
+    /// The kernel source: TRaX-Rust (`fn trax_main()`), or C/C++ (`void trax_main(void)`,
+    /// compiled for the host by clang with `trax.h`'s host side).
     pub kernel: PathBuf,
     /// Scene and image parameters.
     #[command(flatten)]
@@ -69,6 +70,8 @@ pub enum NativeError {
     NoEntry { kernel: String },
     #[error("{kernel}: compilation failed")]
     KernelBuild { kernel: String },
+    #[error("{0}")]
+    Clang(trax::clang::ClangError),
     #[error("{0}")]
     Prepare(#[from] PrepareError),
     #[error("{0}")]
@@ -123,7 +126,10 @@ fn native(a: &NativeArgs) -> Result<(), NativeError> {
     let cache = cache_dir();
     let rustc = Rustc::find()?;
     let rlib = build_prelude(&rustc, &cache)?;
-    let exe = build_kernel(&rustc, &a.kernel, &rlib, &cache)?;
+    let exe = match trax::clang::lang_of(&a.kernel) {
+        Some(lang) => build_c_kernel(&rustc, &a.kernel, lang, &rlib, &cache)?,
+        None => build_kernel(&rustc, &a.kernel, &rlib, &cache)?,
+    };
     let request = a.render.request(&a.kernel, DEFAULT_OPT_LEVEL, &chip);
     let (scene_image, warnings) = pipeline::scene_image(&request)?;
     for w in &warnings {
@@ -392,6 +398,74 @@ fn build_kernel(
         let _ = std::fs::remove_dir_all(&tmp);
         return Err(NativeError::KernelBuild { kernel: shown });
     }
+    publish(&tmp, &dir)?;
+    Ok(exe)
+}
+
+/// Builds (or finds in the cache) the host program of a C or C++ kernel: clang compiles
+/// the kernel with `trax.h`'s host side, rustc links it with `trax::clang::host_shim()`
+/// over the host prelude.
+fn build_c_kernel(
+    rustc: &Rustc,
+    kernel: &Path,
+    lang: trax::clang::Lang,
+    rlib: &Path,
+    cache: &Path,
+) -> Result<PathBuf, NativeError> {
+    let tmp = scratch_dir(cache, "ckernel")?;
+    let obj = tmp.join("kernel.o");
+    if let Err(e) = trax::clang::compile_host(kernel, lang, &obj) {
+        let _ = std::fs::remove_dir_all(&tmp);
+        return Err(match e {
+            trax::clang::ClangError::Diagnostics { diagnostics } => {
+                eprint!("{diagnostics}");
+                NativeError::KernelBuild {
+                    kernel: kernel.display().to_string(),
+                }
+            }
+            e => NativeError::Clang(e),
+        });
+    }
+    let shim = trax::clang::host_shim();
+    let mut h = Fnv1a::new();
+    h.write(&std::fs::read(&obj).map_err(io_err(&obj))?);
+    h.write(shim.as_bytes());
+    h.write(rlib.to_string_lossy().as_bytes());
+    h.write(rustc.version.as_bytes());
+    let dir = cache.join(format!("ckernel-{:016x}", h.finish()));
+    let exe = dir.join("kernel");
+    if exe.is_file() {
+        let _ = std::fs::remove_dir_all(&tmp);
+        return Ok(exe);
+    }
+    let mut cmd = rustc.command();
+    cmd.args(["--crate-type", "bin", "--crate-name", "trax_kernel", "-"])
+        .arg("--extern")
+        .arg(format!("trax={}", rlib.display()))
+        .arg("-C")
+        .arg(format!("link-arg={}", obj.display()))
+        .arg("-o")
+        .arg(tmp.join("kernel"))
+        .stdin(Stdio::piped())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped());
+    let mut child = cmd.spawn().map_err(|source| NativeError::NoRustc {
+        rustc: rustc.program.to_string_lossy().into_owned(),
+        source,
+    })?;
+    if let Some(mut stdin) = child.stdin.take() {
+        // A write error shows up as a build failure below.
+        let _ = stdin.write_all(shim.as_bytes());
+    }
+    let out = child.wait_with_output().map_err(io_err(kernel))?;
+    if !out.status.success() {
+        eprint!("{}", String::from_utf8_lossy(&out.stderr));
+        let _ = std::fs::remove_dir_all(&tmp);
+        return Err(NativeError::KernelBuild {
+            kernel: kernel.display().to_string(),
+        });
+    }
+    let _ = std::fs::remove_file(&obj);
     publish(&tmp, &dir)?;
     Ok(exe)
 }

@@ -77,10 +77,10 @@ fn c_examples_draw_the_rust_examples_images_in_both_modes() {
         let (_, reference, _) = emulate(&[rust], 2, Mode::Functional, 40, 24);
         assert!(reference.iter().any(|&b| b != 0));
         for opt in [0, 2, 3] {
-            let (_, fb, _) = emulate(&[c.clone()], opt, Mode::Functional, 40, 24);
+            let (_, fb, _) = emulate(std::slice::from_ref(&c), opt, Mode::Functional, 40, 24);
             assert!(fb == reference, "{k}.c -O{opt}: image differs from {k}.rs");
         }
-        let (_, fb, cycles) = emulate(&[c.clone()], 2, Mode::Timing, 40, 24);
+        let (_, fb, cycles) = emulate(std::slice::from_ref(&c), 2, Mode::Timing, 40, 24);
         assert!(fb == reference, "{k}.c timing: image differs from {k}.rs");
         assert!(cycles > 0, "{k}.c: a timing run counts cycles");
     }

@@ -60,8 +60,11 @@ fn clang(dir: &Path, file: &str, lang: &[&str]) -> std::process::Output {
         .expect("clang-14 is installed (.ci/run installs it)")
 }
 
+/// A C struct's name, size and field offsets.
+type Layout = (&'static str, usize, Vec<(&'static str, usize)>);
+
 /// Every struct of `trax.h` with the size and field offsets the Rust side gives it.
-fn expected_layouts() -> Vec<(&'static str, usize, Vec<(&'static str, usize)>)> {
+fn expected_layouts() -> Vec<Layout> {
     let u = |v: u32| v as usize;
     vec![
         (

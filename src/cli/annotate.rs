@@ -1,4 +1,4 @@
-//! `trax annotate KERNEL.rs|KERNEL.elf`: runs the kernel with profiling (same flags as
+//! `trax annotate KERNEL.rs|.c|.cpp|KERNEL.elf`: runs the kernel with profiling (same flags as
 //! `trax run`) and prints per-source-line costs next to the source text: instructions in
 //! functional mode, thread-cycles (issue plus stalls) in timing mode.
 

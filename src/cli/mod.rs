@@ -35,7 +35,7 @@ enum Command {
     Scene(scene::SceneArgs),
     /// Build a kernel with rustc against the host prelude and run it on host threads.
     Native(native::NativeArgs),
-    /// Run a linked kernel (ELF) on the simulated machine.
+    /// Run a kernel (TRaX-Rust, C or C++ source, or a linked ELF) on the simulated machine.
     Run(run::RunArgs),
     /// Disassemble an executable, optionally with source lines.
     Disasm(disasm::DisasmArgs),

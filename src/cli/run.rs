@@ -1,6 +1,7 @@
 //! `trax run KERNEL.rs|.c|.cpp [MORE...]|KERNEL.elf`: builds the kernel when given source
-//! (several files are linked together), lays out memory with the scene, runs it on the simulated chip (cycle-level by default, `--functional` for
-//! execution only), reports statistics and writes the framebuffer as PNG.
+//! (several files are linked together), lays out memory with the scene, runs it on the
+//! simulated chip (cycle-level by default, `--functional` for execution only), reports
+//! statistics and writes the framebuffer as PNG.
 //!
 //! The work is in [`trax::pipeline`] (build + memory image) and [`trax_emulator::run()`]
 //! (execution: functional or timing, with `--profile` every instruction or thread-cycle

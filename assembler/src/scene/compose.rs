@@ -245,6 +245,22 @@ mod tests {
     }
 
     #[test]
+    fn split_spec_finds_the_innermost_file() {
+        use crate::scene::split_spec;
+        assert_eq!(
+            split_spec("box:subdivide:2:d/dragon.obj"),
+            ("box:subdivide:2:", "d/dragon.obj", true)
+        );
+        assert_eq!(
+            split_spec("box:hairball:9:1"),
+            ("box:", "hairball:9:1", false)
+        );
+        assert_eq!(split_spec("cornell"), ("", "cornell", false));
+        assert_eq!(split_spec("x.obj"), ("", "x.obj", true));
+        assert_eq!(split_spec("subdivide:1:icosphere:2").2, false);
+    }
+
+    #[test]
     fn specs_nest_and_bad_parts_are_named() {
         let o = LoadOptions::default();
         let s = load_scene("box:subdivide:2:icosphere:1", &o).unwrap();

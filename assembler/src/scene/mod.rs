@@ -532,6 +532,37 @@ enum ViewSource {
     Framing,
 }
 
+/// Splits a scene spec into its `box:`/`subdivide:N:` wrappers and the innermost scene,
+/// and tells whether that innermost scene is a file (to be resolved as a path) or built in:
+/// `box:subdivide:2:dragon.obj` → `("box:subdivide:2:", "dragon.obj", true)`.
+pub fn split_spec(spec: &str) -> (&str, &str, bool) {
+    let mut rest = spec;
+    loop {
+        if let Some(r) = rest.strip_prefix("box:") {
+            rest = r;
+        } else if let Some((_, r)) = rest
+            .strip_prefix("subdivide:")
+            .and_then(|r| r.split_once(':'))
+        {
+            rest = r;
+        } else {
+            break;
+        }
+    }
+    let built_in = rest == "cornell"
+        || [
+            "procedural",
+            "icosphere",
+            "hairball",
+            "vegetation",
+            "box",
+            "subdivide",
+        ]
+        .iter()
+        .any(|g| rest == *g || rest.starts_with(&format!("{g}:")));
+    (&spec[..spec.len() - rest.len()], rest, !built_in)
+}
+
 /// Most `box:`/`subdivide:` wrappers one spec may nest.
 const MAX_SPEC_NESTING: usize = 8;
 

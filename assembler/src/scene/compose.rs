@@ -257,7 +257,7 @@ mod tests {
         );
         assert_eq!(split_spec("cornell"), ("", "cornell", false));
         assert_eq!(split_spec("x.obj"), ("", "x.obj", true));
-        assert_eq!(split_spec("subdivide:1:icosphere:2").2, false);
+        assert!(!split_spec("subdivide:1:icosphere:2").2);
     }
 
     #[test]

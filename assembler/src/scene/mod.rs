@@ -571,9 +571,10 @@ const MAX_SPEC_NESTING: usize = 8;
 /// [`vegetation`]`:N[:SEED]` (exactly N triangles, SEED default [`DEFAULT_SEED`]),
 /// `box:SCENE` ([`enclose_in_box`]), `subdivide:N:SCENE` ([`subdivide`]; wrappers nest, at
 /// most 8 deep, and the inner scene is loaded with these rules, scaling left to the
-/// outermost), or a path to an `.obj` or `.objl` file. For files, the camera comes from `opts.view`, else a `.view` file with the same
-/// stem, else the only `.view` file in the same directory, else a camera framing the scene's
-/// bounds; lights likewise from `.light` files. `opts.scale` then scales the scene, and the
+/// outermost), or a path to an `.obj` or `.objl` file. For files, the camera comes from
+/// `opts.view`, else a `.view` file with the same stem, else the only `.view` file in the
+/// same directory, else a camera framing the scene's bounds; lights likewise from `.light`
+/// files. `opts.scale` then scales the scene, and the
 /// result is validated once, with camera errors naming the `.view` file they came from.
 pub fn load_scene(spec: &str, opts: &LoadOptions) -> Result<Scene, SceneError> {
     load_nested(spec, opts, 0)

@@ -68,7 +68,7 @@ pub struct Request {
     pub more: Vec<PathBuf>,
     /// Optimisation level when building from source (0..=3).
     pub opt_level: u8,
-    /// Scene: `cornell`, `procedural:N`, `icosphere:N`, or an .obj/.objl file.
+    /// Scene spec (see [`trax_assembler::scene::load_scene`]; `trax scene --help`).
     pub scene: String,
     /// Camera and light files and the scene scale.
     pub load: LoadOptions,

@@ -297,3 +297,150 @@ fn gdb_session_continues_the_run_to_its_end() {
     assert!(gdb_out.contains("exited normally"), "{gdb_out}");
     assert!(stdout.contains("hello from thread 1 of 2"), "{stdout}");
 }
+
+/// The `<title>` texts of the flame graph's frame boxes, checking on the way that the
+/// whole file is well-formed XML (end tags match, entities known, one root element).
+fn svg_titles(svg: &str) -> Vec<String> {
+    use quick_xml::events::Event;
+    let mut r = quick_xml::Reader::from_str(svg);
+    let (mut depth, mut roots, mut in_title) = (0i32, 0, false);
+    let mut titles = Vec::new();
+    let mut text = String::new();
+    loop {
+        match r.read_event().expect("well-formed SVG") {
+            Event::Start(e) => {
+                if depth == 0 {
+                    roots += 1;
+                }
+                depth += 1;
+                if e.name().as_ref() == b"title" {
+                    in_title = true;
+                    text.clear();
+                }
+            }
+            Event::End(e) => {
+                depth -= 1;
+                if e.name().as_ref() == b"title" {
+                    in_title = false;
+                    titles.push(text.clone());
+                }
+            }
+            Event::Text(t) if in_title => text.push_str(&t.decode().unwrap()),
+            Event::GeneralRef(g) if in_title => {
+                let name = g.decode().unwrap();
+                text.push_str(match name.as_ref() {
+                    "lt" => "<",
+                    "gt" => ">",
+                    "amp" => "&",
+                    "quot" => "\"",
+                    "apos" => "'",
+                    other => panic!("unexpected entity &{other};"),
+                });
+            }
+            Event::Eof => break,
+            _ => {}
+        }
+    }
+    assert_eq!((depth, roots), (0, 1), "unbalanced SVG");
+    titles
+}
+
+/// `name (1,234 unit, 5.67%)` → (name, 1234).
+fn title_count(t: &str, unit: &str) -> (String, u64) {
+    let (name, rest) = t.rsplit_once(" (").unwrap_or_else(|| panic!("title {t:?}"));
+    let n = rest
+        .split_once(&format!(" {unit}, "))
+        .unwrap_or_else(|| panic!("title {t:?}"))
+        .0
+        .replace(',', "");
+    (name.to_string(), n.parse().unwrap())
+}
+
+/// One box per distinct call path of the folded output, with the path's inclusive count:
+/// the flame graph drops no function (however narrow) and shows the exact counts.
+#[test]
+fn flamegraph_svg_has_every_call_path_with_its_folded_count() {
+    let dir = scratch("flamegraph");
+    for (mode, unit) in [
+        ("--functional", "instructions"),
+        ("timing", "thread-cycles"),
+    ] {
+        let mut outs = Vec::new();
+        for (format, file) in [
+            ("folded", "p.folded"),
+            ("flamegraph", "p.svg"),
+            ("flamegraph", "again.svg"),
+        ] {
+            let path = dir.join(file);
+            let mut args = vec![
+                "run",
+                "examples/pathtracer.rs",
+                "--config",
+                "tiny",
+                "--width",
+                "8",
+                "--height",
+                "8",
+                "--profile",
+                "--profile-format",
+                format,
+                "--profile-out",
+                path.to_str().unwrap(),
+            ];
+            if mode == "--functional" {
+                args.push(mode);
+            }
+            let out = trax(&args);
+            assert!(out.status.success(), "{}", text(&out.stderr));
+            outs.push(std::fs::read_to_string(&path).unwrap());
+        }
+        assert_eq!(
+            outs[1], outs[2],
+            "{mode}: same profile, different SVG bytes"
+        );
+        // Inclusive count of every distinct call path (prefix of a folded stack).
+        let mut paths: std::collections::BTreeMap<Vec<&str>, u64> = Default::default();
+        let mut total = 0;
+        for line in outs[0].lines() {
+            let (stack, n) = line.rsplit_once(' ').unwrap();
+            let n: u64 = n.parse().unwrap();
+            total += n;
+            let frames: Vec<&str> = stack.split(';').collect();
+            for k in 1..=frames.len() {
+                *paths.entry(frames[..k].to_vec()).or_insert(0) += n;
+            }
+        }
+        let mut want: Vec<(String, u64)> = paths
+            .iter()
+            .map(|(p, n)| (p.last().unwrap().to_string(), *n))
+            .collect();
+        want.sort();
+        let titles = svg_titles(&outs[1]);
+        let all = format!("all ({} {unit}, 100%)", thousands(total));
+        assert!(titles.contains(&all), "{mode}: no {all:?} in {titles:?}");
+        let mut got: Vec<(String, u64)> = titles
+            .iter()
+            .filter(|t| !t.starts_with("all ("))
+            .map(|t| title_count(t, unit))
+            .collect();
+        got.sort();
+        assert!(
+            want.iter().any(|(n, _)| n.contains("::")) && want.len() > 10,
+            "{mode}: the path tracer's call tree is small: {want:?}"
+        );
+        assert_eq!(got, want, "{mode}");
+    }
+}
+
+/// `1234567` → `1,234,567` (inferno's tooltip numbers).
+fn thousands(n: u64) -> String {
+    let s = n.to_string();
+    let mut out = String::new();
+    for (i, c) in s.chars().enumerate() {
+        if i > 0 && (s.len() - i).is_multiple_of(3) {
+            out.push(',');
+        }
+        out.push(c);
+    }
+    out
+}

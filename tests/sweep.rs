@@ -966,3 +966,46 @@ fn icosphere_scenes_and_cycle_limits_are_sweep_parameters() {
         }
     }
 }
+
+/// A file inside `box:`/`subdivide:N:` wrappers is found relative to the sweep file (not
+/// the working directory), keeps its wrappers, and a missing one is named.
+#[test]
+fn wrapped_scene_files_resolve_relative_to_the_sweep_file() {
+    let dir = scratch("wrapped-scene");
+    std::fs::write(dir.join("tri.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    let k = gradient();
+    let body = format!(
+        "kernel = {k:?}\nmode = \"functional\"\nwidth = 4\nheight = 4\n\
+         scene = \"box:subdivide:1:tri.obj\"\n"
+    );
+    let f = sweep_file(&dir, &body);
+    let res = dir.join("res");
+    let out = trax(&[
+        "sweep",
+        f.to_str().unwrap(),
+        "-j",
+        "1",
+        "-o",
+        res.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let points: Vec<PathBuf> = std::fs::read_dir(res.join("points"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    assert_eq!(points.len(), 1);
+    let point = std::fs::read_to_string(&points[0]).unwrap();
+    let want = format!("box:subdivide:1:{}", dir.join("tri.obj").display());
+    assert!(point.contains(&want), "no {want} in {point}");
+    let v: serde_json::Value = serde_json::from_str(&point).unwrap();
+    assert_eq!(v["status"], "ok", "{point}");
+
+    let f = sweep_file(&dir, &body.replace("tri.obj", "gone.obj"));
+    let out = trax(&["sweep", f.to_str().unwrap(), "--dry-run"]);
+    let err = text(&out.stderr);
+    assert!(!out.status.success());
+    assert!(
+        err.contains(&format!("{}: no such file", dir.join("gone.obj").display())),
+        "{err}"
+    );
+}

@@ -27,7 +27,9 @@ pub struct ShapeArgs {
 #[derive(Args, Debug, Clone)]
 pub struct RenderArgs {
     /// Scene: `cornell` (embedded default), `procedural:N` (about N triangles),
-    /// `icosphere:N` (a closed sphere mesh of 20·4^N triangles), or an .obj/.objl file.
+    /// `icosphere:N` (a closed sphere mesh of 20·4^N triangles), `hairball:N[:SEED]`,
+    /// `vegetation:N[:SEED]`, `box:SCENE`, `subdivide:N:SCENE`, or an .obj/.objl file
+    /// (details: `trax scene --help`).
     #[arg(long, default_value = "cornell")]
     pub scene: String,
     /// Scale the whole scene by this factor (e.g. 1e-20 or 1e20): vertices, camera eye and

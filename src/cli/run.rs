@@ -38,7 +38,8 @@ pub struct RunArgs {
     #[arg(long, value_enum, default_value_t = ProfileFormat::Tree, requires = "profile")]
     pub profile_format: ProfileFormat,
     /// Write the profile here (default for `folded`: profile.folded, for `speedscope`:
-    /// profile.speedscope.json; `tree` goes to stdout unless this is given).
+    /// profile.speedscope.json, for `flamegraph`: profile.svg; `tree` goes to stdout
+    /// unless this is given).
     #[arg(long, requires = "profile")]
     pub profile_out: Option<PathBuf>,
     /// Serve the run to GDB (gdb-multiarch `target remote ADDR`) on this address, e.g.
@@ -59,6 +60,8 @@ pub enum ProfileFormat {
     Folded,
     /// speedscope JSON (https://www.speedscope.app).
     Speedscope,
+    /// Interactive SVG flame graph (click to zoom, search; open in a web browser).
+    Flamegraph,
 }
 
 /// What to do besides running: profile, or serve to GDB.
@@ -171,6 +174,11 @@ fn write_profile(a: &RunArgs, p: &Profile) -> Result<(), String> {
             let name = a.exec.kernel.display().to_string();
             (p.speedscope(&name), Some("profile.speedscope.json"))
         }
+        ProfileFormat::Flamegraph => {
+            let title = format!("{} ({})", a.exec.kernel.display(), p.unit());
+            let svg = flamegraph_svg(&p.folded(), p.unit(), &title)?;
+            (svg, Some("profile.svg"))
+        }
     };
     match a
         .profile_out
@@ -189,6 +197,41 @@ fn write_profile(a: &RunArgs, p: &Profile) -> Result<(), String> {
         }
     }
     Ok(())
+}
+
+/// Renders folded stacks ([`Profile::folded`]) as an interactive SVG flame graph (inferno):
+/// one box per distinct call path, as wide as the path's inclusive cost; every path is
+/// kept however narrow, and each box's tooltip gives its exact count in `unit`.
+///
+/// The folded stacks are ordered frame by frame (not as strings, where `a;f::g` would sort
+/// between `a;f` and `a;f;h` and split `f` in two), so each call path is a single box.
+/// Colours come from a hash of the function name: the same profile gives the same bytes.
+pub fn flamegraph_svg(folded: &str, unit: &str, title: &str) -> Result<String, String> {
+    let mut lines: Vec<(Vec<&str>, &str)> = folded
+        .lines()
+        .filter_map(|l| {
+            l.rsplit_once(' ')
+                .map(|(stack, _)| (stack.split(';').collect(), l))
+        })
+        .collect();
+    if lines.is_empty() {
+        return Err("the profile is empty: nothing to draw in a flame graph".into());
+    }
+    lines.sort();
+    // inferno insists on string order unless in "flame chart" mode, which only draws
+    // the lines in the order given (reversed first, hence `.rev()`).
+    let ordered = lines.iter().rev().map(|(_, line)| *line);
+    let mut opt = inferno::flamegraph::Options::default();
+    opt.title = title.to_string();
+    opt.count_name = unit.to_string();
+    opt.min_width = 0.0;
+    opt.flame_chart = true;
+    opt.hash = true;
+    opt.deterministic = true;
+    let mut svg = Vec::new();
+    inferno::flamegraph::from_lines(&mut opt, ordered, &mut svg)
+        .map_err(|e| format!("flame graph: {e}"))?;
+    String::from_utf8(svg).map_err(|e| format!("flame graph: {e}"))
 }
 
 /// Call-tree nodes below this inclusive percentage are left out of the printed tree.
@@ -355,4 +398,24 @@ fn with_newline(mut s: String) -> String {
         s.push('\n');
     }
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::flamegraph_svg;
+
+    /// `f::g` sorts between `f` and `f;h` as a string; ordered as strings, `a;f` would be
+    /// drawn as two boxes (1 and 3) instead of one of 4.
+    #[test]
+    fn flamegraph_draws_one_box_per_call_path() {
+        let folded = "a;f 1\na;f::g 2\na;f;h 3\n";
+        let svg = flamegraph_svg(folded, "instructions", "t").unwrap();
+        let boxes = |name: &str| svg.matches(&format!("<title>{name} (")).count();
+        assert_eq!(boxes("f"), 1, "{svg}");
+        assert!(svg.contains("<title>f (4 instructions, 66.67%)</title>"));
+        assert!(svg.contains("<title>f::g (2 instructions, 33.33%)</title>"));
+        assert!(svg.contains("<title>h (3 instructions, 50.00%)</title>"));
+        assert!(svg.contains("<title>a (6 instructions, 100.00%)</title>"));
+        assert!(flamegraph_svg("", "instructions", "t").is_err());
+    }
 }

@@ -14,10 +14,28 @@ use trax_assembler::scene::{load_scene, LoadOptions};
 
 /// Arguments of `trax scene`.
 #[derive(Args, Debug)]
+#[command(after_long_help = SPEC_HELP)]
 pub struct SceneArgs {
     #[command(subcommand)]
     command: SceneCommand,
 }
+
+/// The scene spec syntax, printed after `trax scene --help`.
+const SPEC_HELP: &str = "\
+Scene specs (wherever a scene is taken: trax run/annotate/native/scene, sweep files):
+  cornell               the Cornell box (embedded), 32 triangles
+  procedural:N          spheres in a room, about N triangles
+  icosphere:N           a closed sphere mesh, 20·4^N triangles (N <= 10)
+  hairball:N[:SEED]     a dense ball of thin random tubes (thesis Hairball stand-in),
+                        exactly N triangles; SEED defaults to 1
+  vegetation:N[:SEED]   a wide field of instanced leaves on a ground quad (thesis
+                        Vegetation stand-in), exactly N triangles; SEED defaults to 1
+  box:SCENE             SCENE enclosed in a closed box holding its camera and lights
+                        (+12 triangles; thesis Dragon Box / Buddha Box)
+  subdivide:N:SCENE     every triangle of SCENE split in four at its edge midpoints,
+                        N times: exactly 4^N times the triangles, same surface
+  PATH.obj | PATH.objl  a file; .view/.light beside it give the camera and light
+Wrappers nest (at most 8): box:subdivide:2:../shared/scenes/dragon/dragon-100k.obj";
 
 #[derive(Subcommand, Debug)]
 enum SceneCommand {
@@ -27,7 +45,9 @@ enum SceneCommand {
 
 #[derive(Args, Debug)]
 struct InfoArgs {
-    /// `cornell`, `procedural:N`, `icosphere:N`, or a path to an .obj/.objl file.
+    /// Scene spec: `cornell`, `procedural:N`, `icosphere:N`, `hairball:N[:SEED]`,
+    /// `vegetation:N[:SEED]`, `box:SCENE`, `subdivide:N:SCENE`, or an .obj/.objl file
+    /// (details: `trax scene --help`).
     scene: String,
     /// Scale the whole scene by this factor (vertices, camera eye, point lights), after the
     /// .view/.light files are applied; see `trax run --help`.

@@ -3,16 +3,20 @@
 //! procedurally. Every loader ends in [`Scene::validate`], so a [`Scene`] handed to the BVH
 //! builder or the memory image has finite vertices and at least one triangle.
 
+mod compose;
 mod cornell;
 mod obj;
 mod procedural;
+mod standin;
 mod view;
 
 use std::path::{Path, PathBuf};
 
+pub use compose::{enclose_in_box, subdivide, BOX_MATERIAL, BOX_TRIANGLES};
 pub use cornell::cornell_box;
 pub use obj::{load_obj, load_obj_with, load_objl, ReadText};
 pub use procedural::{icosphere, procedural};
+pub use standin::{hairball, vegetation, DEFAULT_SEED, LEAF_TRIANGLES, STRAND_TRIANGLES};
 pub use view::{parse_light, parse_light_str, parse_view, parse_view_str, View};
 
 /// A 3-component vector.
@@ -201,7 +205,7 @@ pub enum SceneError {
     BadCamera(String),
     /// A scene name that is neither built in nor a file path with a known extension.
     #[error(
-        "unknown scene `{0}`: expected `cornell`, `procedural:N`, `icosphere:N` or a path to a .obj/.objl file"
+        "unknown scene `{0}`: expected `cornell`, `procedural:N`, `icosphere:N`, `hairball:N[:SEED]`, `vegetation:N[:SEED]`, `box:SCENE`, `subdivide:N:SCENE` or a path to a .obj/.objl file"
     )]
     UnknownScene(String),
     /// The scene scale (`--scene-scale`) is unusable or makes a coordinate overflow.
@@ -528,13 +532,97 @@ enum ViewSource {
     Framing,
 }
 
-/// Loads a scene by name: `cornell` (embedded), `procedural:N` (about N triangles),
-/// `icosphere:N` (a closed sphere mesh, `N` subdivisions), or a path to an `.obj` or `.objl`
-/// file. For files, the camera comes from `opts.view`, else a `.view` file with the same
-/// stem, else the only `.view` file in the same directory, else a camera framing the scene's
-/// bounds; lights likewise from `.light` files. `opts.scale` then scales the scene, and the
+/// Splits a scene spec into its `box:`/`subdivide:N:` wrappers and the innermost scene,
+/// and tells whether that innermost scene is a file (to be resolved as a path) or built in:
+/// `box:subdivide:2:dragon.obj` → `("box:subdivide:2:", "dragon.obj", true)`.
+pub fn split_spec(spec: &str) -> (&str, &str, bool) {
+    let mut rest = spec;
+    loop {
+        if let Some(r) = rest.strip_prefix("box:") {
+            rest = r;
+        } else if let Some((_, r)) = rest
+            .strip_prefix("subdivide:")
+            .and_then(|r| r.split_once(':'))
+        {
+            rest = r;
+        } else {
+            break;
+        }
+    }
+    let built_in = rest == "cornell"
+        || [
+            "procedural",
+            "icosphere",
+            "hairball",
+            "vegetation",
+            "box",
+            "subdivide",
+        ]
+        .iter()
+        .any(|g| rest == *g || rest.starts_with(&format!("{g}:")));
+    (&spec[..spec.len() - rest.len()], rest, !built_in)
+}
+
+/// Most `box:`/`subdivide:` wrappers one spec may nest.
+const MAX_SPEC_NESTING: usize = 8;
+
+/// Loads a scene by spec: `cornell` (embedded), `procedural:N` (about N triangles),
+/// `icosphere:N` (a closed sphere mesh, `N` subdivisions), [`hairball`]`:N[:SEED]`,
+/// [`vegetation`]`:N[:SEED]` (exactly N triangles, SEED default [`DEFAULT_SEED`]),
+/// `box:SCENE` ([`enclose_in_box`]), `subdivide:N:SCENE` ([`subdivide`]; wrappers nest, at
+/// most 8 deep, and the inner scene is loaded with these rules, scaling left to the
+/// outermost), or a path to an `.obj` or `.objl` file. For files, the camera comes from
+/// `opts.view`, else a `.view` file with the same stem, else the only `.view` file in the
+/// same directory, else a camera framing the scene's bounds; lights likewise from `.light`
+/// files. `opts.scale` then scales the scene, and the
 /// result is validated once, with camera errors naming the `.view` file they came from.
 pub fn load_scene(spec: &str, opts: &LoadOptions) -> Result<Scene, SceneError> {
+    load_nested(spec, opts, 0)
+}
+
+/// A number in a scene spec: `part` of `spec`, naming `what` it should be when it is not.
+fn spec_number(spec: &str, part: &str, what: &str) -> Result<u64, SceneError> {
+    part.trim().parse().map_err(|_| SceneError::Procedural {
+        spec: spec.into(),
+        message: format!("`{part}` is not {what}"),
+    })
+}
+
+/// `N[:SEED]` of a seeded generator's spec.
+fn count_and_seed(spec: &str, rest: &str) -> Result<(u64, u64), SceneError> {
+    let (n, seed) = match rest.split_once(':') {
+        Some((n, seed)) => (n, Some(seed)),
+        None => (rest, None),
+    };
+    let n = spec_number(spec, n, "a triangle count")?;
+    let seed = match seed {
+        Some(s) => spec_number(spec, s, "a seed (a whole number)")?,
+        None => DEFAULT_SEED,
+    };
+    Ok((n, seed))
+}
+
+fn load_nested(spec: &str, opts: &LoadOptions, depth: usize) -> Result<Scene, SceneError> {
+    let inner = |inner: &str, form: &str| -> Result<Scene, SceneError> {
+        if inner.trim().is_empty() {
+            return Err(SceneError::Procedural {
+                spec: spec.into(),
+                message: format!("expected `{form}` (no scene after the last `:`)"),
+            });
+        }
+        if depth >= MAX_SPEC_NESTING {
+            return Err(SceneError::Procedural {
+                spec: spec.into(),
+                message: format!("more than {MAX_SPEC_NESTING} nested `box:`/`subdivide:`"),
+            });
+        }
+        // The inner scene gets its camera and lights; scaling is done once, outside.
+        let o = LoadOptions {
+            scale: None,
+            ..opts.clone()
+        };
+        load_nested(inner, &o, depth + 1)
+    };
     let count = |prefix: &str, what: &str| -> Result<Option<u64>, SceneError> {
         match spec.strip_prefix(prefix) {
             Some(n) => n
@@ -555,16 +643,48 @@ pub fn load_scene(spec: &str, opts: &LoadOptions) -> Result<Scene, SceneError> {
         procedural(n)?
     } else if let Some(n) = count("icosphere:", "a subdivision count")? {
         icosphere(n)?
+    } else if let Some(rest) = spec.strip_prefix("hairball:") {
+        let (n, seed) = count_and_seed(spec, rest)?;
+        hairball(n, seed)?
+    } else if let Some(rest) = spec.strip_prefix("vegetation:") {
+        let (n, seed) = count_and_seed(spec, rest)?;
+        vegetation(n, seed)?
+    } else if let Some(rest) = spec.strip_prefix("box:") {
+        enclose_in_box(inner(rest, "box:SCENE")?, spec)?
+    } else if let Some(rest) = spec.strip_prefix("subdivide:") {
+        let Some((n, rest)) = rest.split_once(':') else {
+            return Err(SceneError::Procedural {
+                spec: spec.into(),
+                message: "expected `subdivide:N:SCENE`".into(),
+            });
+        };
+        let levels = spec_number(spec, n, "a subdivision count")?;
+        let levels = u32::try_from(levels).unwrap_or(u32::MAX);
+        subdivide(inner(rest, "subdivide:N:SCENE")?, levels, spec)?
     } else {
         is_file = true;
         let path = Path::new(spec);
         match path.extension().and_then(|e| e.to_str()) {
             Some(e) if e.eq_ignore_ascii_case("obj") => obj::read_obj(path)?,
             Some(e) if e.eq_ignore_ascii_case("objl") => obj::read_objl(path)?,
-            _ if spec == "procedural" || spec == "icosphere" => {
+            _ if [
+                "procedural",
+                "icosphere",
+                "hairball",
+                "vegetation",
+                "box",
+                "subdivide",
+            ]
+            .contains(&spec) =>
+            {
                 return Err(SceneError::Procedural {
                     spec: spec.into(),
-                    message: format!("expected `{spec}:N`"),
+                    message: match spec {
+                        "box" => "expected `box:SCENE`".into(),
+                        "subdivide" => "expected `subdivide:N:SCENE`".into(),
+                        "hairball" | "vegetation" => format!("expected `{spec}:N[:SEED]`"),
+                        _ => format!("expected `{spec}:N`"),
+                    },
                 })
             }
             _ => return Err(SceneError::UnknownScene(spec.into())),

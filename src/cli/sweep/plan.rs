@@ -242,13 +242,12 @@ pub fn make_plan(spec: &SweepSpec, points: &[Point], build_dir: &Path) -> Result
             args.push(format!("{k}={}", v.to_toml()));
         }
         let scene = s("scene").unwrap_or_else(|| "cornell".into());
-        let scene_arg = if scene == "cornell"
-            || scene.starts_with("procedural:")
-            || scene.starts_with("icosphere:")
-        {
-            scene
+        // Built-in scenes as they are; a file, also inside `box:`/`subdivide:N:`, from here.
+        let (wrappers, innermost, is_file) = trax_assembler::scene::split_spec(&scene);
+        let scene_arg = if !is_file {
+            scene.clone()
         } else {
-            let path = resolve_path(spec, &scene);
+            let path = resolve_path(spec, innermost);
             if !path.is_file() {
                 return Err(err_at(
                     spec,
@@ -257,7 +256,7 @@ pub fn make_plan(spec: &SweepSpec, points: &[Point], build_dir: &Path) -> Result
                     format!("{}: no such file", path.display()),
                 ));
             }
-            path.display().to_string()
+            format!("{wrappers}{}", path.display())
         };
         args.extend(["--scene".into(), scene_arg]);
         for k in ["view", "light"] {

@@ -12,9 +12,10 @@
 //! Messages are rustc's (e.g. "attempt to compute `u8::MAX + 1_u8`, which would overflow").
 
 use crate::diag::{DResult, Diagnostic, FileId};
+use crate::ops::BinOp as Op;
 use crate::resolve::{GlobalId, Program};
 use crate::ty::{FloatTy, IntTy, Ty};
-use crate::typeck::{key, Body, FmtPiece, LocalId, MacroCall, Res, TraxArg};
+use crate::typeck::{key, Body, Checked, Count, FmtPiece, LocalId, MacroCall, Res, TraxArg};
 use std::collections::HashMap;
 use syn::spanned::Spanned;
 use syn::visit::Visit;
@@ -83,40 +84,18 @@ pub fn wrap(t: IntTy, v: i128) -> i128 {
     }
 }
 
-/// The arithmetic binary operators: `+ - * / % << >> & | ^` (compound forms included).
-/// Returns the operator of a compound assignment's plain form.
-fn arith_op(op: &BinOp) -> Option<(&'static str, bool)> {
-    use BinOp::*;
-    Some(match op {
-        Add(_) => ("+", false),
-        Sub(_) => ("-", false),
-        Mul(_) => ("*", false),
-        Div(_) => ("/", false),
-        Rem(_) => ("%", false),
-        Shl(_) => ("<<", false),
-        Shr(_) => (">>", false),
-        BitAnd(_) => ("&", false),
-        BitOr(_) => ("|", false),
-        BitXor(_) => ("^", false),
-        AddAssign(_) => ("+", true),
-        SubAssign(_) => ("-", true),
-        MulAssign(_) => ("*", true),
-        DivAssign(_) => ("/", true),
-        RemAssign(_) => ("%", true),
-        ShlAssign(_) => ("<<", true),
-        ShrAssign(_) => (">>", true),
-        BitAndAssign(_) => ("&", true),
-        BitOrAssign(_) => ("|", true),
-        BitXorAssign(_) => ("^", true),
-        _ => return None,
-    })
+/// The arithmetic binary operators: `+ - * / % << >> & | ^` (compound forms included),
+/// with whether the operator is a compound assignment.
+fn arith_op(op: &syn::BinOp) -> Option<(Op, bool)> {
+    let (o, assign) = Op::of(op);
+    (o.is_arith() || o.is_bit() || o.is_shift()).then_some((o, assign))
 }
 
 /// Integer operation `l op r` in type `t` (the shift amount `r` has its own type `rt`),
 /// with rustc's run-time checks. `None` operands are unknown; the result is known when
 /// both are.
 pub fn int_binop(
-    op: &str,
+    op: Op,
     t: IntTy,
     l: Option<i128>,
     rt: IntTy,
@@ -124,16 +103,16 @@ pub fn int_binop(
 ) -> Result<Option<i128>, Failure> {
     let (ls, rs) = (show_opt(t, l), show_opt(rt, r));
     match op {
-        "/" | "%" => {
+        Op::Div | Op::Rem => {
             if r == Some(0) {
-                return Err(panic(if op == "/" {
+                return Err(panic(if op == Op::Div {
                     format!("attempt to divide `{ls}` by zero")
                 } else {
                     format!("attempt to calculate the remainder of `{ls}` with a divisor of zero")
                 }));
             }
             if t.signed() && r == Some(-1) && l == Some(t.min()) {
-                return Err(panic(if op == "/" {
+                return Err(panic(if op == Op::Div {
                     format!("attempt to compute `{ls} / {rs}`, which would overflow")
                 } else {
                     format!(
@@ -142,10 +121,10 @@ pub fn int_binop(
                 }));
             }
         }
-        "<<" | ">>" => {
+        Op::Shl | Op::Shr => {
             if let Some(r) = r {
                 if r < 0 || r >= t.bits() as i128 {
-                    let dir = if op == "<<" { "left" } else { "right" };
+                    let dir = if op == Op::Shl { "left" } else { "right" };
                     return Err(overflow(format!(
                         "attempt to shift {dir} by `{rs}`, which would overflow"
                     )));
@@ -158,17 +137,19 @@ pub fn int_binop(
         return Ok(None);
     };
     let v = match op {
-        "+" => l.checked_add(r),
-        "-" => l.checked_sub(r),
-        "*" => l.checked_mul(r),
-        "/" => Some(l / r),
-        "%" => Some(l % r),
-        "<<" => return Ok(Some(wrap(t, l << r))),
-        ">>" => return Ok(Some(l >> r)),
-        "&" => Some(l & r),
-        "|" => Some(l | r),
-        _ => Some(l ^ r),
+        Op::Add => l.checked_add(r),
+        Op::Sub => l.checked_sub(r),
+        Op::Mul => l.checked_mul(r),
+        Op::Div => Some(l / r),
+        Op::Rem => Some(l % r),
+        Op::Shl => return Ok(Some(wrap(t, l << r))),
+        Op::Shr => return Ok(Some(l >> r)),
+        Op::BitAnd => Some(l & r),
+        Op::BitOr => Some(l | r),
+        Op::BitXor => Some(l ^ r),
+        _ => return Ok(None),
     };
+    let op = op.text();
     match v {
         Some(v) if (t.min()..=t.max()).contains(&v) => Ok(Some(v)),
         _ => Err(overflow(format!(
@@ -220,7 +201,7 @@ fn int_lit_value(l: &syn::LitInt) -> Option<i128> {
 /// Evaluates expressions of one body; results are cached per expression.
 struct Eval<'p, 'a> {
     p: &'p Program<'a>,
-    globals: &'p [Body],
+    globals: &'p Checked,
     body: &'p Body,
     /// Immutable locals bound to a known value.
     locals: HashMap<LocalId, CVal>,
@@ -229,7 +210,7 @@ struct Eval<'p, 'a> {
 }
 
 impl<'p, 'a> Eval<'p, 'a> {
-    fn new(p: &'p Program<'a>, globals: &'p [Body], body: &'p Body, depth: u32) -> Self {
+    fn new(p: &'p Program<'a>, globals: &'p Checked, body: &'p Body, depth: u32) -> Self {
         Eval {
             p,
             globals,
@@ -316,8 +297,8 @@ impl<'p, 'a> Eval<'p, 'a> {
                 Res::Int(t, v) => Some(CVal::Int(*t, *v)),
                 Res::Float(f, v) => Some(CVal::Float(*f, *v)),
                 Res::Local(l) => self.locals.get(l).copied(),
-                Res::Global(g) => self.global(*g),
-                Res::UnitStruct(_) => None,
+                Res::Global(g, s) if s.is_empty() => self.global(*g),
+                Res::Global(..) | Res::Unit(..) => None,
             },
             _ => None,
         }
@@ -329,8 +310,8 @@ impl<'p, 'a> Eval<'p, 'a> {
         if gd.is_static.is_some() || self.depth > 32 {
             return None;
         }
-        let body = self.globals.get(g)?;
-        Eval::new(self.p, self.globals, body, self.depth + 1).value(gd.expr)
+        let body = self.globals.global_body(g, &[])?;
+        Eval::new(self.p, self.globals, body, self.depth + 1).value(gd.expr?)
     }
 
     fn binary(&mut self, b: &syn::ExprBinary) -> Option<CVal> {
@@ -343,19 +324,19 @@ impl<'p, 'a> Eval<'p, 'a> {
                     .map(|v| CVal::Int(t, v)),
                 (CVal::Float(f, x), CVal::Float(_, y)) => {
                     let v = match op {
-                        "+" => x + y,
-                        "-" => x - y,
-                        "*" => x * y,
-                        "/" => x / y,
-                        "%" => x % y,
+                        Op::Add => x + y,
+                        Op::Sub => x - y,
+                        Op::Mul => x * y,
+                        Op::Div => x / y,
+                        Op::Rem => x % y,
                         _ => return None,
                     };
                     Some(CVal::Float(f, round(f, v)))
                 }
                 (CVal::Bool(x), CVal::Bool(y)) => Some(CVal::Bool(match op {
-                    "&" => x & y,
-                    "|" => x | y,
-                    "^" => x ^ y,
+                    Op::BitAnd => x & y,
+                    Op::BitOr => x | y,
+                    Op::BitXor => x ^ y,
                     _ => return None,
                 })),
                 _ => None,
@@ -647,7 +628,7 @@ impl<'p> Visit<'p> for Checker<'p, '_> {
         if let (Pat::Ident(pi), Some(init)) = (pat, &l.init) {
             if pi.mutability.is_none() && pi.by_ref.is_none() && init.diverge.is_none() {
                 if let (Some(&id), Some(v)) = (
-                    self.ev.body.pat_locals.get(&key(pi)),
+                    self.ev.body.binds.get(&key(pi)).map(|(id, _)| id),
                     self.ev.value(&init.expr),
                 ) {
                     self.ev.locals.insert(id, v);
@@ -662,9 +643,17 @@ impl<'p> Visit<'p> for Checker<'p, '_> {
             return;
         };
         let args = |pieces: &'p [FmtPiece]| {
-            pieces.iter().filter_map(|p| match p {
-                FmtPiece::Arg(e) | FmtPiece::Debug(e) => Some(&**e),
-                FmtPiece::Lit(_) => None,
+            pieces.iter().flat_map(|p| match p {
+                FmtPiece::Arg(e, spec) => {
+                    let mut v = vec![&**e];
+                    for c in [&spec.width, &spec.precision] {
+                        if let Count::Arg(x) = c {
+                            v.push(&**x);
+                        }
+                    }
+                    v
+                }
+                FmtPiece::Lit(_) => Vec::new(),
             })
         };
         let mut exprs: Vec<&Expr> = Vec::new();
@@ -685,6 +674,10 @@ impl<'p> Visit<'p> for Checker<'p, '_> {
                 TraxArg::Imm(_) => None,
             })),
             MacroCall::Mtc2(_, x) => exprs.push(x),
+            MacroCall::Matches { expr, guard, .. } => {
+                exprs.push(expr);
+                exprs.extend(guard.as_deref());
+            }
             _ => {}
         }
         for e in exprs {
@@ -706,8 +699,9 @@ impl<'p> Visit<'p> for Checker<'p, '_> {
 }
 
 /// Checks function `f`'s body (already type-checked into `body`).
-pub fn check_fn(p: &Program, globals: &[Body], f: usize, body: &Body) -> DResult<()> {
+pub fn check_fn(p: &Program, globals: &Checked, f: usize, body: &Body) -> DResult<()> {
     let fd = &p.fns[f];
+    let Some(block) = fd.body else { return Ok(()) };
     let mut c = Checker {
         ev: Eval::new(p, globals, body, 0),
         file: fd.file,
@@ -716,28 +710,89 @@ pub fn check_fn(p: &Program, globals: &[Body], f: usize, body: &Body) -> DResult
         negated_span: None,
         err: None,
     };
-    c.visit_block(fd.body);
+    c.visit_block(block);
     c.err.map_or(Ok(()), Err)
 }
 
-/// Evaluates the initializer of const or static `g` (type-checked into `globals[g]`).
-pub fn check_global(p: &Program, globals: &[Body], g: GlobalId) -> DResult<()> {
+/// Evaluates the initializer of const or static `g` (type-checked into `globals`).
+pub fn check_global(p: &Program, globals: &Checked, g: GlobalId, body: &Body) -> DResult<()> {
     let gd = &p.globals[g];
+    let Some(expr) = gd.expr else { return Ok(()) };
     // rustc evaluates an associated const only where it is used, but lints its body.
     let mode = match gd.self_ty {
         Some(_) => Mode::Fn,
         None => Mode::Const(gd.name.clone()),
     };
     let mut c = Checker {
-        ev: Eval::new(p, globals, &globals[g], 0),
+        ev: Eval::new(p, globals, body, 0),
         file: gd.file,
         mode,
         negated: None,
         negated_span: None,
         err: None,
     };
-    c.visit_expr(gd.expr);
+    c.visit_expr(expr);
     c.err.map_or(Ok(()), Err)
+}
+
+/// Finds a `const` whose value depends on itself: reported at the first reference, in
+/// declaration order, that leads back to the const being evaluated.
+pub fn check_const_cycles(p: &Program, checked: &Checked) -> Option<Diagnostic> {
+    struct Refs<'b> {
+        body: &'b Body,
+        out: Vec<(proc_macro2::Span, GlobalId)>,
+    }
+    impl<'v> Visit<'v> for Refs<'_> {
+        fn visit_expr(&mut self, e: &'v Expr) {
+            if let Expr::Path(_) = e {
+                if let Some(Res::Global(g, _)) = self.body.res.get(&key(e)) {
+                    self.out.push((e.span(), *g));
+                }
+            }
+            syn::visit::visit_expr(self, e);
+        }
+    }
+    let refs = |g: GlobalId| -> Vec<(proc_macro2::Span, GlobalId)> {
+        let gd = &p.globals[g];
+        let (Some(expr), Some(body)) = (gd.expr, checked.global_body(g, &[])) else {
+            return Vec::new();
+        };
+        let mut r = Refs {
+            body,
+            out: Vec::new(),
+        };
+        r.visit_expr(expr);
+        r.out
+            .into_iter()
+            .filter(|(_, t)| p.globals[*t].is_static.is_none())
+            .collect()
+    };
+    for start in 0..p.globals.len() {
+        if p.globals[start].is_static.is_some() || !p.globals[start].generics.is_empty() {
+            continue;
+        }
+        for (span, first) in refs(start) {
+            // Does `first` reach `start`?
+            let mut seen = vec![false; p.globals.len()];
+            let mut stack = vec![first];
+            while let Some(g) = stack.pop() {
+                if g == start {
+                    let gd = &p.globals[start];
+                    return Some(p.err(
+                        gd.file,
+                        span,
+                        "recursive-constant",
+                        format!("constant `{}` refers to itself", p.globals[first].name),
+                    ));
+                }
+                if std::mem::replace(&mut seen[g], true) {
+                    continue;
+                }
+                stack.extend(refs(g).into_iter().map(|(_, t)| t));
+            }
+        }
+    }
+    None
 }
 
 #[cfg(test)]
@@ -749,48 +804,57 @@ mod tests {
         let u8_ = IntTy::U8;
         let i32_ = IntTy::I32;
         assert_eq!(
-            int_binop("+", u8_, Some(255), u8_, Some(1))
+            int_binop(Op::Add, u8_, Some(255), u8_, Some(1))
                 .unwrap_err()
                 .message,
             "attempt to compute `u8::MAX + 1_u8`, which would overflow"
         );
         assert_eq!(
-            int_binop("-", IntTy::Usize, Some(3), IntTy::Usize, Some(4))
+            int_binop(Op::Sub, IntTy::Usize, Some(3), IntTy::Usize, Some(4))
                 .unwrap_err()
                 .message,
             "attempt to compute `3_usize - 4_usize`, which would overflow"
         );
-        let f = int_binop("/", i32_, None, i32_, Some(0)).unwrap_err();
+        let f = int_binop(Op::Div, i32_, None, i32_, Some(0)).unwrap_err();
         assert!(f.panics);
         assert_eq!(f.message, "attempt to divide `_` by zero");
         assert_eq!(
-            int_binop("%", i32_, Some(5), i32_, Some(0))
+            int_binop(Op::Rem, i32_, Some(5), i32_, Some(0))
                 .unwrap_err()
                 .message,
             "attempt to calculate the remainder of `5_i32` with a divisor of zero"
         );
         assert_eq!(
-            int_binop("/", i32_, Some(i32::MIN as i128), i32_, Some(-1))
+            int_binop(Op::Div, i32_, Some(i32::MIN as i128), i32_, Some(-1))
                 .unwrap_err()
                 .message,
             "attempt to compute `i32::MIN / -1_i32`, which would overflow"
         );
         assert_eq!(
-            int_binop("<<", i32_, None, u8_, Some(32))
+            int_binop(Op::Shl, i32_, None, u8_, Some(32))
                 .unwrap_err()
                 .message,
             "attempt to shift left by `32_u8`, which would overflow"
         );
         assert_eq!(
-            int_binop("<<", u8_, Some(255), i32_, Some(1)),
+            int_binop(Op::Shl, u8_, Some(255), i32_, Some(1)),
             Ok(Some(254))
         );
-        assert_eq!(int_binop(">>", i32_, Some(-8), i32_, Some(1)), Ok(Some(-4)));
-        assert_eq!(int_binop("/", i32_, Some(-7), i32_, Some(2)), Ok(Some(-3)));
-        assert_eq!(int_binop("%", i32_, Some(-7), i32_, Some(2)), Ok(Some(-1)));
+        assert_eq!(
+            int_binop(Op::Shr, i32_, Some(-8), i32_, Some(1)),
+            Ok(Some(-4))
+        );
+        assert_eq!(
+            int_binop(Op::Div, i32_, Some(-7), i32_, Some(2)),
+            Ok(Some(-3))
+        );
+        assert_eq!(
+            int_binop(Op::Rem, i32_, Some(-7), i32_, Some(2)),
+            Ok(Some(-1))
+        );
         assert_eq!(
             int_binop(
-                "*",
+                Op::Mul,
                 IntTy::U64,
                 Some(u64::MAX as i128),
                 IntTy::U64,

@@ -19,6 +19,8 @@
 //! - [`sampling`]: cosine-weighted hemisphere, disk, sphere and triangle sampling;
 //! - [`pipe`]: the fused box/triangle intersection pipelines;
 //! - `simd` (host file; compiler builtin on TRaX): `f32x4`, `i32x4`;
+//! - `lang` (TRaX only): `Option`, `Result`, `Ordering` — Rust's prelude types, which
+//!   the host takes from `core`;
 //! - [`layout`]: byte layouts of the scene data;
 //! - `host` (host only): the runner used by `trax native` and tests.
 
@@ -31,6 +33,10 @@ mod hw;
 
 #[cfg(not(target_arch = "mips"))]
 pub mod simd;
+
+/// `Option`, `Result` and `Ordering` on the machine (the host uses `core`'s).
+#[cfg(target_arch = "mips")]
+pub mod lang;
 
 pub mod bvh;
 pub mod camera;

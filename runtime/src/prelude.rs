@@ -18,6 +18,7 @@ pub static FILES: &[(&str, &str)] = &[
     ("hw_trax.rs", include_str!("../prelude/hw_trax.rs")),
     ("hw_host.rs", include_str!("../prelude/hw_host.rs")),
     ("simd.rs", include_str!("../prelude/simd.rs")),
+    ("lang.rs", include_str!("../prelude/lang.rs")),
     ("layout.rs", include_str!("../prelude/layout.rs")),
     ("math.rs", include_str!("../prelude/math.rs")),
     ("ray.rs", include_str!("../prelude/ray.rs")),

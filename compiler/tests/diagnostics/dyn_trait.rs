@@ -2,4 +2,8 @@ trait Shape {
     fn area(&self) -> f32;
 }
 
+fn total(s: &dyn Shape) -> f32 {
+    s.area()
+}
+
 fn trax_main() {}

@@ -1,0 +1,318 @@
+//! Rust's prelude types on TRaX: `Option`, `Result` and `core::cmp::Ordering`, with the
+//! methods kernels reach for (those without closures). Kernels name them as in Rust —
+//! `Option`, `Some`, `None`, `Ok`, `Err` without imports, `std::cmp::Ordering` by path —
+//! and the compiler finds them here; the host build (`trax native`) uses `core`'s, so
+//! this module is compiled for the machine only. Panic messages are Rust's.
+
+/// An optional value (`core::option::Option`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Option<T> {
+    /// No value.
+    None,
+    /// Some value.
+    Some(T),
+}
+
+impl<T> Option<T> {
+    /// True for `Some`.
+    pub fn is_some(&self) -> bool {
+        matches!(self, Some(_))
+    }
+
+    /// True for `None`.
+    pub fn is_none(&self) -> bool {
+        matches!(self, None)
+    }
+
+    /// The value; panics on `None`.
+    pub fn unwrap(self) -> T {
+        match self {
+            Some(v) => v,
+            None => panic!("called `Option::unwrap()` on a `None` value"),
+        }
+    }
+
+    /// The value; panics with `msg` on `None`.
+    pub fn expect(self, msg: &str) -> T {
+        match self {
+            Some(v) => v,
+            None => panic!("{}", msg),
+        }
+    }
+
+    /// The value, or `default`.
+    pub fn unwrap_or(self, default: T) -> T {
+        match self {
+            Some(v) => v,
+            None => default,
+        }
+    }
+
+    /// The value, or `T::default()`.
+    pub fn unwrap_or_default(self) -> T
+    where
+        T: Default,
+    {
+        match self {
+            Some(v) => v,
+            None => T::default(),
+        }
+    }
+
+    /// `Option<&T>` of the contents.
+    pub fn as_ref(&self) -> Option<&T> {
+        match self {
+            Some(v) => Some(v),
+            None => None,
+        }
+    }
+
+    /// `Option<&mut T>` of the contents.
+    pub fn as_mut(&mut self) -> Option<&mut T> {
+        match self {
+            Some(v) => Some(v),
+            None => None,
+        }
+    }
+
+    /// Takes the value out, leaving `None`.
+    pub fn take(&mut self) -> Option<T> {
+        core::mem::replace(self, None)
+    }
+
+    /// Puts `value` in, returning the old contents.
+    pub fn replace(&mut self, value: T) -> Option<T> {
+        core::mem::replace(self, Some(value))
+    }
+
+    /// Puts `value` in and returns a reference to it.
+    pub fn insert(&mut self, value: T) -> &mut T {
+        *self = Some(value);
+        match self {
+            Some(v) => v,
+            None => unreachable!(),
+        }
+    }
+
+    /// The contents, after putting `value` in if there were none.
+    pub fn get_or_insert(&mut self, value: T) -> &mut T {
+        if self.is_none() {
+            *self = Some(value);
+        }
+        match self {
+            Some(v) => v,
+            None => unreachable!(),
+        }
+    }
+
+    /// `Ok(v)` for `Some(v)`, `Err(err)` for `None`.
+    pub fn ok_or<E>(self, err: E) -> Result<T, E> {
+        match self {
+            Some(v) => Ok(v),
+            None => Err(err),
+        }
+    }
+
+    /// `self` if it is `Some`, else `optb`.
+    pub fn or(self, optb: Option<T>) -> Option<T> {
+        match self {
+            Some(x) => Some(x),
+            None => optb,
+        }
+    }
+
+    /// `optb` if `self` is `Some`, else `None`.
+    pub fn and<U>(self, optb: Option<U>) -> Option<U> {
+        match self {
+            Some(_) => optb,
+            None => None,
+        }
+    }
+
+    /// `Some` if exactly one of `self` and `optb` is.
+    pub fn xor(self, optb: Option<T>) -> Option<T> {
+        match (self, optb) {
+            (Some(a), None) => Some(a),
+            (None, Some(b)) => Some(b),
+            _ => None,
+        }
+    }
+
+    /// Both values as a pair, if both are `Some`.
+    pub fn zip<U>(self, other: Option<U>) -> Option<(T, U)> {
+        match (self, other) {
+            (Some(a), Some(b)) => Some((a, b)),
+            _ => None,
+        }
+    }
+}
+
+impl<T: Copy> Option<&T> {
+    /// Copies the referenced value.
+    pub fn copied(self) -> Option<T> {
+        match self {
+            Some(&v) => Some(v),
+            None => None,
+        }
+    }
+
+    /// Copies the referenced value.
+    pub fn cloned(self) -> Option<T> {
+        match self {
+            Some(&v) => Some(v),
+            None => None,
+        }
+    }
+}
+
+impl<T> Default for Option<T> {
+    fn default() -> Option<T> {
+        None
+    }
+}
+
+/// A value or an error (`core::result::Result`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Result<T, E> {
+    /// Success.
+    Ok(T),
+    /// Failure.
+    Err(E),
+}
+
+impl<T, E> Result<T, E> {
+    /// True for `Ok`.
+    pub fn is_ok(&self) -> bool {
+        matches!(self, Ok(_))
+    }
+
+    /// True for `Err`.
+    pub fn is_err(&self) -> bool {
+        matches!(self, Err(_))
+    }
+
+    /// The success value, if any.
+    pub fn ok(self) -> Option<T> {
+        match self {
+            Ok(v) => Some(v),
+            Err(_) => None,
+        }
+    }
+
+    /// The error, if any.
+    pub fn err(self) -> Option<E> {
+        match self {
+            Ok(_) => None,
+            Err(e) => Some(e),
+        }
+    }
+
+    /// The success value; panics with the error on `Err`.
+    pub fn unwrap(self) -> T
+    where
+        E: core::fmt::Debug,
+    {
+        match self {
+            Ok(v) => v,
+            Err(e) => panic!("called `Result::unwrap()` on an `Err` value: {:?}", e),
+        }
+    }
+
+    /// The success value; panics with `msg` and the error on `Err`.
+    pub fn expect(self, msg: &str) -> T
+    where
+        E: core::fmt::Debug,
+    {
+        match self {
+            Ok(v) => v,
+            Err(e) => panic!("{}: {:?}", msg, e),
+        }
+    }
+
+    /// The error; panics with the value on `Ok`.
+    pub fn unwrap_err(self) -> E
+    where
+        T: core::fmt::Debug,
+    {
+        match self {
+            Ok(v) => panic!("called `Result::unwrap_err()` on an `Ok` value: {:?}", v),
+            Err(e) => e,
+        }
+    }
+
+    /// The success value, or `default`.
+    pub fn unwrap_or(self, default: T) -> T {
+        match self {
+            Ok(v) => v,
+            Err(_) => default,
+        }
+    }
+
+    /// `Result<&T, &E>` of the contents.
+    pub fn as_ref(&self) -> Result<&T, &E> {
+        match self {
+            Ok(v) => Ok(v),
+            Err(e) => Err(e),
+        }
+    }
+}
+
+/// The result of a comparison (`core::cmp::Ordering`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Ordering {
+    /// Less than.
+    Less = -1,
+    /// Equal.
+    Equal = 0,
+    /// Greater than.
+    Greater = 1,
+}
+
+impl Ordering {
+    /// `Equal`.
+    pub fn is_eq(self) -> bool {
+        matches!(self, Ordering::Equal)
+    }
+
+    /// Not `Equal`.
+    pub fn is_ne(self) -> bool {
+        !self.is_eq()
+    }
+
+    /// `Less`.
+    pub fn is_lt(self) -> bool {
+        matches!(self, Ordering::Less)
+    }
+
+    /// `Greater`.
+    pub fn is_gt(self) -> bool {
+        matches!(self, Ordering::Greater)
+    }
+
+    /// `Less` or `Equal`.
+    pub fn is_le(self) -> bool {
+        !self.is_gt()
+    }
+
+    /// `Greater` or `Equal`.
+    pub fn is_ge(self) -> bool {
+        !self.is_lt()
+    }
+
+    /// The opposite ordering.
+    pub fn reverse(self) -> Ordering {
+        match self {
+            Ordering::Less => Ordering::Greater,
+            Ordering::Equal => Ordering::Equal,
+            Ordering::Greater => Ordering::Less,
+        }
+    }
+
+    /// `self`, or `other` when `self` is `Equal`.
+    pub fn then(self, other: Ordering) -> Ordering {
+        match self {
+            Ordering::Equal => other,
+            o => o,
+        }
+    }
+}

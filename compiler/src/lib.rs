@@ -222,6 +222,18 @@ fn compile_parsed(
             }
         }
     }
+    // Values of consts and statics (running `const fn` calls).
+    let consts = if errs.is_empty() {
+        match consteval::interp::evaluate_all(&program, &checked) {
+            Ok(c) => c,
+            Err(e) => {
+                errs.push(e);
+                Default::default()
+            }
+        }
+    } else {
+        Default::default()
+    };
     let root = program.modules[program.kernel_root].file;
     let main = match program.modules[program.kernel_root].values_get("trax_main") {
         Some(resolve::PathRes::Fn(f)) => Some(f),
@@ -259,6 +271,7 @@ fn compile_parsed(
         &tm.get_triple(),
         &program,
         &checked,
+        &consts,
         opts.opt_level > 0,
         &empty,
     );

@@ -316,3 +316,145 @@ impl Ordering {
         }
     }
 }
+
+/// `x % y` for `f32`, exactly (IEEE fmod: the result has `x`'s sign and is exact). The
+/// compiler lowers `%` on `f32` to this function.
+pub fn fmodf(x: f32, y: f32) -> f32 {
+    let mut ux = x.to_bits();
+    let mut uy = y.to_bits();
+    let mut ex = ((ux >> 23) & 0xff) as i32;
+    let mut ey = ((uy >> 23) & 0xff) as i32;
+    let sx = ux & 0x8000_0000;
+    if uy << 1 == 0 || y.is_nan() || ex == 0xff {
+        return (x * y) / (x * y);
+    }
+    if ux << 1 <= uy << 1 {
+        if ux << 1 == uy << 1 {
+            return 0.0 * x;
+        }
+        return x;
+    }
+    // Normalise the significands.
+    if ex == 0 {
+        let mut i = ux << 9;
+        while i >> 31 == 0 {
+            ex -= 1;
+            i <<= 1;
+        }
+        ux <<= (-ex + 1) as u32;
+    } else {
+        ux &= u32::MAX >> 9;
+        ux |= 1 << 23;
+    }
+    if ey == 0 {
+        let mut i = uy << 9;
+        while i >> 31 == 0 {
+            ey -= 1;
+            i <<= 1;
+        }
+        uy <<= (-ey + 1) as u32;
+    } else {
+        uy &= u32::MAX >> 9;
+        uy |= 1 << 23;
+    }
+    // x mod y, one bit at a time.
+    while ex > ey {
+        let i = ux.wrapping_sub(uy);
+        if i >> 31 == 0 {
+            if i == 0 {
+                return 0.0 * x;
+            }
+            ux = i;
+        }
+        ux <<= 1;
+        ex -= 1;
+    }
+    let i = ux.wrapping_sub(uy);
+    if i >> 31 == 0 {
+        if i == 0 {
+            return 0.0 * x;
+        }
+        ux = i;
+    }
+    while ux >> 23 == 0 {
+        ux <<= 1;
+        ex -= 1;
+    }
+    // Scale back.
+    if ex > 0 {
+        ux -= 1 << 23;
+        ux |= (ex as u32) << 23;
+    } else {
+        ux >>= (-ex + 1) as u32;
+    }
+    f32::from_bits(ux | sx)
+}
+
+/// `x % y` for `f64`, exactly (see [`fmodf`]).
+pub fn fmod(x: f64, y: f64) -> f64 {
+    let mut ux = x.to_bits();
+    let mut uy = y.to_bits();
+    let mut ex = ((ux >> 52) & 0x7ff) as i32;
+    let mut ey = ((uy >> 52) & 0x7ff) as i32;
+    let sx = ux >> 63;
+    if uy << 1 == 0 || y.is_nan() || ex == 0x7ff {
+        return (x * y) / (x * y);
+    }
+    if ux << 1 <= uy << 1 {
+        if ux << 1 == uy << 1 {
+            return 0.0 * x;
+        }
+        return x;
+    }
+    if ex == 0 {
+        let mut i = ux << 12;
+        while i >> 63 == 0 {
+            ex -= 1;
+            i <<= 1;
+        }
+        ux <<= (-ex + 1) as u32;
+    } else {
+        ux &= u64::MAX >> 12;
+        ux |= 1 << 52;
+    }
+    if ey == 0 {
+        let mut i = uy << 12;
+        while i >> 63 == 0 {
+            ey -= 1;
+            i <<= 1;
+        }
+        uy <<= (-ey + 1) as u32;
+    } else {
+        uy &= u64::MAX >> 12;
+        uy |= 1 << 52;
+    }
+    while ex > ey {
+        let i = ux.wrapping_sub(uy);
+        if i >> 63 == 0 {
+            if i == 0 {
+                return 0.0 * x;
+            }
+            ux = i;
+        }
+        ux <<= 1;
+        ex -= 1;
+    }
+    let i = ux.wrapping_sub(uy);
+    if i >> 63 == 0 {
+        if i == 0 {
+            return 0.0 * x;
+        }
+        ux = i;
+    }
+    while ux >> 52 == 0 {
+        ux <<= 1;
+        ex -= 1;
+    }
+    if ex > 0 {
+        ux -= 1 << 52;
+        ux |= (ex as u64) << 52;
+    } else {
+        ux >>= (-ex + 1) as u32;
+    }
+    f64::from_bits(ux | (sx << 63))
+}

@@ -29,7 +29,14 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
         match adj.autoref {
             Some(m) => {
                 if let Ty::Slice(_) = t {
-                    // `&[T]` receivers: the fat reference one dereference short.
+                    // A sub-slice `a[i..j]` receiver, or the fat reference one
+                    // dereference short.
+                    if adj.derefs == 0 {
+                        let v = self
+                            .slice_ref(r)?
+                            .ok_or_else(|| internal("unsized receiver"))?;
+                        return Ok((v, t));
+                    }
                     let v = self.deref_value(r, adj.derefs - 1)?;
                     return Ok((v, t));
                 }

@@ -462,6 +462,11 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
             Some(Res::Global(g, substs))
                 if self.p.globals[g].is_static.is_none() && is_scalar(ty) =>
             {
+                if let Some(v) = self.consts.get(&(g, substs.clone())) {
+                    if let Some(c) = self.const_val(ty, v)? {
+                        return Ok(Some(c));
+                    }
+                }
                 let gd = &self.p.globals[g];
                 if self.const_depth > 64 {
                     return Err(internal(format!("constant `{}` refers to itself", gd.name)));
@@ -565,7 +570,17 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                     BinOp::Mul => b.build_float_mul(l, r, "")?.into(),
                     BinOp::Div => b.build_float_div(l, r, "")?.into(),
                     BinOp::Rem => {
-                        // fmod without libm: l - trunc(l / r) * r.
+                        // Exact fmod: the prelude's `lang::fmodf`/`fmod`.
+                        let name = if matches!(lt, Ty::Float(FloatTy::F64)) {
+                            "fmod"
+                        } else {
+                            "fmodf"
+                        };
+                        if let Some(f) = self.p.lang_fn(name) {
+                            let v = self.call_fn(f, &[], vec![l.into(), r.into()], lt)?;
+                            return v.ok_or_else(|| internal("fmod"));
+                        }
+                        // Without the prelude: l - trunc(l / r) * r.
                         let q = b.build_float_div(l, r, "")?;
                         let t = self
                             .float_unary(crate::builtins::Builtin::FTrunc, q.into(), lt)?

@@ -27,6 +27,7 @@ mod panic;
 mod pat;
 mod place;
 
+use crate::consteval::interp::Val;
 use crate::diag::{Diagnostic, FileId, Loc};
 use crate::resolve::{FnId, GlobalId, InlineHint, Program};
 use crate::ty::{FloatTy, IntTy, SimdTy, Ty};
@@ -106,6 +107,8 @@ pub struct Lowerer<'ctx, 'p, 'a> {
     td: TargetData,
     p: &'p Program<'a>,
     checked: &'p Checked,
+    /// Values of consts and statics from the compile-time interpreter.
+    consts: &'p HashMap<(GlobalId, Vec<Ty>), Val>,
     optimized: bool,
     fns: HashMap<(FnId, Vec<Ty>), FunctionValue<'ctx>>,
     queue: Vec<(FnId, Vec<Ty>)>,
@@ -136,6 +139,7 @@ impl<'ctx, 'p, 'a> Lowerer<'ctx, 'p, 'a> {
         triple: &inkwell::targets::TargetTriple,
         p: &'p Program<'a>,
         checked: &'p Checked,
+        consts: &'p HashMap<(GlobalId, Vec<Ty>), Val>,
         optimized: bool,
         empty: &'p Body,
     ) -> Self {
@@ -184,6 +188,7 @@ impl<'ctx, 'p, 'a> Lowerer<'ctx, 'p, 'a> {
             td,
             p,
             checked,
+            consts,
             optimized,
             fns: HashMap::new(),
             queue: Vec::new(),
@@ -598,8 +603,15 @@ impl<'ctx, 'p, 'a> Lowerer<'ctx, 'p, 'a> {
         Ok(gv)
     }
 
-    /// Evaluates a global's initializer to an LLVM constant.
+    /// Evaluates a global's initializer to an LLVM constant: the interpreter's value, or
+    /// (for what it does not model, such as addresses of statics) the initializer
+    /// lowered and folded.
     fn const_init(&mut self, g: GlobalId, substs: &[Ty], ty: &Ty) -> LResult<BasicValueEnum<'ctx>> {
+        if let Some(v) = self.consts.get(&(g, substs.to_vec())) {
+            if let Some(c) = self.const_val(ty, v)? {
+                return Ok(c);
+            }
+        }
         let gd = &self.p.globals[g];
         let expr = gd
             .expr
@@ -652,6 +664,84 @@ impl<'ctx, 'p, 'a> Lowerer<'ctx, 'p, 'a> {
             )));
         }
         Ok(v)
+    }
+
+    /// An LLVM constant of type `t` for an interpreter value (`None`: not expressible
+    /// as a constant of `t`'s LLVM type).
+    pub(super) fn const_val(&mut self, t: &Ty, v: &Val) -> LResult<Option<BasicValueEnum<'ctx>>> {
+        let lt = self.llty(t);
+        Ok(Some(match (t, v) {
+            (_, Val::Unit) => undef(lt),
+            (Ty::Int(_), Val::Int(_, x)) => lt.into_int_type().const_int(*x as u64, true).into(),
+            (Ty::Float(f), Val::Float(_, x)) => self.float_const(*f, *x),
+            (Ty::Bool, Val::Bool(b)) => lt.into_int_type().const_int(*b as u64, false).into(),
+            (Ty::Char, Val::Char(c)) => lt.into_int_type().const_int(*c as u64, false).into(),
+            (Ty::Str, Val::Str(s)) => self.str_value(s),
+            (Ty::Ptr(..), Val::Ptr(a)) => self
+                .ctx
+                .i32_type()
+                .const_int(*a as u64, false)
+                .const_to_pointer(lt.into_pointer_type())
+                .into(),
+            (Ty::Array(el, _), Val::Agg(xs)) => {
+                let mut vals = Vec::new();
+                for x in xs {
+                    match self.const_val(el, x)? {
+                        Some(c) => vals.push(c),
+                        None => return Ok(None),
+                    }
+                }
+                let elt = self.llty(el);
+                expr::const_array(elt, &vals)
+            }
+            (Ty::Tuple(ts), Val::Agg(xs)) => {
+                let mut vals = Vec::new();
+                for (et, x) in ts.iter().zip(xs) {
+                    match self.const_val(et, x)? {
+                        Some(c) => vals.push(c),
+                        None => return Ok(None),
+                    }
+                }
+                lt.into_struct_type().const_named_struct(&vals).into()
+            }
+            (Ty::Adt(a, _), _) => {
+                let a = *a;
+                let def = &self.p.adts[a];
+                let (v, xs) = match v {
+                    Val::Agg(xs) => (0, xs),
+                    Val::Enum(v, xs) => (*v, xs),
+                    _ => return Ok(None),
+                };
+                if def.is_fieldless_enum() {
+                    return Ok(Some(self.tag_val(a, v).into()));
+                }
+                let ftys = self.field_tys(t, v);
+                let mut vals = Vec::new();
+                for (ft, x) in ftys.iter().zip(xs) {
+                    match self.const_val(ft, x)? {
+                        Some(c) => vals.push(c),
+                        None => return Ok(None),
+                    }
+                }
+                if !def.is_enum {
+                    return Ok(Some(lt.into_struct_type().const_named_struct(&vals).into()));
+                }
+                let Some(dv) = self.single_data_variant(a) else {
+                    return Ok(None);
+                };
+                let vt = self.variant_ty(t, dv);
+                let payload = if v == dv {
+                    vt.const_named_struct(&vals)
+                } else {
+                    vt.const_zero()
+                };
+                let tag = self.tag_val(a, v);
+                lt.into_struct_type()
+                    .const_named_struct(&[tag.into(), payload.into()])
+                    .into()
+            }
+            _ => return Ok(None),
+        }))
     }
 
     /// Runs `f` with the body and file of global instance `g` as the current context.

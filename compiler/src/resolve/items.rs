@@ -882,6 +882,18 @@ impl<'a> Collector<'a> {
 
     /// Generic parameters, field types and discriminants of every struct and enum.
     fn resolve_adts(&mut self) {
+        // Parameter names first: field types name other ADTs with their arguments.
+        for a in 0..self.p.adts.len() {
+            let (file, syntax) = (self.p.adts[a].file, self.p.adts[a].syntax);
+            let generics = match syntax {
+                AdtSyntax::Struct(s) => &s.generics,
+                AdtSyntax::Enum(e) => &e.generics,
+            };
+            match self.param_names(file, generics, &[]) {
+                Ok(n) => self.p.adts[a].generics.names = n,
+                Err(e) => self.errs.push(e),
+            }
+        }
         for a in 0..self.p.adts.len() {
             if let Err(e) = self.resolve_adt(a) {
                 self.errs.push(e);

@@ -466,6 +466,14 @@ impl<'a> Program<'a> {
         }
     }
 
+    /// The function `name` of the prelude's `lang` module, if present.
+    pub fn lang_fn(&self, name: &str) -> Option<FnId> {
+        match self.modules[self.lang.module?].values.get(name) {
+            Some(PathRes::Fn(f)) => Some(*f),
+            _ => None,
+        }
+    }
+
     /// The function `name` of the prelude's `libm` module, if present.
     pub fn libm_fn(&self, name: &str) -> Option<FnId> {
         match self.modules[self.lang.libm?].values.get(name) {

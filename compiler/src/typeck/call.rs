@@ -1031,32 +1031,6 @@ impl<'p, 'a> Cx<'p, 'a> {
             None => None,
         };
         let name = m.method.to_string();
-        if matches!(
-            name.as_str(),
-            "iter"
-                | "iter_mut"
-                | "into_iter"
-                | "enumerate"
-                | "zip"
-                | "rev"
-                | "step_by"
-                | "map"
-                | "filter"
-                | "sum"
-                | "fold"
-                | "collect"
-                | "skip"
-                | "take"
-                | "chain"
-                | "windows"
-                | "chunks"
-        ) {
-            return Err(self.err(
-                m.method.span(),
-                "unsupported-iterator",
-                format!("`.{name}()` is only supported as the iterator of a `for` loop (iterators are not values in TRaX-Rust)"),
-            ));
-        }
         let rt = self.expr(&m.receiver)?;
         let args: Vec<&Expr> = m.args.iter().collect();
         let span = m.method.span();
@@ -1088,6 +1062,32 @@ impl<'p, 'a> Cx<'p, 'a> {
                 }
                 _ => break,
             }
+        }
+        if matches!(
+            name.as_str(),
+            "iter"
+                | "iter_mut"
+                | "into_iter"
+                | "enumerate"
+                | "zip"
+                | "rev"
+                | "step_by"
+                | "map"
+                | "filter"
+                | "sum"
+                | "fold"
+                | "collect"
+                | "skip"
+                | "take"
+                | "chain"
+                | "windows"
+                | "chunks"
+        ) {
+            return Err(self.err(
+                m.method.span(),
+                "unsupported-iterator",
+                format!("`.{name}()` is only supported as the iterator of a `for` loop (iterators are not values in TRaX-Rust)"),
+            ));
         }
         let t0 = self.deep_keep(&rt);
         if let Some(b) = builtins::method_anywhere(&name) {

@@ -785,13 +785,18 @@ impl<'p, 'a> Cx<'p, 'a> {
                                 &mut used,
                                 &mut named_used,
                             )?));
-                        } else if w.chars().all(|c| c.is_ascii_digit()) {
-                            spec.width = Count::Is(
-                                w.parse().map_err(|_| err(self, "width too large".into()))?,
-                            );
                         } else {
-                            // Not a width: a type name such as `x` or `e`.
-                            i = save;
+                            // Digits only: what follows is the type (`{:8e}`).
+                            let digits: String =
+                                w.chars().take_while(|c| c.is_ascii_digit()).collect();
+                            i = save + digits.len();
+                            if !digits.is_empty() {
+                                spec.width = Count::Is(
+                                    digits
+                                        .parse()
+                                        .map_err(|_| err(self, "width too large".into()))?,
+                                );
+                            }
                         }
                     }
                     let mut star = false;
@@ -801,8 +806,14 @@ impl<'p, 'a> Cx<'p, 'a> {
                             star = true;
                             i += 1;
                         } else {
+                            let start = i;
                             let Some(p) = read_count(&sc, &mut i) else {
-                                return Err(err(self, format!("invalid format spec `{{:{spec_text}}}`: expected a precision")));
+                                return Err(err(
+                                    self,
+                                    format!(
+                                        "invalid format spec `{{:{spec_text}}}`: expected a precision"
+                                    ),
+                                ));
                             };
                             if i < sc.len() && sc[i] == '$' {
                                 i += 1;
@@ -812,16 +823,21 @@ impl<'p, 'a> Cx<'p, 'a> {
                                     &mut used,
                                     &mut named_used,
                                 )?));
-                            } else if p.chars().all(|c| c.is_ascii_digit()) {
+                            } else {
+                                let digits: String =
+                                    p.chars().take_while(|c| c.is_ascii_digit()).collect();
+                                if digits.is_empty() {
+                                    return Err(err(
+                                        self,
+                                        format!("invalid format spec `{{:{spec_text}}}`"),
+                                    ));
+                                }
+                                i = start + digits.len();
                                 spec.precision = Count::Is(
-                                    p.parse()
+                                    digits
+                                        .parse()
                                         .map_err(|_| err(self, "precision too large".into()))?,
                                 );
-                            } else {
-                                return Err(err(
-                                    self,
-                                    format!("invalid format spec `{{:{spec_text}}}`"),
-                                ));
                             }
                         }
                     }

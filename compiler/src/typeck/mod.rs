@@ -22,7 +22,9 @@ mod infer;
 mod macros;
 mod pat;
 
-pub use expr::{classify_iter, is_simple_range, split_guard, IterSyn, SeqMode};
+pub use expr::{
+    classify_iter, is_simple_range, split_guard, strip as strip_expr, IterSyn, SeqMode,
+};
 pub use macros::{Align, Count, FmtPiece, FmtSpec, FmtTrait, MacroCall, TraxArg};
 
 use crate::builtins::Builtin;

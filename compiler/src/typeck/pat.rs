@@ -544,8 +544,12 @@ impl<'p, 'a> Cx<'p, 'a> {
                 None => return Ok(None),
             }
         } else {
-            self.p
-                .resolve_path_segs(self.module, self.file, segs, Ns::Value, span)?
+            match self.p.try_resolve(self.module, segs, Ns::Value) {
+                Some(r) => r,
+                None => self
+                    .p
+                    .resolve_path_segs(self.module, self.file, segs, Ns::Type, span)?,
+            }
         };
         match res {
             PathRes::Variant(a, v) => {

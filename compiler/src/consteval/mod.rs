@@ -11,6 +11,8 @@
 //!
 //! Messages are rustc's (e.g. "attempt to compute `u8::MAX + 1_u8`, which would overflow").
 
+pub mod interp;
+
 use crate::diag::{DResult, Diagnostic, FileId};
 use crate::ops::BinOp as Op;
 use crate::resolve::{GlobalId, Program};

@@ -277,7 +277,6 @@ fn compile_parsed(
     );
     let module = match lowerer.run(main) {
         Ok(m) => m,
-        Err(lower::LowerError::Diag(d)) => return Err(CompileError::Diagnostics(vec![d])),
         Err(lower::LowerError::Internal(s)) => return Err(CompileError::Internal(s)),
     };
     timer.lap("lower");

@@ -86,6 +86,8 @@ pub struct Interp<'p, 'a> {
     depth: u32,
     /// What is being evaluated, for messages ("`NAME`").
     what: String,
+    /// "statics" or "constants".
+    kind: &'static str,
 }
 
 impl<'p, 'a> Interp<'p, 'a> {
@@ -99,6 +101,7 @@ impl<'p, 'a> Interp<'p, 'a> {
             steps: 0,
             depth: 0,
             what: String::new(),
+            kind: "constants",
         }
     }
 
@@ -108,6 +111,17 @@ impl<'p, 'a> Interp<'p, 'a> {
                 .err(file, span, "const-evaluation-failed", message)
                 .with_label(format!("evaluation of {} failed here", self.what)),
         )
+    }
+
+    /// rustc's E0015 for a call the interpreter may not make.
+    fn non_const(&self, file: FileId, span: Span, what: &str) -> Stop {
+        let kind = self.kind;
+        Stop::Err(self.p.err(
+            file,
+            span,
+            "non-const-call",
+            format!("cannot call non-const {what} in {kind}"),
+        ))
     }
 
     /// Evaluates const or static instance `g`.
@@ -128,6 +142,11 @@ impl<'p, 'a> Interp<'p, 'a> {
         };
         if self.active.is_empty() {
             self.what = format!("`{}`", gd.name);
+            self.kind = if gd.is_static.is_some() {
+                "statics"
+            } else {
+                "constants"
+            };
             self.steps = 0;
         }
         self.active.push(k.clone());
@@ -258,11 +277,7 @@ impl<'p, 'a> Interp<'p, 'a> {
             Expr::Binary(b) => self.binary(f, e, b),
             Expr::Unary(u) => {
                 if f.body.ops.contains_key(&key(e)) {
-                    return Err(self.fail(
-                        f.file,
-                        u.span(),
-                        "cannot call non-const operator in constants".into(),
-                    ));
+                    return Err(self.non_const(f.file, u.span(), "operator"));
                 }
                 let v = self.expr(f, &u.expr)?;
                 match (UnOp::of(&u.op), v) {
@@ -533,11 +548,7 @@ impl<'p, 'a> Interp<'p, 'a> {
     fn binary(&mut self, f: &mut Frame, e: &Expr, b: &syn::ExprBinary) -> R<Val> {
         let (op, assign) = BinOp::of(&b.op);
         if f.body.ops.contains_key(&key(e)) {
-            return Err(self.fail(
-                f.file,
-                b.span(),
-                "cannot call non-const operator in constants".into(),
-            ));
+            return Err(self.non_const(f.file, b.span(), "operator"));
         }
         if op == BinOp::And || op == BinOp::Or {
             let l = self.expr(f, &b.left)? == Val::Bool(true);
@@ -689,11 +700,7 @@ impl<'p, 'a> Interp<'p, 'a> {
             }
             Expr::Index(ix) => {
                 if f.body.ops.contains_key(&key(e)) {
-                    return Err(self.fail(
-                        f.file,
-                        e.span(),
-                        "cannot call non-const `Index` impl in constants".into(),
-                    ));
+                    return Err(self.non_const(f.file, e.span(), "`Index` impl"));
                 }
                 let derefs = f.body.derefs.get(&key(e)).copied().unwrap_or(0);
                 let base = self.deref_place(f, &ix.expr, derefs)?;
@@ -777,10 +784,11 @@ impl<'p, 'a> Interp<'p, 'a> {
             Callee::Fn { func, substs, .. } => {
                 let fd = &self.p.fns[func];
                 if !fd.is_const {
+                    let kind = self.kind;
                     return Err(Stop::Err(
                         self.p
-                            .err(f.file, e.span(), "const-fn-call", format!("cannot call non-const fn `{}` in constants", fd.name))
-                            .with_note("calls in constants and statics are limited to constant functions, tuple structs and tuple variants"),
+                            .err(f.file, e.span(), "non-const-call", format!("cannot call non-const function `{}` in {kind}", fd.name))
+                            .with_note(format!("calls in {kind} are limited to constant functions, tuple structs and tuple variants")),
                     ));
                 }
                 let Some(block) = fd.body else {

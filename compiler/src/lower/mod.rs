@@ -28,7 +28,7 @@ mod pat;
 mod place;
 
 use crate::consteval::interp::Val;
-use crate::diag::{Diagnostic, FileId, Loc};
+use crate::diag::{FileId, Loc};
 use crate::resolve::{FnId, GlobalId, InlineHint, Program};
 use crate::ty::{FloatTy, IntTy, SimdTy, Ty};
 use crate::typeck::{key, Body, Checked, LocalId};
@@ -45,11 +45,10 @@ use inkwell::AddressSpace;
 use proc_macro2::Span;
 use std::collections::HashMap;
 
-/// Error during lowering.
+/// Error during lowering: always a compiler bug (the type checker and the compile-time
+/// interpreter reject what the lowering cannot handle).
 #[derive(Debug)]
 pub enum LowerError {
-    /// A user error found late (a non-constant static initializer).
-    Diag(Diagnostic),
     /// A compiler bug.
     Internal(String),
 }
@@ -57,12 +56,6 @@ pub enum LowerError {
 impl From<BuilderError> for LowerError {
     fn from(e: BuilderError) -> Self {
         LowerError::Internal(format!("LLVM builder: {e}"))
-    }
-}
-
-impl From<Diagnostic> for LowerError {
-    fn from(e: Diagnostic) -> Self {
-        LowerError::Diag(e)
     }
 }
 
@@ -656,11 +649,12 @@ impl<'ctx, 'p, 'a> Lowerer<'ctx, 'p, 'a> {
         let v = r?;
         let v = self.val(v, ty);
         if !is_const(v) {
-            return Err(LowerError::Diag(self.p.err(
-                gd.file,
-                syn::spanned::Spanned::span(expr),
-                "non-constant-initializer",
-                "initializer of a static or const must be a constant expression",
+            let l = Loc::of(syn::spanned::Spanned::span(expr));
+            return Err(internal(format!(
+                "initializer of `{}` at {}:{} did not fold to a constant",
+                gd.name,
+                self.p.sources.get(gd.file).display.display(),
+                l.line
             )));
         }
         Ok(v)

@@ -225,3 +225,25 @@ fn prologue_end_is_the_first_body_statement_at_o0() {
         assert!(ends.contains(&w), "no prologue_end at line {w}:\n{lines}");
     }
 }
+
+/// The language suite's kernels (enums, traits, generics, slices, format records) compile
+/// at -O0 and -O2 to objects with valid DWARF, no `$gp`-relative data and no libc calls.
+#[test]
+fn language_suite_objects_are_valid() {
+    let out = scratch("lang-suite");
+    for k in [
+        "lang_enums",
+        "lang_traits",
+        "lang_slices",
+        "lang_format",
+        "lang_math",
+    ] {
+        let path = crate_dir().join(format!("tests/kernels/{k}.rs"));
+        for opt in [0, 2] {
+            let obj = build_obj(&path, opt, &out);
+            verify_dwarf(&obj);
+            no_gprel(&obj);
+            only_trax_undefined(&obj);
+        }
+    }
+}

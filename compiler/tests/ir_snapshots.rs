@@ -26,7 +26,7 @@ fn kernel_functions(ir: &str, kernel: &str) -> String {
         while let Some(i) = l.find(", !") {
             let rest = &l[i + 3..];
             let end = rest
-                .find(|c: char| c == ',' || c == '\n')
+                .find([',', '\n'])
                 .map(|j| i + 3 + j)
                 .unwrap_or(l.len());
             l.replace_range(i..end, "");

@@ -13,7 +13,9 @@
 //! - [`infer`]: inference variables, unification, coercions, the per-body context;
 //! - [`expr`]: blocks, statements, expressions, operators, control flow, `for` loops;
 //! - [`pat`]: patterns (bindings, default binding modes, enums, tuples, structs, slices);
-//! - [`call`]: paths, calls, method and trait resolution, the builtin catalogue;
+//! - [`path`]: paths (locals, consts, variants, associated consts), struct literals;
+//! - [`call`]: calls, method calls, the builtin catalogue, `core` functions;
+//! - [`traits`]: method and trait resolution, operator/`Index` impls, derived methods;
 //! - [`macros`]: `print!`/`panic!`/`assert!`/`matches!`/TRaX macros and format strings.
 
 mod call;
@@ -21,6 +23,8 @@ mod expr;
 mod infer;
 mod macros;
 mod pat;
+mod path;
+mod traits;
 
 pub use expr::{
     classify_iter, is_simple_range, split_guard, strip as strip_expr, IterSyn, SeqMode,

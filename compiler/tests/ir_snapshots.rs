@@ -25,10 +25,7 @@ fn kernel_functions(ir: &str, kernel: &str) -> String {
         // `, !dbg !12`, `!srcloc !3` and friends.
         while let Some(i) = l.find(", !") {
             let rest = &l[i + 3..];
-            let end = rest
-                .find([',', '\n'])
-                .map(|j| i + 3 + j)
-                .unwrap_or(l.len());
+            let end = rest.find([',', '\n']).map(|j| i + 3 + j).unwrap_or(l.len());
             l.replace_range(i..end, "");
         }
         // Attribute groups `#3` and metadata on `define` lines.

@@ -210,7 +210,7 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                         self.b
                             .build_int_compare(IntPredicate::EQ, v, i32t.const_all_ones(), "")?;
                     let ok = self.b.build_not(max, "")?;
-                    self.set_loc(inner.span());
+                    self.set_loc(ix.bracket_token.span.open());
                     self.check_with(ok, |l| {
                         l.abort(
                             trax_runtime::isa::AbortKind::Bounds,
@@ -224,7 +224,7 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
             }
             None => s.len,
         };
-        self.set_loc(inner.span());
+        self.set_loc(ix.bracket_token.span.open());
         let len = s.len;
         let end_ok = self.b.build_int_compare(IntPredicate::ULE, hi, len, "")?;
         self.check_with(end_ok, |l| l.slice_end_abort(hi, len))?;
@@ -281,7 +281,7 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                     let it = self.ty_of(&i.index);
                     let idx = self.expr(&i.index)?;
                     let idx = self.val(idx, &it);
-                    self.set_loc(e.span());
+                    self.set_loc(i.bracket_token.span.open());
                     let fd = &self.p.fns[func];
                     let ret = self.p.normalize(&fd.ret.subst(&substs)).unwrap_or(Ty::Unit);
                     let r = self.call_fn(func, &substs, vec![base.into(), idx], &ret)?;

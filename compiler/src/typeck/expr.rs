@@ -224,6 +224,9 @@ impl<'p, 'a> Cx<'p, 'a> {
     // ---------------------------------------------------------------- expressions
 
     pub fn expr(&mut self, e: &Expr) -> DResult<Ty> {
+        if matches!(e, Expr::Call(_) | Expr::MethodCall(_)) {
+            self.call_spans.insert(key(e), e.span());
+        }
         let t = self.expr_inner(e)?;
         Ok(self.record(e, t))
     }

@@ -66,6 +66,8 @@ pub(super) struct Cx<'p, 'a> {
     pub deferred: Vec<Deferred>,
     /// `const fn` bodies and initializers (for messages).
     pub in_const: bool,
+    /// Spans of calls and method calls (for errors found when the body is finished).
+    pub call_spans: HashMap<usize, Span>,
 }
 
 /// Type-checks a function instance.
@@ -175,6 +177,7 @@ impl<'p, 'a> Cx<'p, 'a> {
             local_mut: Vec::new(),
             deferred: Vec::new(),
             in_const: false,
+            call_spans: HashMap::new(),
         }
     }
 
@@ -552,16 +555,40 @@ impl<'p, 'a> Cx<'p, 'a> {
                     if substs.iter().any(|t| self.has_unknown(t)) {
                         let fd = &self.p.fns[func];
                         let span = self
-                            .body
-                            .tys
-                            .keys()
-                            .find(|x| **x == k)
-                            .map(|_| fd.sig.ident.span())
+                            .call_spans
+                            .get(&k)
+                            .copied()
                             .unwrap_or_else(|| fd.sig.ident.span());
-                        let _ = span;
-                        return Err(self.unknown_generic(k, &fd.name));
+                        return Err(self.err(
+                            span,
+                            "type-annotation-needed",
+                            format!("type annotations needed: cannot infer the generic arguments of `{}`", fd.name),
+                        ));
                     }
-                    let substs = substs.iter().map(|t| self.deep(t)).collect();
+                    let substs: Vec<Ty> = substs.iter().map(|t| self.deep(t)).collect();
+                    // Bounds on user traits must hold (`T: Shape`).
+                    for b in &self.p.fns[func].generics.bounds {
+                        if let crate::ty::TraitKind::User(tr) = b.tr.kind {
+                            let bt = self.p.normalize(&b.ty.subst(&substs)).unwrap_or(Ty::Unit);
+                            if !bt.has_params() && !self.implements(&bt, b.tr.kind, 0) {
+                                let span = self
+                                    .call_spans
+                                    .get(&k)
+                                    .copied()
+                                    .unwrap_or_else(|| self.p.fns[func].sig.ident.span());
+                                return Err(self.err(
+                                    span,
+                                    "unsatisfied-bound",
+                                    format!(
+                                        "the trait bound `{}: {}` is not satisfied (required by `{}`)",
+                                        self.p.ty_str(&bt),
+                                        self.p.traits[tr].name,
+                                        self.p.fns[func].name
+                                    ),
+                                ));
+                            }
+                        }
+                    }
                     Callee::Fn { func, substs, recv }
                 }
                 Callee::Derived {
@@ -629,15 +656,6 @@ impl<'p, 'a> Cx<'p, 'a> {
             self.body.tries.insert(k, t);
         }
         Ok(self.body)
-    }
-
-    fn unknown_generic(&self, _k: usize, name: &str) -> Diagnostic {
-        // The call's span is not kept by key; name the callee.
-        Diagnostic::file_level(
-            &self.p.sources.get(self.file).display,
-            "type-annotation-needed",
-            format!("type annotations needed: cannot infer the generic arguments of `{name}`"),
-        )
     }
 }
 

@@ -134,6 +134,19 @@ impl<'p, 'a> Cx<'p, 'a> {
                 return Ok(ValuePath::TypeAssoc(st, segs[1].clone(), last_args));
             }
         }
+        // `T::Assoc::f()`, `Self::Assoc::f()`: the prefix is a type.
+        if n >= 3 && (segs[0] == "Self" || self.params.contains(&segs[0])) {
+            let prefix = syn::Type::Path(syn::TypePath {
+                attrs: vec![],
+                qself: None,
+                path: syn::Path {
+                    leading_colon: None,
+                    segments: path.segments.iter().take(n - 1).cloned().collect(),
+                },
+            });
+            let t = self.resolve_ty(&prefix)?;
+            return Ok(ValuePath::TypeAssoc(t, segs[n - 1].clone(), last_args));
+        }
         // Generic parameters: `T::new()`.
         if n == 2 {
             if let Some(i) = self.params.iter().position(|p| *p == segs[0]) {

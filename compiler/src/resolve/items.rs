@@ -105,6 +105,7 @@ pub(super) fn collect<'a>(
         }
     }
     c.check_uses();
+    c.check_derives();
     if c.errs.is_empty() {
         Ok(c.p)
     } else {
@@ -525,6 +526,74 @@ impl<'a> Collector<'a> {
             }
         }
         Ok(())
+    }
+
+    /// A derived trait needs its fields' types to have it (rustc's E0277 for
+    /// `#[derive(Debug)]` on a struct with a field that is not `Debug`).
+    fn check_derives(&mut self) {
+        for a in 0..self.p.adts.len() {
+            let derives = self.p.adts[a].derives.0.clone();
+            for tr in derives {
+                if matches!(tr, LangTrait::Eq) {
+                    continue;
+                }
+                for v in &self.p.adts[a].variants {
+                    for f in &v.fields {
+                        if !self.supports(&f.ty, tr, 0) {
+                            let d = self.err(
+                                self.p.adts[a].file,
+                                f.span,
+                                "derive-field",
+                                format!(
+                                    "the trait `{}` is not implemented for `{}` (needed by `#[derive({0})]` on `{}`)",
+                                    tr.name(),
+                                    self.p.ty_str(&f.ty),
+                                    self.p.adts[a].name
+                                ),
+                            );
+                            self.errs.push(d);
+                            return;
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// True if type `t` (of a field) has trait `tr` (derived, implemented or builtin).
+    fn supports(&self, t: &Ty, tr: LangTrait, depth: u32) -> bool {
+        if depth > 32 {
+            return true;
+        }
+        let has_impl = |t: &Ty| {
+            self.p.impls.iter().any(|im| {
+                im.trait_
+                    .as_ref()
+                    .is_some_and(|r| r.kind == TraitKind::Lang(tr))
+                    && {
+                        let mut s = vec![None; im.generics.len()];
+                        self.p.match_ty(&im.self_ty, t, &mut s)
+                    }
+            })
+        };
+        match t {
+            Ty::Param(_) | Ty::Proj(..) | Ty::Infer | Ty::Var(_) => true,
+            Ty::Adt(a, _) => self.p.adts[*a].derives.has(tr) || has_impl(t),
+            Ty::Tuple(ts) => ts.iter().all(|x| self.supports(x, tr, depth + 1)),
+            Ty::Array(e, n) => {
+                (tr != LangTrait::Default || *n <= 32) && self.supports(e, tr, depth + 1)
+            }
+            Ty::Ref(m, e) => match tr {
+                LangTrait::Default => false,
+                LangTrait::Copy | LangTrait::Clone => !m,
+                _ => self.supports(e, tr, depth + 1),
+            },
+            Ty::Slice(e) => self.supports(e, tr, depth + 1),
+            Ty::Ptr(..) => tr != LangTrait::Default,
+            Ty::Str => tr != LangTrait::Default,
+            Ty::Simd(_) => true,
+            _ => true,
+        }
     }
 
     /// Every `use` must name something.

@@ -155,6 +155,9 @@ pub enum LangTrait {
     Default,
     Debug,
     Sized,
+    Fn,
+    FnMut,
+    FnOnce,
 }
 
 impl LangTrait {
@@ -193,6 +196,9 @@ impl LangTrait {
         LangTrait::Default,
         LangTrait::Debug,
         LangTrait::Sized,
+        LangTrait::Fn,
+        LangTrait::FnMut,
+        LangTrait::FnOnce,
     ];
 
     /// Source name.
@@ -231,6 +237,9 @@ impl LangTrait {
             LangTrait::Default => "Default",
             LangTrait::Debug => "Debug",
             LangTrait::Sized => "Sized",
+            LangTrait::Fn => "Fn",
+            LangTrait::FnMut => "FnMut",
+            LangTrait::FnOnce => "FnOnce",
         }
     }
 
@@ -245,6 +254,7 @@ impl LangTrait {
             LangTrait::PartialEq | LangTrait::Eq | LangTrait::PartialOrd | LangTrait::Ord => "cmp",
             LangTrait::Clone => "clone",
             LangTrait::Copy | LangTrait::Sized => "marker",
+            LangTrait::Fn | LangTrait::FnMut | LangTrait::FnOnce => "ops",
             LangTrait::Default => "default",
             LangTrait::Debug => "fmt",
             _ => "ops",
@@ -263,7 +273,15 @@ impl LangTrait {
                 | LangTrait::Copy
                 | LangTrait::Default
                 | LangTrait::Sized
+                | LangTrait::Fn
+                | LangTrait::FnMut
+                | LangTrait::FnOnce
         )
+    }
+
+    /// True for `Fn`, `FnMut` and `FnOnce`.
+    pub fn is_fn(self) -> bool {
+        matches!(self, LangTrait::Fn | LangTrait::FnMut | LangTrait::FnOnce)
     }
 
     /// The methods an impl provides (required first) and whether each is required.
@@ -309,7 +327,13 @@ impl LangTrait {
             ],
             LangTrait::Clone => &[("clone", true)],
             LangTrait::Default => &[("default", true)],
-            LangTrait::Eq | LangTrait::Copy | LangTrait::Debug | LangTrait::Sized => &[],
+            LangTrait::Eq
+            | LangTrait::Copy
+            | LangTrait::Debug
+            | LangTrait::Sized
+            | LangTrait::Fn
+            | LangTrait::FnMut
+            | LangTrait::FnOnce => &[],
         }
     }
 
@@ -348,6 +372,9 @@ impl LangTrait {
                 | LangTrait::Ord
                 | LangTrait::Index
                 | LangTrait::IndexMut
+                | LangTrait::Fn
+                | LangTrait::FnMut
+                | LangTrait::FnOnce
         )
     }
 }
@@ -368,6 +395,22 @@ pub struct TraitRef {
     pub args: Vec<Ty>,
     /// Associated type constraints (`Output = T`).
     pub bindings: Vec<(String, Ty)>,
+}
+
+/// The type of one closure expression: where it is defined (a function instance and the
+/// expression's key) and its signature.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub struct ClosureTy {
+    /// The function whose body holds the closure.
+    pub def_fn: usize,
+    /// That function instance's generic arguments.
+    pub def_substs: Vec<Ty>,
+    /// Key (address) of the closure expression.
+    pub key: usize,
+    /// Parameter types.
+    pub params: Vec<Ty>,
+    /// Result type.
+    pub ret: Ty,
 }
 
 /// A type. `Var` is an inference variable; `Param` a generic parameter of the item
@@ -400,6 +443,8 @@ pub enum Ty {
     Proj(Box<Ty>, Option<Box<TraitRef>>, String),
     /// `_` written in a type (an inference variable in bodies).
     Infer,
+    /// A closure (its captures are found from its definition).
+    Closure(Box<ClosureTy>),
     Var(u32),
 }
 
@@ -433,6 +478,7 @@ impl Ty {
             Ty::Param(_) | Ty::Proj(..) | Ty::Infer => true,
             Ty::Adt(_, a) | Ty::Tuple(a) => a.iter().any(Ty::has_params),
             Ty::Array(e, _) | Ty::Slice(e) | Ty::Ref(_, e) | Ty::Ptr(_, e) => e.has_params(),
+            Ty::Closure(c) => c.params.iter().any(Ty::has_params) || c.ret.has_params(),
             _ => false,
         }
     }
@@ -443,6 +489,7 @@ impl Ty {
             Ty::Var(_) => true,
             Ty::Adt(_, a) | Ty::Tuple(a) => a.iter().any(Ty::has_vars),
             Ty::Array(e, _) | Ty::Slice(e) | Ty::Ref(_, e) | Ty::Ptr(_, e) => e.has_vars(),
+            Ty::Closure(c) => c.params.iter().any(Ty::has_vars) || c.ret.has_vars(),
             Ty::Proj(t, tr, _) => {
                 t.has_vars()
                     || tr
@@ -477,6 +524,13 @@ impl Ty {
             Ty::Slice(e) => Ty::Slice(Box::new(e.map(f))),
             Ty::Ref(m, e) => Ty::Ref(*m, Box::new(e.map(f))),
             Ty::Ptr(m, e) => Ty::Ptr(*m, Box::new(e.map(f))),
+            Ty::Closure(c) => Ty::Closure(Box::new(ClosureTy {
+                def_fn: c.def_fn,
+                def_substs: c.def_substs.clone(),
+                key: c.key,
+                params: c.params.iter().map(|t| t.map(f)).collect(),
+                ret: c.ret.map(f),
+            })),
             Ty::Proj(t, tr, n) => Ty::Proj(
                 Box::new(t.map(f)),
                 tr.as_ref().map(|tr| {
@@ -555,6 +609,16 @@ impl<'a> fmt::Display for TyDisplay<'a> {
             Ty::Param(i) => write!(f, "T{i}"),
             Ty::Proj(t, _, n) => write!(f, "{}::{n}", sub(t)),
             Ty::Infer => write!(f, "_"),
+            Ty::Closure(c) => {
+                write!(f, "closure(")?;
+                for (i, p) in c.params.iter().enumerate() {
+                    if i > 0 {
+                        write!(f, ", ")?;
+                    }
+                    write!(f, "{}", sub(p))?;
+                }
+                write!(f, ") -> {}", sub(&c.ret))
+            }
             Ty::Var(_) => write!(f, "{{number}}"),
         }
     }

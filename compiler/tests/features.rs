@@ -237,6 +237,7 @@ fn language_suite_objects_are_valid() {
         "lang_slices",
         "lang_format",
         "lang_math",
+        "lang_closures",
     ] {
         let path = crate_dir().join(format!("tests/kernels/{k}.rs"));
         for opt in [0, 2] {

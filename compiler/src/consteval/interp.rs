@@ -764,7 +764,7 @@ impl<'p, 'a> Interp<'p, 'a> {
                 Callee::Fn { recv, .. }
                 | Callee::Builtin { recv, .. }
                 | Callee::Derived { recv, .. } => *recv,
-                Callee::Ctor { .. } => Default::default(),
+                Callee::Ctor { .. } | Callee::Closure { .. } => Default::default(),
             };
             let base = self.deref_place(f, r, adj.derefs)?;
             vals.push(match adj.autoref {
@@ -843,6 +843,7 @@ impl<'p, 'a> Interp<'p, 'a> {
                 "default" => self.default_of(&st),
                 _ => unsupported("derived method"),
             },
+            Callee::Closure { .. } => unsupported("closure call"),
             Callee::Builtin { b, .. } => {
                 let _ = ty;
                 builtin(b, vals).map_or_else(|| unsupported("builtin"), Ok)

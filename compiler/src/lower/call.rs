@@ -125,6 +125,7 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                 self.set_loc(e.span());
                 self.derived(tr, method, &st, &vals)
             }
+            Callee::Closure { .. } => Err(internal("closure call reached the call lowering")),
         }
     }
 

@@ -65,6 +65,7 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                     )
                     .as_type()
             }
+            Ty::Closure(c) => self.closure_di(c),
             Ty::Bool => self.basic("bool", 8, DW_ATE_BOOLEAN),
             Ty::Char => self.basic("char", 32, DW_ATE_UTF),
             Ty::Int(i) => self.basic(

@@ -270,9 +270,15 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                 Ok(None)
             }
             Expr::Call(c) => {
+                if let Some(crate::typeck::Callee::Closure { ty: ct, derefs }) =
+                    self.body.callees.get(&key(e)).cloned()
+                {
+                    return self.closure_call(e, c, &ct, derefs, ty);
+                }
                 let args: Vec<&Expr> = c.args.iter().collect();
                 self.call(e, None, &args, ty)
             }
+            Expr::Closure(_) => self.closure_value(e, ty),
             Expr::MethodCall(m) => {
                 let args: Vec<&Expr> = m.args.iter().collect();
                 self.call(e, Some(&m.receiver), &args, ty)

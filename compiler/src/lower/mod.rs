@@ -11,6 +11,7 @@
 //! - `pat`: patterns, `match`, `if let`, `while let`, `let` destructuring;
 //! - `iter`: `for` loops over ranges, arrays, slices and iterator adapters;
 //! - `call`: calls, constructors, derived `clone`/`eq`/`default`, operator impls;
+//! - `closure`: closure environments, closure functions and calls;
 //! - `builtins`: the builtin catalogue's lowering and the TRaX macros;
 //! - `fmt`: formatted prints (argument records and `Debug` type descriptors);
 //! - `panic`: panics and bounds checks with Rust's messages;
@@ -18,6 +19,7 @@
 
 mod builtins;
 mod call;
+mod closure;
 mod debug;
 mod expr;
 mod fmt;
@@ -69,6 +71,14 @@ fn internal(s: impl Into<String>) -> LowerError {
     LowerError::Internal(s.into())
 }
 
+/// A function to emit.
+enum Work {
+    /// A function instance.
+    Fn(FnId, Vec<Ty>),
+    /// The function of a closure type.
+    Closure(crate::ty::ClosureTy),
+}
+
 struct LoopTarget<'ctx> {
     label: Option<String>,
     brk: BasicBlock<'ctx>,
@@ -104,7 +114,8 @@ pub struct Lowerer<'ctx, 'p, 'a> {
     consts: &'p HashMap<(GlobalId, Vec<Ty>), Val>,
     optimized: bool,
     fns: HashMap<(FnId, Vec<Ty>), FunctionValue<'ctx>>,
-    queue: Vec<(FnId, Vec<Ty>)>,
+    queue: Vec<Work>,
+    closures: HashMap<crate::ty::ClosureTy, FunctionValue<'ctx>>,
     globals: HashMap<(GlobalId, Vec<Ty>), GlobalValue<'ctx>>,
     adt_tys: HashMap<Ty, StructType<'ctx>>,
     variant_tys: HashMap<(Ty, usize), StructType<'ctx>>,
@@ -185,6 +196,7 @@ impl<'ctx, 'p, 'a> Lowerer<'ctx, 'p, 'a> {
             optimized,
             fns: HashMap::new(),
             queue: Vec::new(),
+            closures: HashMap::new(),
             globals: HashMap::new(),
             adt_tys: HashMap::new(),
             variant_tys: HashMap::new(),
@@ -205,8 +217,11 @@ impl<'ctx, 'p, 'a> Lowerer<'ctx, 'p, 'a> {
     pub fn run(mut self, root: FnId) -> LResult<Module<'ctx>> {
         let f = self.declare_fn(root, &[]);
         f.set_linkage(Linkage::External);
-        while let Some((id, substs)) = self.queue.pop() {
-            self.lower_fn(id, substs)?;
+        while let Some(w) = self.queue.pop() {
+            match w {
+                Work::Fn(id, substs) => self.lower_fn(id, substs)?,
+                Work::Closure(c) => self.lower_closure(c)?,
+            }
         }
         self.dib.finalize();
         Ok(self.module)
@@ -244,6 +259,7 @@ impl<'ctx, 'p, 'a> Lowerer<'ctx, 'p, 'a> {
             Ty::Str => c
                 .struct_type(&[c.i32_type().into(), c.i32_type().into()], false)
                 .into(),
+            Ty::Closure(cl) => self.closure_ty(cl).into(),
             Ty::Var(_) | Ty::Param(_) | Ty::Proj(..) | Ty::Infer => c.i32_type().into(),
         }
     }
@@ -317,7 +333,7 @@ impl<'ctx, 'p, 'a> Lowerer<'ctx, 'p, 'a> {
             }
         }
         self.fns.insert(k.clone(), f);
-        self.queue.push(k);
+        self.queue.push(Work::Fn(k.0, k.1));
         f
     }
 

@@ -185,13 +185,22 @@ impl<'a> Program<'a> {
                     }
                 }
             }
+            // `Fn(A, B) -> C`: the arguments as a tuple and the `Output` binding.
             syn::PathArguments::Parenthesized(p) => {
-                return Err(self.err(
-                    file,
-                    p.span(),
-                    "unsupported-closure",
-                    "`Fn` traits are not supported in TRaX-Rust (closures are not available)",
-                ))
+                let mut ins = Vec::new();
+                for a in &p.inputs {
+                    ins.push(self.resolve_type(module, file, &a.ty, scope)?);
+                }
+                tys.push(if ins.is_empty() {
+                    Ty::Unit
+                } else {
+                    Ty::Tuple(ins)
+                });
+                let out = match &p.output {
+                    syn::ReturnType::Default => Ty::Unit,
+                    syn::ReturnType::Type(_, t) => self.resolve_type(module, file, t, scope)?,
+                };
+                bindings.push(("Output".to_string(), out));
             }
         }
         Ok((tys, bindings))

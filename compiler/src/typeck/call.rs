@@ -29,8 +29,15 @@ impl<'p, 'a> Cx<'p, 'a> {
             ));
         }
         for (a, p) in args.iter().zip(params) {
-            let t = self.expr(a)?;
+            let t = match a {
+                Expr::Closure(c) => {
+                    let t = self.closure(a, c, Some(p))?;
+                    self.record(a, t)
+                }
+                _ => self.expr(a)?,
+            };
             self.coerce(a, &t, p, a.span())?;
+            self.check_fn_hint(p, a.span())?;
         }
         Ok(())
     }
@@ -63,6 +70,8 @@ impl<'p, 'a> Cx<'p, 'a> {
         };
         let mut substs = parent;
         substs.extend(own);
+        self.fn_bound_hints(f, &substs, span)?;
+        let fd = &self.p.fns[f];
         let params: Vec<Ty> = fd.params.iter().map(|t| t.subst(&substs)).collect();
         let params = params
             .iter()
@@ -102,11 +111,7 @@ impl<'p, 'a> Cx<'p, 'a> {
 
     pub fn call(&mut self, e: &Expr, c: &syn::ExprCall) -> DResult<Ty> {
         let Expr::Path(fp) = &*c.func else {
-            return Err(self.err(
-                c.func.span(),
-                "unsupported-call",
-                "only calls of named functions are supported (no function pointers or closures)",
-            ));
+            return self.closure_call(e, c);
         };
         if fp.qself.is_none()
             && fp
@@ -114,11 +119,7 @@ impl<'p, 'a> Cx<'p, 'a> {
                 .get_ident()
                 .is_some_and(|i| self.lookup_local(&i.to_string()).is_some())
         {
-            return Err(self.err(
-                c.func.span(),
-                "unsupported-call",
-                "calling a local variable is not supported (no closures or function pointers)",
-            ));
+            return self.closure_call(e, c);
         }
         let args: Vec<&Expr> = c.args.iter().collect();
         let span = c.span();
@@ -196,7 +197,7 @@ impl<'p, 'a> Cx<'p, 'a> {
             ValuePath::Global(_) | ValuePath::FloatConst(..) => Err(self.err(
                 c.func.span(),
                 "unsupported-call",
-                "only calls of named functions are supported (no function pointers or closures)",
+                "only calls of named functions and closures are supported (no function pointers)",
             )),
         }
     }

@@ -402,11 +402,7 @@ impl<'p, 'a> Cx<'p, 'a> {
                 "unsupported-range",
                 "range expressions are only supported as `for` loop iterators and slice indices",
             )),
-            Expr::Closure(c) => Err(self.err(
-                c.span(),
-                "unsupported-closure",
-                "closures are not supported in TRaX-Rust",
-            )),
+            Expr::Closure(c) => self.closure(e, c, None),
             Expr::Async(c) => Err(self.err(c.span(), "unsupported-async", "async blocks are not supported in TRaX-Rust")),
             Expr::Await(c) => Err(self.err(c.span(), "unsupported-async", "`.await` is not supported in TRaX-Rust")),
             Expr::TryBlock(c) => Err(self.err(c.span(), "unsupported-try", "try blocks are not supported in TRaX-Rust")),

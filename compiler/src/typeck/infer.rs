@@ -68,6 +68,21 @@ pub(super) struct Cx<'p, 'a> {
     pub in_const: bool,
     /// Spans of calls and method calls (for errors found when the body is finished).
     pub call_spans: HashMap<usize, Span>,
+    /// The function instance being checked (closures are defined in it).
+    pub cur_fn: Option<(FnId, Vec<Ty>)>,
+    /// Closures being checked, innermost last.
+    pub closure_frames: Vec<ClosureFrame>,
+    /// Signatures a variable must have as a closure (from `F: Fn(A) -> R` bounds of the
+    /// generic function whose argument it stands for).
+    pub hints: HashMap<u32, (Vec<Ty>, Ty)>,
+}
+
+/// A closure whose body is being checked.
+pub(super) struct ClosureFrame {
+    /// Locals before this index belong to enclosing scopes (uses are captures).
+    pub locals_base: usize,
+    /// Captured locals in order of first use.
+    pub captures: Vec<LocalId>,
 }
 
 /// Type-checks a function instance.
@@ -91,6 +106,7 @@ pub(super) fn check_fn(p: &Program, f: FnId, substs: &[Ty]) -> DResult<Body> {
     cx.impl_types = impl_types;
     cx.in_trait = in_trait;
     cx.in_const = fd.is_const;
+    cx.cur_fn = Some((f, substs.to_vec()));
     cx.ret = cx.inst(&fd.ret, fd.sig.output.span())?;
     cx.scopes.push(HashMap::new());
     for (i, arg) in fd.sig.inputs.iter().enumerate() {
@@ -178,6 +194,9 @@ impl<'p, 'a> Cx<'p, 'a> {
             deferred: Vec::new(),
             in_const: false,
             call_spans: HashMap::new(),
+            cur_fn: None,
+            closure_frames: Vec::new(),
+            hints: HashMap::new(),
         }
     }
 
@@ -384,6 +403,17 @@ impl<'p, 'a> Cx<'p, 'a> {
     }
 
     pub fn mismatch(&self, span: Span, expected: &Ty, found: &Ty) -> Diagnostic {
+        if let (Ty::Closure(a), Ty::Closure(b)) = (self.shallow(expected), self.shallow(found)) {
+            if a.key != b.key {
+                return self
+                    .err(
+                        span,
+                        "type-mismatch",
+                        "mismatched types: expected closure, found a different closure",
+                    )
+                    .with_note("no two closures, even if identical, have the same type");
+            }
+        }
         self.err(
             span,
             "type-mismatch",
@@ -474,6 +504,22 @@ impl<'p, 'a> Cx<'p, 'a> {
                     pairs.iter().all(|(p, q)| self.try_unify(p, q))
                 }
             }
+            (Ty::Closure(x), Ty::Closure(y)) => {
+                x.key == y.key
+                    && x.def_fn == y.def_fn
+                    && x.def_substs == y.def_substs
+                    && x.params.len() == y.params.len()
+                    && {
+                        let pairs: Vec<(Ty, Ty)> = x
+                            .params
+                            .iter()
+                            .cloned()
+                            .zip(y.params.iter().cloned())
+                            .collect();
+                        pairs.iter().all(|(p, q)| self.try_unify(p, q))
+                    }
+                    && self.try_unify(&x.ret, &y.ret)
+            }
             (Ty::Array(x, n), Ty::Array(y, m)) => n == m && self.try_unify(x, y),
             (Ty::Slice(x), Ty::Slice(y)) => self.try_unify(x, y),
             (Ty::Ref(m1, x), Ty::Ref(m2, y)) => (m1 == m2 || (*m1 && !*m2)) && self.try_unify(x, y),
@@ -494,6 +540,16 @@ impl<'p, 'a> Cx<'p, 'a> {
 
     pub fn lookup_local(&self, name: &str) -> Option<LocalId> {
         self.scopes.iter().rev().find_map(|s| s.get(name).copied())
+    }
+
+    /// Records a use of local `id` in the closures being checked (a capture of those
+    /// defined after it).
+    pub fn note_use(&mut self, id: LocalId) {
+        for f in &mut self.closure_frames {
+            if id < f.locals_base && !f.captures.contains(&id) {
+                f.captures.push(id);
+            }
+        }
     }
 
     pub fn record(&mut self, e: &syn::Expr, t: Ty) -> Ty {
@@ -601,6 +657,14 @@ impl<'p, 'a> Cx<'p, 'a> {
                     method,
                     ty: self.deep(&ty),
                     recv,
+                },
+                Callee::Closure { ty, derefs } => Callee::Closure {
+                    ty: crate::ty::ClosureTy {
+                        params: ty.params.iter().map(|t| self.deep(t)).collect(),
+                        ret: self.deep(&ty.ret),
+                        ..ty
+                    },
+                    derefs,
                 },
                 other => other,
             };

@@ -167,6 +167,51 @@ pub enum MacroCall {
     SymbolAddr(String),
 }
 
+impl MacroCall {
+    /// The expressions the macro call holds (parsed from its tokens).
+    pub fn exprs(&self) -> Vec<&Expr> {
+        fn pieces(ps: &[FmtPiece]) -> Vec<&Expr> {
+            ps.iter()
+                .filter_map(|p| match p {
+                    FmtPiece::Arg(e, _) => Some(&**e),
+                    FmtPiece::Lit(_) => None,
+                })
+                .collect()
+        }
+        match self {
+            MacroCall::Print(ps) => pieces(ps),
+            MacroCall::Abort {
+                pieces: ps,
+                cond,
+                cmp,
+                ..
+            } => {
+                let mut v = pieces(ps);
+                v.extend(cond.as_deref());
+                if let Some((a, b, _)) = cmp {
+                    v.push(a);
+                    v.push(b);
+                }
+                v
+            }
+            MacroCall::Matches { expr, guard, .. } => {
+                let mut v = vec![&**expr];
+                v.extend(guard.as_deref());
+                v
+            }
+            MacroCall::TraxOp { args, .. } => args
+                .iter()
+                .filter_map(|a| match a {
+                    TraxArg::Reg(e) => Some(&**e),
+                    TraxArg::Imm(_) => None,
+                })
+                .collect(),
+            MacroCall::Mtc2(_, e) => vec![&**e],
+            MacroCall::Nothing | MacroCall::Mfc2(_) | MacroCall::SymbolAddr(_) => Vec::new(),
+        }
+    }
+}
+
 impl<'p, 'a> Cx<'p, 'a> {
     pub fn mac(&mut self, m: &syn::Macro, span: Span) -> DResult<Ty> {
         let name = m

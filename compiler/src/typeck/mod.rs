@@ -15,10 +15,12 @@
 //! - [`pat`]: patterns (bindings, default binding modes, enums, tuples, structs, slices);
 //! - [`path`]: paths (locals, consts, variants, associated consts), struct literals;
 //! - [`call`]: calls, method calls, the builtin catalogue, `core` functions;
+//! - [`closure`]: closure expressions (captures, signatures from `Fn` bounds), closure calls;
 //! - [`traits`]: method and trait resolution, operator/`Index` impls, derived methods;
 //! - [`macros`]: `print!`/`panic!`/`assert!`/`matches!`/TRaX macros and format strings.
 
 mod call;
+mod closure;
 mod expr;
 mod infer;
 mod macros;
@@ -34,7 +36,7 @@ pub use macros::{Align, Count, FmtPiece, FmtSpec, FmtTrait, MacroCall, TraxArg};
 use crate::builtins::Builtin;
 use crate::diag::{DResult, Diagnostic};
 use crate::resolve::{FnId, GlobalId, Program};
-use crate::ty::{AdtId, FloatTy, IntTy, LangTrait, Ty};
+use crate::ty::{AdtId, ClosureTy, FloatTy, IntTy, LangTrait, Ty};
 use proc_macro2::Span;
 use std::collections::{HashMap, HashSet};
 
@@ -103,6 +105,13 @@ pub enum Callee {
         adt: AdtId,
         /// Variant (0 for structs).
         variant: usize,
+    },
+    /// A closure: the callee expression (after `derefs` dereferences) is its environment.
+    Closure {
+        /// The closure's type.
+        ty: ClosureTy,
+        /// References dereferenced to reach the closure.
+        derefs: u32,
     },
     /// A method the compiler derives (`clone`, `eq`, `ne`, `default`) on a type.
     Derived {
@@ -196,6 +205,15 @@ pub struct IterInfo {
     pub len: Option<u32>,
 }
 
+/// What a closure expression captures from the enclosing body.
+#[derive(Clone, Debug, Default)]
+pub struct ClosureInfo {
+    /// Locals of enclosing scopes it uses, in order of first use.
+    pub captures: Vec<LocalId>,
+    /// `move`: captured by value (a copy); else by reference.
+    pub by_move: bool,
+}
+
 /// Results of checking one body.
 #[derive(Default, Debug)]
 pub struct Body {
@@ -227,6 +245,8 @@ pub struct Body {
     pub fors: HashMap<usize, Vec<IterInfo>>,
     /// `?` expressions: the early-return constructor (the function's `Option`/`Result`).
     pub tries: HashMap<usize, Ty>,
+    /// Closure expressions (their parameters' and body's types are in `tys`, `binds`).
+    pub closures: HashMap<usize, ClosureInfo>,
 }
 
 impl Body {

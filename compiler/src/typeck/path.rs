@@ -222,6 +222,7 @@ impl<'p, 'a> Cx<'p, 'a> {
                 .and_then(|i| self.lookup_local(&i.to_string()))
             {
                 self.body.res.insert(key(e), Res::Local(id));
+                self.note_use(id);
                 return Ok(self.body.locals[id].ty.clone());
             }
         }

@@ -193,7 +193,11 @@ impl<'p, 'a> Cx<'p, 'a> {
         match k {
             TraitKind::Lang(l) => match l {
                 LangTrait::Copy | LangTrait::Clone => self.is_copy(t) || self.has_impl(t, k),
-                LangTrait::Sized | LangTrait::Debug => true,
+                LangTrait::Sized => true,
+                LangTrait::Debug => !matches!(t, Ty::Closure(_)),
+                LangTrait::Fn | LangTrait::FnMut | LangTrait::FnOnce => {
+                    matches!(t, Ty::Closure(_))
+                }
                 LangTrait::PartialEq | LangTrait::Eq => self.derives_eq(t) || self.has_impl(t, k),
                 LangTrait::Default => self.has_default(t) || self.has_impl(t, k),
                 LangTrait::PartialOrd | LangTrait::Ord => {

@@ -55,11 +55,13 @@ const INF32: u32 = 0x7F80_0000;
 const INF64: u64 = 0x7FF0_0000_0000_0000;
 const ABS64: u64 = 0x7FFF_FFFF_FFFF_FFFF;
 
+#[inline]
 fn fma(a: f64, b: f64, c: f64) -> f64 {
     a.mul_add(b, c)
 }
 
 /// `a + b` exactly (Knuth).
+#[inline]
 fn two_sum(a: f64, b: f64) -> Dd {
     let s = a + b;
     let bb = s - a;
@@ -70,6 +72,7 @@ fn two_sum(a: f64, b: f64) -> Dd {
 }
 
 /// `a + b` exactly when `|a| >= |b|` or `a == 0` (Dekker).
+#[inline]
 fn fast_two_sum(a: f64, b: f64) -> Dd {
     let s = a + b;
     Dd {
@@ -79,6 +82,7 @@ fn fast_two_sum(a: f64, b: f64) -> Dd {
 }
 
 /// `a * b` exactly.
+#[inline]
 fn two_prod(a: f64, b: f64) -> Dd {
     let p = a * b;
     Dd {
@@ -88,27 +92,33 @@ fn two_prod(a: f64, b: f64) -> Dd {
 }
 
 /// 2^e for -1022 <= e <= 1023.
+#[inline]
 fn pow2(e: i32) -> f64 {
     f64::from_bits(((e + 1023) as u64) << 52)
 }
 
+#[inline]
 fn nan32() -> f32 {
     f32::from_bits(0x7FC0_0000)
 }
 
+#[inline]
 fn nan64() -> f64 {
     f64::from_bits(0x7FF8_0000_0000_0000)
 }
 
 /// `x` (a NaN) with its quiet bit set.
+#[inline]
 fn quiet32(x: f32) -> f32 {
     f32::from_bits(x.to_bits() | 0x0040_0000)
 }
 
+#[inline]
 fn quiet64(x: f64) -> f64 {
     f64::from_bits(x.to_bits() | 0x0008_0000_0000_0000)
 }
 
+#[inline]
 fn neg_if32(neg: bool, x: f32) -> f32 {
     if neg {
         -x
@@ -117,6 +127,7 @@ fn neg_if32(neg: bool, x: f32) -> f32 {
     }
 }
 
+#[inline]
 fn neg_if64(neg: bool, x: f64) -> f64 {
     if neg {
         -x
@@ -132,6 +143,7 @@ fn neg_if64(neg: bool, x: f64) -> f64 {
 /// `r` (double length) and returns `n mod 4`. Exact up to the final roundings: the
 /// product of the 53-bit mantissa with a 224-bit window of `2/pi` keeps 128 bits after
 /// the binary point, which covers the deepest cancellation of any double (about 2^-61).
+#[inline(never)]
 fn rem_pio2_large(x: f64, out: &mut Dd) -> i32 {
     let bits = x.to_bits();
     let m = (bits & 0x000F_FFFF_FFFF_FFFF) | 0x0010_0000_0000_0000;
@@ -246,24 +258,6 @@ fn bits32(acc: &[u32; 9], pos: i32) -> u32 {
     }
 }
 
-/// For an f32 value `x` (finite, held in f64): `x = n pi/2 + r`; writes `r`, returns `n`
-/// (its low two bits are the quadrant).
-fn rem_pio2f(x: f64, r: &mut f64) -> i32 {
-    if x.abs() < 268435456.0 {
-        // |x| < 2^28. n * PIO2_1 is exact inside the fma and x - n * PIO2_1 is a
-        // multiple of 2^-52 below 2 (x is an f32), so r1 is exact.
-        let t = x * INV_PIO2 + SHIFT;
-        let n = t - SHIFT;
-        let r1 = fma(-n, PIO2_1, x);
-        *r = fma(-n, PIO2_3, fma(-n, PIO2_2, r1));
-        return t.to_bits() as u32 as i32;
-    }
-    let mut d = Dd { hi: 0.0, lo: 0.0 };
-    let n = rem_pio2_large(x, &mut d);
-    *r = d.hi;
-    n
-}
-
 /// For finite `|x| > pi/4`: `x = n pi/2 + r`, `r` double length; returns `n`.
 fn rem_pio2(x: f64, r: &mut Dd) -> i32 {
     if x.abs() < 1073741824.0 {
@@ -286,7 +280,8 @@ fn rem_pio2(x: f64, r: &mut Dd) -> i32 {
 // ---------------------------------------------------------------------------------------
 // f32 trigonometry (evaluated in f64)
 
-/// sin(r), |r| <= pi/4 (relative error 2^-37.5).
+/// sin(r), |r| <= pi/4 (relative error 2^-37.5); r != -0.
+#[inline]
 fn sinf_k(r: f64) -> f64 {
     let z = r * r;
     let p = fma(z, fma(z, fma(z, SINF_3, SINF_2), SINF_1), SINF_0);
@@ -294,6 +289,7 @@ fn sinf_k(r: f64) -> f64 {
 }
 
 /// cos(r), |r| <= pi/4 (relative error 2^-33.9).
+#[inline]
 fn cosf_k(r: f64) -> f64 {
     let z = r * r;
     fma(
@@ -303,91 +299,103 @@ fn cosf_k(r: f64) -> f64 {
     )
 }
 
-/// |x| below which sin x and tan x round to x and cos x to 1 (f32: 2^-12).
-const TINY32: u32 = 0x3980_0000;
-/// pi/4 as f32 bits, rounded down.
-const PIO4_32: u32 = 0x3F49_0FDA;
+/// f32 bits of 2^28: below it `rem_pio2f` reduces, from it up Payne-Hanek.
+const BIG32: u32 = 0x4D80_0000;
 
-/// Sine of `x` (radians).
-pub fn sinf(x: f32) -> f32 {
+/// For a nonzero f32 `x` (held exactly in f64) with |x| < 2^28: x = n pi/2 + r; writes
+/// r, returns n (its low two bits are the quadrant). n * PIO2_1 is exact inside the fma
+/// and x - n PIO2_1 is a multiple of 2^-52 below 2 (x is an f32), so r1 is exact; the
+/// third part of pi/2 would change r by at most 2^-81, 2^-46 of the smallest |r| of an
+/// f32 argument.
+#[inline]
+fn rem_pio2f(x: f64, r: &mut f64) -> u32 {
+    let t = fma(x, INV_PIO2, SHIFT);
+    let m = SHIFT - t;
+    *r = fma(m, PIO2_2, fma(m, PIO2_1, x));
+    t.to_bits() as u32
+}
+
+/// sin (`which` 0), cos (1) or tan (2) of an f32 that is ±0, at least 2^28 in
+/// magnitude, infinite or NaN.
+#[inline(never)]
+fn trigf_rare(x: f32, which: u32) -> f32 {
     let ax = x.to_bits() & 0x7FFF_FFFF;
-    if ax < TINY32 {
-        return x;
+    if ax == 0 {
+        return if which == 1 { 1.0 } else { x };
     }
     if ax >= INF32 {
         return if ax == INF32 { nan32() } else { quiet32(x) };
     }
-    let mut r = x as f64;
-    let mut n = 0;
-    if ax > PIO4_32 {
-        n = rem_pio2f(x as f64, &mut r);
+    let mut d = Dd { hi: 0.0, lo: 0.0 };
+    let n = rem_pio2_large(x as f64, &mut d) as u32;
+    let r = d.hi;
+    if which == 2 {
+        let t = if n & 1 == 0 {
+            sinf_k(r) / cosf_k(r)
+        } else {
+            -cosf_k(r) / sinf_k(r)
+        };
+        return t as f32;
     }
+    let q = n + which;
+    let v = if q & 1 == 0 { sinf_k(r) } else { cosf_k(r) };
+    neg_if32(q & 2 != 0, v as f32)
+}
+
+/// Sine of `x` (radians).
+#[inline]
+pub fn sinf(x: f32) -> f32 {
+    // One compare sends ±0, |x| >= 2^28, infinities and NaNs to the rare path.
+    if (x.to_bits() & 0x7FFF_FFFF).wrapping_sub(1) >= BIG32 - 1 {
+        return trigf_rare(x, 0);
+    }
+    let mut r = 0.0;
+    let n = rem_pio2f(x as f64, &mut r);
     let v = if n & 1 == 0 { sinf_k(r) } else { cosf_k(r) };
     neg_if32(n & 2 != 0, v as f32)
 }
 
 /// Cosine of `x` (radians).
+#[inline]
 pub fn cosf(x: f32) -> f32 {
-    let ax = x.to_bits() & 0x7FFF_FFFF;
-    if ax < TINY32 {
-        return 1.0;
+    if (x.to_bits() & 0x7FFF_FFFF).wrapping_sub(1) >= BIG32 - 1 {
+        return trigf_rare(x, 1);
     }
-    if ax >= INF32 {
-        return if ax == INF32 { nan32() } else { quiet32(x) };
-    }
-    let mut r = x as f64;
-    let mut n = 0;
-    if ax > PIO4_32 {
-        n = rem_pio2f(x as f64, &mut r);
-    }
-    let v = if n & 1 == 0 { cosf_k(r) } else { sinf_k(r) };
-    neg_if32((n + 1) & 2 != 0, v as f32)
+    let mut r = 0.0;
+    let n = rem_pio2f(x as f64, &mut r).wrapping_add(1);
+    let v = if n & 1 == 0 { sinf_k(r) } else { cosf_k(r) };
+    neg_if32(n & 2 != 0, v as f32)
 }
 
 /// Sine and cosine of `x` with one argument reduction.
+#[inline]
 pub fn sincosf(x: f32, s: &mut f32, c: &mut f32) {
-    let ax = x.to_bits() & 0x7FFF_FFFF;
-    if ax < TINY32 {
-        *s = x;
-        *c = 1.0;
+    if (x.to_bits() & 0x7FFF_FFFF).wrapping_sub(1) >= BIG32 - 1 {
+        *s = trigf_rare(x, 0);
+        *c = trigf_rare(x, 1);
         return;
     }
-    if ax >= INF32 {
-        let v = if ax == INF32 { nan32() } else { quiet32(x) };
-        *s = v;
-        *c = v;
-        return;
-    }
-    let mut r = x as f64;
-    let mut n = 0;
-    if ax > PIO4_32 {
-        n = rem_pio2f(x as f64, &mut r);
-    }
+    let mut r = 0.0;
+    let n = rem_pio2f(x as f64, &mut r);
     let sv = sinf_k(r) as f32;
     let cv = cosf_k(r) as f32;
     if n & 1 == 0 {
         *s = neg_if32(n & 2 != 0, sv);
-        *c = neg_if32((n + 1) & 2 != 0, cv);
+        *c = neg_if32(n.wrapping_add(1) & 2 != 0, cv);
     } else {
         *s = neg_if32(n & 2 != 0, cv);
-        *c = neg_if32((n + 1) & 2 != 0, sv);
+        *c = neg_if32(n.wrapping_add(1) & 2 != 0, sv);
     }
 }
 
 /// Tangent of `x` (radians).
+#[inline]
 pub fn tanf(x: f32) -> f32 {
-    let ax = x.to_bits() & 0x7FFF_FFFF;
-    if ax < TINY32 {
-        return x;
+    if (x.to_bits() & 0x7FFF_FFFF).wrapping_sub(1) >= BIG32 - 1 {
+        return trigf_rare(x, 2);
     }
-    if ax >= INF32 {
-        return if ax == INF32 { nan32() } else { quiet32(x) };
-    }
-    let mut r = x as f64;
-    let mut n = 0;
-    if ax > PIO4_32 {
-        n = rem_pio2f(x as f64, &mut r);
-    }
+    let mut r = 0.0;
+    let n = rem_pio2f(x as f64, &mut r);
     let s = sinf_k(r);
     let c = cosf_k(r);
     let t = if n & 1 == 0 { s / c } else { -c / s };
@@ -397,7 +405,11 @@ pub fn tanf(x: f32) -> f32 {
 // ---------------------------------------------------------------------------------------
 // f32 inverse trigonometry (evaluated in f64)
 
-/// atan(u / v) for finite 0 <= u <= v, v > 0 (relative error about 2^-37).
+/// |x| below which asin x and atan x round to x (f32: 2^-12).
+const TINY32: u32 = 0x3980_0000;
+
+/// atan(u / v) for finite 0 <= u <= v, v > 0 (relative error about 2^-33).
+#[inline]
 fn atanf_k(u: f64, v: f64) -> f64 {
     let mut num = u;
     let mut den = v;
@@ -412,21 +424,15 @@ fn atanf_k(u: f64, v: f64) -> f64 {
     let z = t * t;
     let p = fma(
         z,
-        fma(
-            z,
-            fma(
-                z,
-                fma(z, fma(z, fma(z, ATANF_6, ATANF_5), ATANF_4), ATANF_3),
-                ATANF_2,
-            ),
-            ATANF_1,
-        ),
-        ATANF_0,
+        fma(z, fma(z, fma(z, ATANF_5, ATANF_4), ATANF_3), ATANF_2),
+        ATANF_1,
     );
+    let p = fma(z, p, ATANF_0);
     base + fma(t * z, p, t)
 }
 
 /// atan(|y| / |x|) in [0, pi/2] for finite |y|, |x| >= 0 not both 0.
+#[inline]
 fn atan2f_k(ay: f64, ax: f64) -> f64 {
     if ay <= ax {
         atanf_k(ay, ax)
@@ -436,7 +442,21 @@ fn atan2f_k(ay: f64, ax: f64) -> f64 {
 }
 
 /// Arc tangent of `y / x` in `[-pi, pi]`, using the signs of both to pick the quadrant.
+#[inline]
 pub fn atan2f(y: f32, x: f32) -> f32 {
+    let ay = y.to_bits() & 0x7FFF_FFFF;
+    let ax = x.to_bits() & 0x7FFF_FFFF;
+    if ay.wrapping_sub(1) >= INF32 - 1 || ax.wrapping_sub(1) >= INF32 - 1 {
+        return atan2f_rare(y, x);
+    }
+    let t = atan2f_k(f32::from_bits(ay) as f64, f32::from_bits(ax) as f64);
+    let a = if x.to_bits() >> 31 != 0 { PI_HI - t } else { t };
+    neg_if32(y.to_bits() >> 31 != 0, a as f32)
+}
+
+/// atan2f when either operand is ±0, infinite or NaN.
+#[inline(never)]
+fn atan2f_rare(y: f32, x: f32) -> f32 {
     if y != y {
         return quiet32(y);
     }
@@ -445,19 +465,17 @@ pub fn atan2f(y: f32, x: f32) -> f32 {
     }
     let yneg = y.to_bits() >> 31 != 0;
     let xneg = x.to_bits() >> 31 != 0;
-    let ay = f32::from_bits(y.to_bits() & 0x7FFF_FFFF) as f64;
-    let ax = f32::from_bits(x.to_bits() & 0x7FFF_FFFF) as f64;
-    let inf = f64::from_bits(INF64);
-    let a;
-    if ay == 0.0 {
+    let ay = y.to_bits() & 0x7FFF_FFFF;
+    let ax = x.to_bits() & 0x7FFF_FFFF;
+    let a = if ay == 0 {
         if !xneg {
             return y;
         }
-        a = PI_HI;
-    } else if ax == 0.0 {
-        a = PIO2_HI;
-    } else if ay == inf {
-        a = if ax == inf {
+        PI_HI
+    } else if ax == 0 {
+        PIO2_HI
+    } else if ay == INF32 {
+        if ax == INF32 {
             if xneg {
                 THREE_PIO4_HI
             } else {
@@ -465,48 +483,56 @@ pub fn atan2f(y: f32, x: f32) -> f32 {
             }
         } else {
             PIO2_HI
-        };
-    } else if ax == inf {
-        if !xneg {
-            return neg_if32(yneg, 0.0);
         }
-        a = PI_HI;
+    } else if xneg {
+        // x = -inf, y finite.
+        PI_HI
     } else {
-        let t = atan2f_k(ay, ax);
-        a = if xneg { PI_HI - t } else { t };
-    }
+        0.0
+    };
     neg_if32(yneg, a as f32)
 }
 
 /// Arc tangent of `x`, in `[-pi/2, pi/2]`.
+#[inline]
 pub fn atanf(x: f32) -> f32 {
     let ax = x.to_bits() & 0x7FFF_FFFF;
-    if ax < TINY32 {
-        return x;
-    }
-    if ax > INF32 {
-        return quiet32(x);
+    if ax.wrapping_sub(TINY32) >= INF32 - TINY32 {
+        // Tiny (atan x rounds to x), infinite or NaN.
+        return if ax < TINY32 {
+            x
+        } else if ax == INF32 {
+            neg_if32(x.to_bits() >> 31 != 0, PIO2_HI as f32)
+        } else {
+            quiet32(x)
+        };
     }
     let a = atan2f_k(f32::from_bits(ax) as f64, 1.0);
-    neg_if32(x < 0.0, a as f32)
+    neg_if32(x.to_bits() >> 31 != 0, a as f32)
 }
 
 /// Arc sine of `x` in `[-pi/2, pi/2]`; NaN outside `[-1, 1]`.
+#[inline]
 pub fn asinf(x: f32) -> f32 {
     let ax = x.to_bits() & 0x7FFF_FFFF;
-    if ax < TINY32 {
-        return x;
-    }
-    if ax > 0x3F80_0000 {
-        return if ax > INF32 { quiet32(x) } else { nan32() };
+    if ax.wrapping_sub(TINY32) > 0x3F80_0000 - TINY32 {
+        // Tiny (asin x rounds to x), |x| > 1 or NaN.
+        return if ax < TINY32 {
+            x
+        } else if ax > INF32 {
+            quiet32(x)
+        } else {
+            nan32()
+        };
     }
     let u = f32::from_bits(ax) as f64;
     // 1 - u^2 is exact or correctly rounded (u^2 has 48 bits).
     let v = fma(-u, u, 1.0).sqrt();
-    neg_if32(x < 0.0, atan2f_k(u, v) as f32)
+    neg_if32(x.to_bits() >> 31 != 0, atan2f_k(u, v) as f32)
 }
 
 /// Arc cosine of `x` in `[0, pi]`; NaN outside `[-1, 1]`.
+#[inline]
 pub fn acosf(x: f32) -> f32 {
     let ax = x.to_bits() & 0x7FFF_FFFF;
     if ax > 0x3F80_0000 {
@@ -515,7 +541,7 @@ pub fn acosf(x: f32) -> f32 {
     let u = f32::from_bits(ax) as f64;
     let v = fma(-u, u, 1.0).sqrt();
     let a = atan2f_k(v, u);
-    let a = if x < 0.0 { PI_HI - a } else { a };
+    let a = if x.to_bits() >> 31 != 0 { PI_HI - a } else { a };
     a as f32
 }
 
@@ -523,6 +549,7 @@ pub fn acosf(x: f32) -> f32 {
 // f32 exponentials and logarithms (evaluated in f64)
 
 /// 2^y for -160 < y < 160 (relative error about 2^-38).
+#[inline]
 fn exp2f_k(y: f64) -> f64 {
     let t = y * 64.0 + SHIFT;
     let k = t.to_bits() as u32 as i32;
@@ -534,7 +561,18 @@ fn exp2f_k(y: f64) -> f64 {
 }
 
 /// `2^x`.
+#[inline]
 pub fn exp2f(x: f32) -> f32 {
+    // |x| < 126: a normal result, no special case.
+    if x.to_bits() & 0x7FFF_FFFF >= 0x42FC_0000 {
+        return exp2f_rare(x);
+    }
+    exp2f_k(x as f64) as f32
+}
+
+/// exp2f for |x| >= 126, infinities and NaN.
+#[inline(never)]
+fn exp2f_rare(x: f32) -> f32 {
     if x != x {
         return quiet32(x);
     }
@@ -548,7 +586,18 @@ pub fn exp2f(x: f32) -> f32 {
 }
 
 /// `e^x`.
+#[inline]
 pub fn expf(x: f32) -> f32 {
+    // |x| < 87: a normal result, no special case.
+    if x.to_bits() & 0x7FFF_FFFF >= 0x42AE_0000 {
+        return expf_rare(x);
+    }
+    exp2f_k(x as f64 * LOG2E_HI) as f32
+}
+
+/// expf for |x| >= 87, infinities and NaN.
+#[inline(never)]
+fn expf_rare(x: f32) -> f32 {
     if x != x {
         return quiet32(x);
     }
@@ -563,6 +612,7 @@ pub fn expf(x: f32) -> f32 {
 
 /// ln(m) for x = 2^e m, m in [sqrt(1/2), sqrt(2)); x positive, finite, normal in f64,
 /// with at most 24 significant bits (so 2 + f is exact). Relative error 2^-44.9.
+#[inline]
 fn logf_k(x: f64, e: &mut f64) -> f64 {
     let bits = x.to_bits();
     let hx = (bits >> 32) as u32 + (0x3FF0_0000 - 0x3FE6_A09E);
@@ -580,29 +630,43 @@ fn logf_k(x: f64, e: &mut f64) -> f64 {
     fma(s * z, p, s + s)
 }
 
-/// The special cases of the f32 logarithms; `None`-like: returns false when x is
-/// positive and finite.
-fn logf_special(x: f32, out: &mut f32) -> bool {
-    if x > 0.0 && x < f32::from_bits(INF32) {
-        return false;
+/// True for a positive, finite, normal f32 (the logarithms' common case).
+#[inline]
+fn pos_normal32(x: f32) -> bool {
+    x.to_bits().wrapping_sub(0x0080_0000) < INF32 - 0x0080_0000
+}
+
+/// The f32 logarithms when x is not a positive normal number: the special values, and
+/// for a subnormal `x` the logarithm `which` (0: ln, 1: log2, 2: log10).
+#[inline(never)]
+fn logf_rare(x: f32, which: u32) -> f32 {
+    if x == 0.0 {
+        return -f32::from_bits(INF32);
     }
-    *out = if x == 0.0 {
-        -f32::from_bits(INF32)
-    } else if x != x {
-        quiet32(x)
-    } else if x > 0.0 {
-        x
-    } else {
-        nan32()
+    if x != x {
+        return quiet32(x);
+    }
+    if x < 0.0 {
+        return nan32();
+    }
+    if x == f32::from_bits(INF32) {
+        return x;
+    }
+    let mut e = 0.0;
+    let l = logf_k(x as f64, &mut e);
+    let r = match which {
+        0 => fma(e, LN2_HI, l),
+        1 => fma(l, LOG2E_HI, e),
+        _ => fma(e, LOG10_2_HI, l * LOG10E_HI),
     };
-    true
+    r as f32
 }
 
 /// Natural logarithm.
+#[inline]
 pub fn logf(x: f32) -> f32 {
-    let mut out = 0.0;
-    if logf_special(x, &mut out) {
-        return out;
+    if !pos_normal32(x) {
+        return logf_rare(x, 0);
     }
     let mut e = 0.0;
     let l = logf_k(x as f64, &mut e);
@@ -610,10 +674,10 @@ pub fn logf(x: f32) -> f32 {
 }
 
 /// Base-2 logarithm.
+#[inline]
 pub fn log2f(x: f32) -> f32 {
-    let mut out = 0.0;
-    if logf_special(x, &mut out) {
-        return out;
+    if !pos_normal32(x) {
+        return logf_rare(x, 1);
     }
     let mut e = 0.0;
     let l = logf_k(x as f64, &mut e);
@@ -621,10 +685,10 @@ pub fn log2f(x: f32) -> f32 {
 }
 
 /// Base-10 logarithm.
+#[inline]
 pub fn log10f(x: f32) -> f32 {
-    let mut out = 0.0;
-    if logf_special(x, &mut out) {
-        return out;
+    if !pos_normal32(x) {
+        return logf_rare(x, 2);
     }
     let mut e = 0.0;
     let l = logf_k(x as f64, &mut e);
@@ -680,7 +744,28 @@ fn powf_k(x: f32, y: f64, yint: i32) -> f32 {
 }
 
 /// `x` raised to the power `y`.
+#[inline]
 pub fn powf(x: f32, y: f32) -> f32 {
+    let ay = y.to_bits() & 0x7FFF_FFFF;
+    if pos_normal32(x) && ay.wrapping_sub(1) < INF32 - 1 {
+        // x > 0 normal, y finite nonzero: 2^(y log2 x), no sign, no special case.
+        let mut e = 0.0;
+        let l = logf_k(x as f64, &mut e);
+        let w = y as f64 * fma(l, LOG2E_HI, e);
+        return if w >= 128.0 {
+            f32::from_bits(INF32)
+        } else if w < -151.0 {
+            0.0
+        } else {
+            exp2f_k(w) as f32
+        };
+    }
+    powf_rare(x, y)
+}
+
+/// powf when x is not a positive normal number or y is ±0, infinite or NaN.
+#[inline(never)]
+fn powf_rare(x: f32, y: f32) -> f32 {
     let ay = y.to_bits() & 0x7FFF_FFFF;
     if ay == 0 || x == 1.0 {
         return 1.0;
@@ -706,6 +791,7 @@ pub fn powf(x: f32, y: f32) -> f32 {
 }
 
 /// `x` raised to the integer power `n` (`powif(x, 0) = 1` for every x).
+#[inline]
 pub fn powif(x: f32, n: i32) -> f32 {
     if n == 0 {
         return 1.0;
@@ -737,6 +823,7 @@ pub fn powif(x: f32, n: i32) -> f32 {
 }
 
 /// `sqrt(x^2 + y^2)` without overflow or underflow.
+#[inline]
 pub fn hypotf(x: f32, y: f32) -> f32 {
     let ax = x.to_bits() & 0x7FFF_FFFF;
     let ay = y.to_bits() & 0x7FFF_FFFF;
@@ -756,6 +843,7 @@ pub fn hypotf(x: f32, y: f32) -> f32 {
 }
 
 /// For positive finite normal `x`: `x = m 2^(3k)`, m in [1, 8); writes m, returns k.
+#[inline]
 fn cbrt_split(x: f64, m: &mut f64) -> i32 {
     let bits = x.to_bits();
     let ex = (bits >> 52) as i32 - 1023;
@@ -767,6 +855,7 @@ fn cbrt_split(x: f64, m: &mut f64) -> i32 {
 
 /// cbrt(m) for m in [1, 8): a bit-level first guess (3.2% error), then two Halley steps
 /// (relative error about 2^-45).
+#[inline]
 fn cbrt_k(m: f64) -> f64 {
     let hm = (m.to_bits() >> 32) as u32;
     let mut t = f64::from_bits(((hm / 3 + 0x2A9F_7626) as u64) << 32);
@@ -778,6 +867,7 @@ fn cbrt_k(m: f64) -> f64 {
 }
 
 /// Cube root (real; negative for negative `x`).
+#[inline]
 pub fn cbrtf(x: f32) -> f32 {
     let ax = x.to_bits() & 0x7FFF_FFFF;
     if ax == 0 || ax >= INF32 {
@@ -866,7 +956,7 @@ pub fn cos(x: f64) -> f64 {
         n = rem_pio2(x, &mut r);
     }
     let v = if n & 1 == 0 { cos_k(r) } else { sin_k(r) };
-    neg_if64((n + 1) & 2 != 0, v)
+    neg_if64(n.wrapping_add(1) & 2 != 0, v)
 }
 
 /// Sine and cosine of `x` with one argument reduction.
@@ -892,10 +982,10 @@ pub fn sincos(x: f64, s: &mut f64, c: &mut f64) {
     let cv = cos_k(r);
     if n & 1 == 0 {
         *s = neg_if64(n & 2 != 0, sv);
-        *c = neg_if64((n + 1) & 2 != 0, cv);
+        *c = neg_if64(n.wrapping_add(1) & 2 != 0, cv);
     } else {
         *s = neg_if64(n & 2 != 0, cv);
-        *c = neg_if64((n + 1) & 2 != 0, sv);
+        *c = neg_if64(n.wrapping_add(1) & 2 != 0, sv);
     }
 }
 
@@ -1479,14 +1569,13 @@ const COSF_1: f64 = 0.0416666200728295; // x^4
 const COSF_2: f64 = -0.001388667266433482; // x^6
 const COSF_3: f64 = 2.4382721757614827e-05; // x^8
 
-// ATANF: atan(t) = t + sum; max rel error 2^-37.8 on [0, 0.414628]
-const ATANF_0: f64 = -0.33333333331002873; // x^3
-const ATANF_1: f64 = 0.19999999031157184; // x^5
-const ATANF_2: f64 = -0.14285621489858977; // x^7
-const ATANF_3: f64 = 0.11107680759363497; // x^9
-const ATANF_4: f64 = -0.09030447306024006; // x^11
-const ATANF_5: f64 = 0.0713949069784358; // x^13
-const ATANF_6: f64 = -0.04044880230424074; // x^15
+// ATANF: atan(t) = t + sum; max rel error 2^-33.4 on [0, 0.414628]
+const ATANF_0: f64 = -0.3333333321610087; // x^3
+const ATANF_1: f64 = 0.19999969811645904; // x^5
+const ATANF_2: f64 = -0.14283859292881484; // x^7
+const ATANF_3: f64 = 0.11066597230459582; // x^9
+const ATANF_4: f64 = -0.08591467862577522; // x^11
+const ATANF_5: f64 = 0.04966589321380944; // x^13
 
 // EXP2F: 2^r = 1 + sum (|r| <= 1/128); max rel error 2^-36.7 on [-0.0078125, 0.0078125]
 const EXP2F_0: f64 = 0.6931471805587035; // x^1

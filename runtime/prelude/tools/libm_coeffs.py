@@ -171,7 +171,7 @@ def main():
     emit_poly("SINF", "sin(r) = r + sum", mp.sin, lambda x: x, [3, 5, 7, 9], 0, pi / 4 * 1.001, "rel")
     emit_poly("COSF", "cos(r) = 1 + sum", mp.cos, lambda x: 1, [2, 4, 6, 8], 0, pi / 4 * 1.001, "rel")
     t8 = mp.tan(pi / 8)
-    emit_poly("ATANF", "atan(t) = t + sum", mp.atan, lambda x: x, [3, 5, 7, 9, 11, 13, 15], 0, t8 * 1.001, "rel")
+    emit_poly("ATANF", "atan(t) = t + sum", mp.atan, lambda x: x, [3, 5, 7, 9, 11, 13], 0, t8 * 1.001, "rel")
     emit_poly("EXP2F", "2^r = 1 + sum (|r| <= 1/128)", lambda x: mp.power(2, x), lambda x: 1, [1, 2, 3],
               -mp.mpf(1) / 128, mp.mpf(1) / 128, "rel", tail=1)
     smax = (mp.sqrt(2) - 1) / (mp.sqrt(2) + 1)

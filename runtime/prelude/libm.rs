@@ -258,23 +258,21 @@ fn bits32(acc: &[u32; 9], pos: i32) -> u32 {
     }
 }
 
-/// For finite `|x| > pi/4`: `x = n pi/2 + r`, `r` double length; returns `n`.
-fn rem_pio2(x: f64, r: &mut Dd) -> i32 {
-    if x.abs() < 1073741824.0 {
-        // |x| < 2^30: n * PIO2_1 is exact inside the fma, x - n * PIO2_1 is a multiple
-        // of 2^-52 below 1 (or Sterbenz for |x| < 1), so r1 is exact; the next two parts
-        // of pi/2 are subtracted in double length.
-        let t = x * INV_PIO2 + SHIFT;
-        let n = t - SHIFT;
-        let r1 = fma(-n, PIO2_1, x);
-        let th = n * PIO2_2;
-        let tl = fma(n, PIO2_2, -th);
-        let s = two_sum(r1, -th);
-        let lo = (s.lo - tl) - n * PIO2_3;
-        *r = fast_two_sum(s.hi, lo);
-        return t.to_bits() as u32 as i32;
-    }
-    rem_pio2_large(x, r)
+/// For pi/4 < |x| < 2^30: `x = n pi/2 + r`, `r` double length; returns `n`. n * PIO2_1
+/// is exact inside the fma, x - n * PIO2_1 is a multiple of 2^-52 below 1 (or Sterbenz
+/// for |x| < 1), so r1 is exact; the next two parts of pi/2 are subtracted in double
+/// length.
+#[inline]
+fn rem_pio2(x: f64, r: &mut Dd) -> u32 {
+    let t = fma(x, INV_PIO2, SHIFT);
+    let n = t - SHIFT;
+    let r1 = fma(-n, PIO2_1, x);
+    let th = n * PIO2_2;
+    let tl = fma(n, PIO2_2, -th);
+    let s = two_sum(r1, -th);
+    let lo = (s.lo - tl) - n * PIO2_3;
+    *r = fast_two_sum(s.hi, lo);
+    t.to_bits() as u32
 }
 
 // ---------------------------------------------------------------------------------------
@@ -883,8 +881,17 @@ pub fn cbrtf(x: f32) -> f32 {
 
 /// |x| below which sin x and tan x round to x and cos x to 1 (f64: 2^-27).
 const TINY64: u64 = 0x3E40_0000_0000_0000;
-/// The largest double below pi/4.
-const PIO4_64: u64 = 0x3FE9_21FB_5444_2D18;
+/// High words of 2^-27, of pi/4 (at or below it: no reduction) and of 2^30 (from it up:
+/// Payne-Hanek).
+const TINY64_HI: u32 = 0x3E40_0000;
+const PIO4_64_HI: u32 = 0x3FE9_21FB;
+const BIG64_HI: u32 = 0x41D0_0000;
+
+/// The high word of |x|.
+#[inline]
+fn hi_abs(x: f64) -> u32 {
+    (x.to_bits() >> 32) as u32 & 0x7FFF_FFFF
+}
 
 /// sin(r.hi + r.lo), |r| <= pi/4.
 fn sin_k(r: Dd) -> f64 {
@@ -923,87 +930,10 @@ fn cos_k(r: Dd) -> f64 {
     w + tail
 }
 
-/// Sine of `x` (radians).
-pub fn sin(x: f64) -> f64 {
-    let ax = x.to_bits() & ABS64;
-    if ax < TINY64 {
-        return x;
-    }
-    if ax >= INF64 {
-        return if ax == INF64 { nan64() } else { quiet64(x) };
-    }
-    let mut r = Dd { hi: x, lo: 0.0 };
-    let mut n = 0;
-    if ax > PIO4_64 {
-        n = rem_pio2(x, &mut r);
-    }
-    let v = if n & 1 == 0 { sin_k(r) } else { cos_k(r) };
-    neg_if64(n & 2 != 0, v)
-}
-
-/// Cosine of `x` (radians).
-pub fn cos(x: f64) -> f64 {
-    let ax = x.to_bits() & ABS64;
-    if ax < TINY64 {
-        return 1.0;
-    }
-    if ax >= INF64 {
-        return if ax == INF64 { nan64() } else { quiet64(x) };
-    }
-    let mut r = Dd { hi: x, lo: 0.0 };
-    let mut n = 0;
-    if ax > PIO4_64 {
-        n = rem_pio2(x, &mut r);
-    }
-    let v = if n & 1 == 0 { cos_k(r) } else { sin_k(r) };
-    neg_if64(n.wrapping_add(1) & 2 != 0, v)
-}
-
-/// Sine and cosine of `x` with one argument reduction.
-pub fn sincos(x: f64, s: &mut f64, c: &mut f64) {
-    let ax = x.to_bits() & ABS64;
-    if ax < TINY64 {
-        *s = x;
-        *c = 1.0;
-        return;
-    }
-    if ax >= INF64 {
-        let v = if ax == INF64 { nan64() } else { quiet64(x) };
-        *s = v;
-        *c = v;
-        return;
-    }
-    let mut r = Dd { hi: x, lo: 0.0 };
-    let mut n = 0;
-    if ax > PIO4_64 {
-        n = rem_pio2(x, &mut r);
-    }
-    let sv = sin_k(r);
-    let cv = cos_k(r);
-    if n & 1 == 0 {
-        *s = neg_if64(n & 2 != 0, sv);
-        *c = neg_if64(n.wrapping_add(1) & 2 != 0, cv);
-    } else {
-        *s = neg_if64(n & 2 != 0, cv);
-        *c = neg_if64(n.wrapping_add(1) & 2 != 0, sv);
-    }
-}
-
-/// Tangent of `x` (radians).
-pub fn tan(x: f64) -> f64 {
-    let ax = x.to_bits() & ABS64;
-    if ax < TINY64 {
-        return x;
-    }
-    if ax >= INF64 {
-        return if ax == INF64 { nan64() } else { quiet64(x) };
-    }
-    let mut r = Dd { hi: x, lo: 0.0 };
-    let mut n = 0;
-    if ax > PIO4_64 {
-        n = rem_pio2(x, &mut r);
-    }
-    // sin and cos in double length, then a double-length quotient.
+/// tan(r) (`n` even) or -1/tan(r) (`n` odd), |r| <= pi/4: sin and cos in double
+/// length, then a double-length quotient.
+#[inline]
+fn tan_k(r: Dd, n: u32) -> f64 {
     let h = r.hi;
     let z = h * h;
     let p = fma(
@@ -1030,6 +960,92 @@ pub fn tan(x: f64) -> f64 {
     let rem = fma(-q, den.hi, num.hi) + (num.lo - q * den.lo);
     let t = q + rem / den.hi;
     neg_if64(n & 1 != 0, t)
+}
+
+/// For 2^-27 <= |x| < 2^30 (`hi` = the high word of |x|): x = n pi/2 + r.
+#[inline]
+fn reduce_med(x: f64, hi: u32, r: &mut Dd) -> u32 {
+    if hi <= PIO4_64_HI {
+        *r = Dd { hi: x, lo: 0.0 };
+        return 0;
+    }
+    rem_pio2(x, r)
+}
+
+/// sin (`which` 0), cos (1) or tan (2) for |x| < 2^-27, |x| >= 2^30, infinities and NaN.
+#[inline(never)]
+fn trig_rare(x: f64, which: u32) -> f64 {
+    let ax = x.to_bits() & ABS64;
+    if ax < TINY64 {
+        return if which == 1 { 1.0 } else { x };
+    }
+    if ax >= INF64 {
+        return if ax == INF64 { nan64() } else { quiet64(x) };
+    }
+    let mut r = Dd { hi: 0.0, lo: 0.0 };
+    let n = rem_pio2_large(x, &mut r) as u32;
+    if which == 2 {
+        return tan_k(r, n);
+    }
+    let q = n.wrapping_add(which);
+    let v = if q & 1 == 0 { sin_k(r) } else { cos_k(r) };
+    neg_if64(q & 2 != 0, v)
+}
+
+/// Sine of `x` (radians).
+pub fn sin(x: f64) -> f64 {
+    let hi = hi_abs(x);
+    if hi.wrapping_sub(TINY64_HI) >= BIG64_HI - TINY64_HI {
+        return trig_rare(x, 0);
+    }
+    let mut r = Dd { hi: 0.0, lo: 0.0 };
+    let n = reduce_med(x, hi, &mut r);
+    let v = if n & 1 == 0 { sin_k(r) } else { cos_k(r) };
+    neg_if64(n & 2 != 0, v)
+}
+
+/// Cosine of `x` (radians).
+pub fn cos(x: f64) -> f64 {
+    let hi = hi_abs(x);
+    if hi.wrapping_sub(TINY64_HI) >= BIG64_HI - TINY64_HI {
+        return trig_rare(x, 1);
+    }
+    let mut r = Dd { hi: 0.0, lo: 0.0 };
+    let n = reduce_med(x, hi, &mut r).wrapping_add(1);
+    let v = if n & 1 == 0 { sin_k(r) } else { cos_k(r) };
+    neg_if64(n & 2 != 0, v)
+}
+
+/// Sine and cosine of `x` with one argument reduction.
+pub fn sincos(x: f64, s: &mut f64, c: &mut f64) {
+    let hi = hi_abs(x);
+    if hi.wrapping_sub(TINY64_HI) >= BIG64_HI - TINY64_HI {
+        *s = trig_rare(x, 0);
+        *c = trig_rare(x, 1);
+        return;
+    }
+    let mut r = Dd { hi: 0.0, lo: 0.0 };
+    let n = reduce_med(x, hi, &mut r);
+    let sv = sin_k(r);
+    let cv = cos_k(r);
+    if n & 1 == 0 {
+        *s = neg_if64(n & 2 != 0, sv);
+        *c = neg_if64(n.wrapping_add(1) & 2 != 0, cv);
+    } else {
+        *s = neg_if64(n & 2 != 0, cv);
+        *c = neg_if64(n.wrapping_add(1) & 2 != 0, sv);
+    }
+}
+
+/// Tangent of `x` (radians).
+pub fn tan(x: f64) -> f64 {
+    let hi = hi_abs(x);
+    if hi.wrapping_sub(TINY64_HI) >= BIG64_HI - TINY64_HI {
+        return trig_rare(x, 2);
+    }
+    let mut r = Dd { hi: 0.0, lo: 0.0 };
+    let n = reduce_med(x, hi, &mut r);
+    tan_k(r, n)
 }
 
 // ---------------------------------------------------------------------------------------
@@ -1071,6 +1087,49 @@ fn dd_sub_from(ch: f64, cl: f64, a: Dd) -> Dd {
 
 /// Arc tangent of `y / x` in `[-pi, pi]`, using the signs of both to pick the quadrant.
 pub fn atan2(y: f64, x: f64) -> f64 {
+    let hy = hi_abs(y);
+    let hx = hi_abs(x);
+    // Both normal and finite; the rest (zeros, subnormals, infinities, NaNs) out of line.
+    if hy.wrapping_sub(0x0010_0000) >= 0x7FE0_0000 || hx.wrapping_sub(0x0010_0000) >= 0x7FE0_0000 {
+        return atan2_rare(y, x);
+    }
+    atan2_k(y, x)
+}
+
+/// atan2 for finite nonzero y and x.
+#[inline]
+fn atan2_k(y: f64, x: f64) -> f64 {
+    let yneg = y.to_bits() >> 63 != 0;
+    let xneg = x.to_bits() >> 63 != 0;
+    let mut ay = y.abs();
+    let mut ax = x.abs();
+    // Scale so that v + c u cannot overflow and the residuals cannot underflow.
+    let big = if hi_abs(y) > hi_abs(x) {
+        hi_abs(y)
+    } else {
+        hi_abs(x)
+    };
+    if big >= 0x7FD0_0000 {
+        ay *= 0.25;
+        ax *= 0.25;
+    } else if big < 0x20B0_0000 {
+        ay *= 4.149515568880993e+180;
+        ax *= 4.149515568880993e+180;
+    }
+    let swap = ay > ax;
+    let mut a = if swap { atan_k(ax, ay) } else { atan_k(ay, ax) };
+    if swap {
+        a = dd_sub_from(PIO2_HI, PIO2_LO, a);
+    }
+    if xneg {
+        a = dd_sub_from(PI_HI, PI_LO, a);
+    }
+    neg_if64(yneg, a.hi + a.lo)
+}
+
+/// atan2 when an operand is ±0, subnormal, infinite or NaN.
+#[inline(never)]
+fn atan2_rare(y: f64, x: f64) -> f64 {
     if y != y {
         return quiet64(y);
     }
@@ -1079,8 +1138,8 @@ pub fn atan2(y: f64, x: f64) -> f64 {
     }
     let yneg = y.to_bits() >> 63 != 0;
     let xneg = x.to_bits() >> 63 != 0;
-    let mut ay = y.abs();
-    let mut ax = x.abs();
+    let ay = y.abs();
+    let ax = x.abs();
     let inf = f64::from_bits(INF64);
     if ay == 0.0 {
         return if xneg { neg_if64(yneg, PI_HI) } else { y };
@@ -1103,33 +1162,24 @@ pub fn atan2(y: f64, x: f64) -> f64 {
     if ax == inf {
         return neg_if64(yneg, if xneg { PI_HI } else { 0.0 });
     }
-    // Scale so that v + c u cannot overflow and the residuals cannot underflow.
-    let big = if ay > ax { ay } else { ax };
-    if big > 4.49423283715579e+307 {
-        ay *= 0.25;
-        ax *= 0.25;
-    } else if big < 3.054936363499605e-151 {
-        ay *= 4.149515568880993e+180;
-        ax *= 4.149515568880993e+180;
-    }
-    let swap = ay > ax;
-    let mut a = if swap { atan_k(ax, ay) } else { atan_k(ay, ax) };
-    if swap {
-        a = dd_sub_from(PIO2_HI, PIO2_LO, a);
-    }
-    if xneg {
-        a = dd_sub_from(PI_HI, PI_LO, a);
-    }
-    neg_if64(yneg, a.hi + a.lo)
+    // Subnormal operands.
+    atan2_k(y, x)
 }
 
 /// Arc tangent of `x`, in `[-pi/2, pi/2]`.
 pub fn atan(x: f64) -> f64 {
-    let ax = x.to_bits() & ABS64;
-    if ax < TINY64 {
-        return x;
+    let hx = hi_abs(x);
+    if hx.wrapping_sub(TINY64_HI) >= 0x7FF0_0000 - TINY64_HI {
+        // Tiny (atan x rounds to x), infinite or NaN.
+        return if hx < TINY64_HI {
+            x
+        } else if x != x {
+            quiet64(x)
+        } else {
+            neg_if64(x < 0.0, PIO2_HI)
+        };
     }
-    atan2(x, 1.0)
+    atan2_k(x, 1.0)
 }
 
 /// x^3 P(x^2) of asin(x) = x + x^3 P(x^2), |x| <= 1/2; `z` = x^2.
@@ -1211,6 +1261,7 @@ pub fn acos(x: f64) -> f64 {
 
 /// (th + tail) * 2^e for th + tail in [1, 2) from the exp table, rounded once, also when
 /// the result is subnormal.
+#[inline]
 fn exp_scale(th: f64, tail: f64, e: i32) -> f64 {
     let v = th + tail;
     if e > 1022 {
@@ -1230,6 +1281,7 @@ fn exp_scale(th: f64, tail: f64, e: i32) -> f64 {
 }
 
 /// e^(hi + lo) for -746 <= hi <= 710, |lo| <= 2^-40 |hi|.
+#[inline]
 fn exp_k(hi: f64, lo: f64) -> f64 {
     let t = hi * INV_LN2_64 + SHIFT;
     let k = t.to_bits() as u32 as i32;
@@ -1250,6 +1302,16 @@ fn exp_k(hi: f64, lo: f64) -> f64 {
 
 /// `e^x`.
 pub fn exp(x: f64) -> f64 {
+    // |x| < 708: a normal result, no special case.
+    if hi_abs(x) >= 0x4086_2000 {
+        return exp_rare(x);
+    }
+    exp_k(x, 0.0)
+}
+
+/// exp for |x| >= 708, infinities and NaN.
+#[inline(never)]
+fn exp_rare(x: f64) -> f64 {
     if x != x {
         return quiet64(x);
     }
@@ -1264,6 +1326,16 @@ pub fn exp(x: f64) -> f64 {
 
 /// `2^x`.
 pub fn exp2(x: f64) -> f64 {
+    // |x| < 1022: a normal result, no special case.
+    if hi_abs(x) >= 0x408F_F000 {
+        return exp2_rare(x);
+    }
+    exp2_k(x)
+}
+
+/// exp2 for |x| >= 1022, infinities and NaN.
+#[inline(never)]
+fn exp2_rare(x: f64) -> f64 {
     if x != x {
         return quiet64(x);
     }
@@ -1273,6 +1345,12 @@ pub fn exp2(x: f64) -> f64 {
     if x < -1076.0 {
         return 0.0;
     }
+    exp2_k(x)
+}
+
+/// 2^x for -1076 <= x < 1024.
+#[inline]
+fn exp2_k(x: f64) -> f64 {
     let t = x * 64.0 + SHIFT;
     let k = t.to_bits() as u32 as i32;
     // Exact, |r| <= 1/128.
@@ -1292,7 +1370,8 @@ pub fn exp2(x: f64) -> f64 {
 fn log_split(x: f64, e: &mut i32) -> f64 {
     let mut bits = x.to_bits();
     let mut adj = 0;
-    if bits < 0x0010_0000_0000_0000 {
+    if ((bits >> 32) as u32) < 0x0010_0000 {
+        // Subnormal: scale by 2^54.
         bits = (x * 18014398509481984.0).to_bits();
         adj = -54;
     }
@@ -1330,46 +1409,51 @@ fn log_k(x: f64, ah: f64, al: f64, bh: f64, bl: f64) -> f64 {
     a.hi + (a.lo + fma(ef, al, pl))
 }
 
-/// The special cases of the f64 logarithms; false when x is positive and finite.
-fn log_special(x: f64, out: &mut f64) -> bool {
-    if x > 0.0 && x < f64::from_bits(INF64) {
-        return false;
+/// True for a positive, finite, normal f64.
+#[inline]
+fn pos_normal64(x: f64) -> bool {
+    ((x.to_bits() >> 32) as u32).wrapping_sub(0x0010_0000) < 0x7FE0_0000
+}
+
+/// The f64 logarithms when x is not a positive normal number: the special values, and
+/// for a subnormal `x` the logarithm with the given constants (see `log_k`).
+#[inline(never)]
+fn log_rare(x: f64, ah: f64, al: f64, bh: f64, bl: f64) -> f64 {
+    if x == 0.0 {
+        return -f64::from_bits(INF64);
     }
-    *out = if x == 0.0 {
-        -f64::from_bits(INF64)
-    } else if x != x {
-        quiet64(x)
-    } else if x > 0.0 {
-        x
-    } else {
-        nan64()
-    };
-    true
+    if x != x {
+        return quiet64(x);
+    }
+    if x < 0.0 {
+        return nan64();
+    }
+    if x == f64::from_bits(INF64) {
+        return x;
+    }
+    log_k(x, ah, al, bh, bl)
 }
 
 /// Natural logarithm.
 pub fn log(x: f64) -> f64 {
-    let mut out = 0.0;
-    if log_special(x, &mut out) {
-        return out;
+    if !pos_normal64(x) {
+        return log_rare(x, LN2_42_HI, LN2_42_LO, 1.0, 0.0);
     }
     log_k(x, LN2_42_HI, LN2_42_LO, 1.0, 0.0)
 }
 
 /// Base-2 logarithm.
 pub fn log2(x: f64) -> f64 {
-    let mut out = 0.0;
-    if log_special(x, &mut out) {
-        return out;
+    if !pos_normal64(x) {
+        return log_rare(x, 1.0, 0.0, LOG2E_HI, LOG2E_LO);
     }
     log_k(x, 1.0, 0.0, LOG2E_HI, LOG2E_LO)
 }
 
 /// Base-10 logarithm.
 pub fn log10(x: f64) -> f64 {
-    let mut out = 0.0;
-    if log_special(x, &mut out) {
-        return out;
+    if !pos_normal64(x) {
+        return log_rare(x, LOG10_2_42_HI, LOG10_2_42_LO, LOG10E_HI, LOG10E_LO);
     }
     log_k(x, LOG10_2_42_HI, LOG10_2_42_LO, LOG10E_HI, LOG10E_LO)
 }
@@ -1432,6 +1516,40 @@ fn int_class64(ay: u64) -> i32 {
 
 /// `x` raised to the power `y`.
 pub fn pow(x: f64, y: f64) -> f64 {
+    if pos_normal64(x) && hi_abs(y).wrapping_sub(0x0010_0000) < 0x7FE0_0000 {
+        // x > 0 normal, y normal: no sign, no special case.
+        return pow_k(x, y);
+    }
+    pow_rare(x, y)
+}
+
+/// |x|^y for finite nonzero x and y.
+#[inline]
+fn pow_k(x: f64, y: f64) -> f64 {
+    if y == 1.0 {
+        return x.abs();
+    }
+    if y == 2.0 {
+        return x * x;
+    }
+    if y == -1.0 {
+        return 1.0 / x.abs();
+    }
+    let l = log_dd(x.abs());
+    let ph = y * l.hi;
+    if ph > 710.0 {
+        return f64::from_bits(INF64);
+    }
+    if ph < -746.0 {
+        return 0.0;
+    }
+    let pl = fma(y, l.hi, -ph) + y * l.lo;
+    exp_k(ph, pl)
+}
+
+/// pow when x is not a positive normal number or y is not a normal number.
+#[inline(never)]
+fn pow_rare(x: f64, y: f64) -> f64 {
     let ay = y.to_bits() & ABS64;
     if ay == 0 || x == 1.0 {
         return 1.0;
@@ -1466,25 +1584,7 @@ pub fn pow(x: f64, y: f64) -> f64 {
     if xneg && yint == 0 {
         return nan64();
     }
-    if y == 1.0 {
-        return x;
-    }
-    if y == 2.0 {
-        return x * x;
-    }
-    if y == -1.0 {
-        return 1.0 / x;
-    }
-    let l = log_dd(f64::from_bits(ax));
-    let ph = y * l.hi;
-    if ph > 710.0 {
-        return neg_if64(neg, inf);
-    }
-    if ph < -746.0 {
-        return neg_if64(neg, 0.0);
-    }
-    let pl = fma(y, l.hi, -ph) + y * l.lo;
-    neg_if64(neg, exp_k(ph, pl))
+    neg_if64(neg, pow_k(x, y))
 }
 
 /// `x` raised to the integer power `n`: `pow(x, n)`.

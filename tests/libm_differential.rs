@@ -25,7 +25,6 @@ use trax_emulator::session::{run, RunRequest};
 #[allow(dead_code)]
 #[path = "../runtime/prelude/libm.rs"]
 mod libm;
-#[allow(dead_code)]
 #[path = "../runtime/tests/libm_ref/mod.rs"]
 mod libm_ref;
 
@@ -171,12 +170,12 @@ fn inputs() -> Inputs {
         } else {
             sample_f64(&mut rng, lo, hi)
         };
-        let b = if rng.next() % 4 == 0 {
+        let b = if rng.next().is_multiple_of(4) {
             e32[(rng.next() % e32.len() as u64) as usize]
         } else {
             sample_f32(&mut rng, lo, hi)
         };
-        let d = if rng.next() % 4 == 0 {
+        let d = if rng.next().is_multiple_of(4) {
             e64[(rng.next() % e64.len() as u64) as usize]
         } else {
             sample_f64(&mut rng, lo, hi)

@@ -16,7 +16,6 @@
 #[allow(dead_code)]
 mod libm;
 #[path = "../tests/libm_ref/mod.rs"]
-#[allow(dead_code)]
 mod libm_ref;
 
 use std::io::Write;

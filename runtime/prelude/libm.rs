@@ -38,6 +38,9 @@
 //! Coefficients and tables come from `tools/libm_coeffs.py` (mpmath, Remez exchange);
 //! the generated block at the end of this file is its verbatim output.
 
+// The generated constants include the f64 roundings of pi/2, ln 2, sqrt 2, ...
+#![allow(clippy::approx_constant)]
+
 // ---------------------------------------------------------------------------------------
 // Helpers
 
@@ -245,8 +248,9 @@ fn rem_pio2_large(x: f64, out: &mut Dd) -> i32 {
 fn bits32(acc: &[u32; 9], pos: i32) -> u32 {
     let w = pos >> 5;
     let b = (pos & 31) as u32;
-    let lo = if w >= 0 && w < 9 { acc[w as usize] } else { 0 };
-    let hi = if w + 1 >= 0 && w + 1 < 9 {
+    // (w as u32) < 9 also rejects a negative w.
+    let lo = if (w as u32) < 9 { acc[w as usize] } else { 0 };
+    let hi = if ((w + 1) as u32) < 9 {
         acc[(w + 1) as usize]
     } else {
         0
@@ -455,10 +459,10 @@ pub fn atan2f(y: f32, x: f32) -> f32 {
 /// atan2f when either operand is ±0, infinite or NaN.
 #[inline(never)]
 fn atan2f_rare(y: f32, x: f32) -> f32 {
-    if y != y {
+    if y.is_nan() {
         return quiet32(y);
     }
-    if x != x {
+    if x.is_nan() {
         return quiet32(x);
     }
     let yneg = y.to_bits() >> 31 != 0;
@@ -571,7 +575,7 @@ pub fn exp2f(x: f32) -> f32 {
 /// exp2f for |x| >= 126, infinities and NaN.
 #[inline(never)]
 fn exp2f_rare(x: f32) -> f32 {
-    if x != x {
+    if x.is_nan() {
         return quiet32(x);
     }
     if x >= 128.0 {
@@ -596,7 +600,7 @@ pub fn expf(x: f32) -> f32 {
 /// expf for |x| >= 87, infinities and NaN.
 #[inline(never)]
 fn expf_rare(x: f32) -> f32 {
-    if x != x {
+    if x.is_nan() {
         return quiet32(x);
     }
     if x > 89.0 {
@@ -641,7 +645,7 @@ fn logf_rare(x: f32, which: u32) -> f32 {
     if x == 0.0 {
         return -f32::from_bits(INF32);
     }
-    if x != x {
+    if x.is_nan() {
         return quiet32(x);
     }
     if x < 0.0 {
@@ -768,10 +772,10 @@ fn powf_rare(x: f32, y: f32) -> f32 {
     if ay == 0 || x == 1.0 {
         return 1.0;
     }
-    if x != x {
+    if x.is_nan() {
         return quiet32(x);
     }
-    if y != y {
+    if y.is_nan() {
         return quiet32(y);
     }
     if ay == INF32 {
@@ -794,10 +798,11 @@ pub fn powif(x: f32, n: i32) -> f32 {
     if n == 0 {
         return 1.0;
     }
-    if x != x {
+    if x.is_nan() {
         return quiet32(x);
     }
-    if n >= -64 && n <= 64 {
+    if (n.wrapping_add(64) as u32) <= 128 {
+        // |n| <= 64.
         // Square and multiply in f64: at most 13 roundings, relative error < 2^-49.
         let mut b = x as f64;
         let mut e = if n < 0 { -n } else { n } as u32;
@@ -1130,10 +1135,10 @@ fn atan2_k(y: f64, x: f64) -> f64 {
 /// atan2 when an operand is ±0, subnormal, infinite or NaN.
 #[inline(never)]
 fn atan2_rare(y: f64, x: f64) -> f64 {
-    if y != y {
+    if y.is_nan() {
         return quiet64(y);
     }
-    if x != x {
+    if x.is_nan() {
         return quiet64(x);
     }
     let yneg = y.to_bits() >> 63 != 0;
@@ -1173,7 +1178,7 @@ pub fn atan(x: f64) -> f64 {
         // Tiny (atan x rounds to x), infinite or NaN.
         return if hx < TINY64_HI {
             x
-        } else if x != x {
+        } else if x.is_nan() {
             quiet64(x)
         } else {
             neg_if64(x < 0.0, PIO2_HI)
@@ -1219,8 +1224,8 @@ fn asin_half(a: f64, tail: &mut f64) -> f64 {
 /// Arc sine of `x` in `[-pi/2, pi/2]`; NaN outside `[-1, 1]`.
 pub fn asin(x: f64) -> f64 {
     let a = x.abs();
-    if !(a <= 1.0) {
-        return if x != x { quiet64(x) } else { nan64() };
+    if a > 1.0 || a.is_nan() {
+        return if x.is_nan() { quiet64(x) } else { nan64() };
     }
     if x.to_bits() & ABS64 < TINY64 {
         return x;
@@ -1239,8 +1244,8 @@ pub fn asin(x: f64) -> f64 {
 /// Arc cosine of `x` in `[0, pi]`; NaN outside `[-1, 1]`.
 pub fn acos(x: f64) -> f64 {
     let a = x.abs();
-    if !(a <= 1.0) {
-        return if x != x { quiet64(x) } else { nan64() };
+    if a > 1.0 || a.is_nan() {
+        return if x.is_nan() { quiet64(x) } else { nan64() };
     }
     if a <= 0.5 {
         let d = two_sum(PIO2_HI, -x);
@@ -1312,7 +1317,7 @@ pub fn exp(x: f64) -> f64 {
 /// exp for |x| >= 708, infinities and NaN.
 #[inline(never)]
 fn exp_rare(x: f64) -> f64 {
-    if x != x {
+    if x.is_nan() {
         return quiet64(x);
     }
     if x > 709.782712893384 {
@@ -1336,7 +1341,7 @@ pub fn exp2(x: f64) -> f64 {
 /// exp2 for |x| >= 1022, infinities and NaN.
 #[inline(never)]
 fn exp2_rare(x: f64) -> f64 {
-    if x != x {
+    if x.is_nan() {
         return quiet64(x);
     }
     if x >= 1024.0 {
@@ -1422,7 +1427,7 @@ fn log_rare(x: f64, ah: f64, al: f64, bh: f64, bl: f64) -> f64 {
     if x == 0.0 {
         return -f64::from_bits(INF64);
     }
-    if x != x {
+    if x.is_nan() {
         return quiet64(x);
     }
     if x < 0.0 {
@@ -1554,10 +1559,10 @@ fn pow_rare(x: f64, y: f64) -> f64 {
     if ay == 0 || x == 1.0 {
         return 1.0;
     }
-    if x != x {
+    if x.is_nan() {
         return quiet64(x);
     }
-    if y != y {
+    if y.is_nan() {
         return quiet64(y);
     }
     let ax = x.to_bits() & ABS64;

@@ -194,6 +194,8 @@ fn exponent_of(x: f64) -> i32 {
 // Special values (C99 Annex F) and the NaN bits
 
 const QNAN32: u32 = 0x7FC0_0000;
+type Fn32 = fn(f32) -> f32;
+type Fn64 = fn(f64) -> f64;
 const QNAN64: u64 = 0x7FF8_0000_0000_0000;
 
 /// Compares bit for bit (a NaN result must have the given bits too).
@@ -222,7 +224,7 @@ fn nan_inputs_come_back_quieted_and_invalid_operations_give_the_default_nan() {
     let snan32 = f32::from_bits(0xFF80_1234);
     let quieted32 = f32::from_bits(0xFFC0_1234);
     let qnan32 = f32::from_bits(QNAN32);
-    let unary: [(&str, fn(f32) -> f32); 13] = [
+    let unary: [(&str, Fn32); 13] = [
         ("sinf", libm::sinf),
         ("cosf", libm::cosf),
         ("tanf", libm::tanf),
@@ -262,7 +264,7 @@ fn nan_inputs_come_back_quieted_and_invalid_operations_give_the_default_nan() {
     let snan64 = f64::from_bits(0xFFF0_0000_0000_1234);
     let quieted64 = f64::from_bits(0xFFF8_0000_0000_1234);
     let qnan64 = f64::from_bits(QNAN64);
-    let unary64: [(&str, fn(f64) -> f64); 13] = [
+    let unary64: [(&str, Fn64); 13] = [
         ("sin", libm::sin),
         ("cos", libm::cos),
         ("tan", libm::tan),

@@ -15,11 +15,12 @@
 //! same on every host.
 //!
 //! Methods:
-//! - sin, cos, tan: argument reduction by `pi/2` (Cody-Waite with `pi/2` in three
-//!   53-bit parts and fused multiply-adds below 2^28 (f32) / 2^30 (f64); above that an
-//!   exact Payne-Hanek reduction with 1280 bits of `2/pi`, correct for every finite
-//!   input of both types), then minimax polynomials on `[-pi/4, pi/4]`; tan = sin/cos
-//!   (f64: with a double-length quotient).
+//! - sin, cos, tan: argument reduction by `pi/2` (Cody-Waite with fused multiply-adds
+//!   and `pi/2` in 53-bit parts, two for f32 below 2^28, three and a double-length result
+//!   for f64 below 2^30; above that an exact Payne-Hanek reduction with 1280 bits of
+//!   `2/pi`, correct for every finite input of both types, huge f64 arguments included),
+//!   then minimax polynomials on `[-pi/4, pi/4]`; tan = sin/cos (f64: with a
+//!   double-length quotient).
 //! - atan2, atan, asin, acos: f32 through an f64 `atan` on `[0, tan(pi/8)]`; f64 through
 //!   `atan(k/16)` tables and a double-length reduced argument; f64 asin/acos through a
 //!   polynomial on `[0, 1/2]` and `asin(x) = pi/2 - 2 asin(sqrt((1-x)/2))`.

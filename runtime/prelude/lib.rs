@@ -10,6 +10,8 @@
 //! - this file: thread ids, clock, `rand`/`seed_pixel`, global registers (atomics, barriers,
 //!   semaphores), `min`/`max`/`invsqrt`, `count_ray`, raw simulated-memory access;
 //! - [`math`]: `Vec3` (points, directions, linear RGB) with operators;
+//! - [`libm`]: `sinf`, `cos`, `atan2f`, `pow`, ... for f32 and f64 (C names), the same
+//!   bits on the machine and on the host;
 //! - [`scene`]: header fields, triangles, normals, texture coordinates, materials,
 //!   emitters, point lights, BVH nodes, framebuffer writes, pixels handed out to threads
 //!   from a chip-wide counter (`pixel_share`);
@@ -41,6 +43,7 @@ pub mod lang;
 pub mod bvh;
 pub mod camera;
 pub mod layout;
+pub mod libm;
 pub mod math;
 pub mod pipe;
 pub mod ray;

@@ -21,6 +21,7 @@ pub static FILES: &[(&str, &str)] = &[
     ("lang.rs", include_str!("../prelude/lang.rs")),
     ("layout.rs", include_str!("../prelude/layout.rs")),
     ("math.rs", include_str!("../prelude/math.rs")),
+    ("libm.rs", include_str!("../prelude/libm.rs")),
     ("ray.rs", include_str!("../prelude/ray.rs")),
     ("camera.rs", include_str!("../prelude/camera.rs")),
     ("scene.rs", include_str!("../prelude/scene.rs")),

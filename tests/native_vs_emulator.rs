@@ -260,7 +260,7 @@ fn language_features() {
 }
 
 /// The language suite (`compiler/tests/kernels/lang_*.rs`: enums and patterns, traits and
-/// generics, slices and iterators, format specs, float helpers, closures) prints exactly what
+/// generics, slices and iterators, format specs, float helpers, closures, libm methods) prints exactly what
 /// rustc's build prints, at -O0 and -O2.
 #[test]
 fn language_suite() {
@@ -271,6 +271,7 @@ fn language_suite() {
         "compiler/tests/kernels/lang_format.rs",
         "compiler/tests/kernels/lang_math.rs",
         "compiler/tests/kernels/lang_closures.rs",
+        "compiler/tests/kernels/lang_libm.rs",
     ] {
         for opt_level in [0, 2] {
             check(Setup {

@@ -36,6 +36,10 @@ mod hw;
 #[cfg(not(target_arch = "mips"))]
 pub mod simd;
 
+/// Host only: `trax::libm` under the C names, so a host-built kernel's `x.sin()` runs it.
+#[cfg(not(target_arch = "mips"))]
+pub mod libm_host;
+
 /// `Option`, `Result` and `Ordering` on the machine (the host uses `core`'s).
 #[cfg(target_arch = "mips")]
 pub mod lang;

@@ -22,6 +22,7 @@ pub static FILES: &[(&str, &str)] = &[
     ("layout.rs", include_str!("../prelude/layout.rs")),
     ("math.rs", include_str!("../prelude/math.rs")),
     ("libm.rs", include_str!("../prelude/libm.rs")),
+    ("libm_host.rs", include_str!("../prelude/libm_host.rs")),
     ("ray.rs", include_str!("../prelude/ray.rs")),
     ("camera.rs", include_str!("../prelude/camera.rs")),
     ("scene.rs", include_str!("../prelude/scene.rs")),

@@ -568,11 +568,20 @@ impl<'p, 'a> Cx<'p, 'a> {
             };
             return match self.p.libm_fn(name) {
                 Some(f) => Ok(Err(f)),
+                None if self.p.lang.libm.is_none() => Err(self.err(
+                    span,
+                    "unsupported-float-method",
+                    format!(
+                        "`{}::{}` needs the prelude crate `trax` (its math library, `trax::libm::{name}`)",
+                        self.p.ty_str(s),
+                        m.name
+                    ),
+                )),
                 None => Err(self.err(
                     span,
                     "unsupported-float-method",
                     format!(
-                        "`{}::{}` needs the prelude's math library (`trax::libm::{name}`), which is not available",
+                        "`{}::{}` is not supported in TRaX-Rust: the prelude's math library has no `trax::libm::{name}`",
                         self.p.ty_str(s),
                         m.name
                     ),

@@ -2,6 +2,7 @@
 //! occlusion rays per hit point, each limited to a radius of a fifth of the scene's
 //! diagonal. The pixel is the unoccluded fraction times the surface's diffuse colour.
 
+use trax::ray::SurfacePoint;
 use trax::Ray;
 
 /// AO radius as a multiple of the header epsilon (which is 1e-4 × the scene diagonal).
@@ -28,15 +29,13 @@ fn trax_main() {
         let hit = trax::bvh::intersect(&ray, 0.0, trax::INFINITY);
         let mut c = trax::scene::background();
         if hit.is_hit() {
-            let mut nrm = trax::scene::triangle(hit.tri).normal();
-            if nrm.dot(ray.dir) > 0.0 {
-                nrm = -nrm;
-            }
-            let origin = ray.at(hit.t) + nrm.scale(eps);
+            // Occlusion rays start just off the surface, by the hit point's rounding error.
+            let sp = SurfacePoint::new(&ray, &hit, &trax::scene::triangle(hit.tri));
+            let origin = sp.origin();
             let mut open = 0u32;
             for s in 0..samples {
                 trax::seed_pixel(i, s);
-                let d = trax::sampling::cosine_hemisphere(nrm);
+                let d = trax::sampling::cosine_hemisphere(sp.n);
                 if !trax::bvh::occluded(&Ray::new(origin, d), 0.0, radius) {
                     open += 1;
                 }

@@ -9,7 +9,8 @@
 //! Emitters emit from both faces. Point lights are isotropic with intensity `color`
 //! (falloff 1/d²).
 
-use core::f32::consts::{FRAC_1_PI, PI};
+use core::f32::consts::{FRAC_1_PI, TAU};
+use trax::ray::SurfacePoint;
 use trax::sampling::Onb;
 use trax::{Hit, Ray, Vec3};
 
@@ -60,21 +61,23 @@ fn trace(ray: &Ray) -> Option<Hit> {
     }
 }
 
-/// A cosine-weighted random direction around unit normal `n` (pdf = cos(theta) / pi).
+/// A cosine-weighted random direction around unit normal `n` (pdf = cos(theta) / pi),
+/// by inverting the distribution: radius sqrt(u1), angle 2 pi u2.
 fn cosine_sample(n: Vec3) -> Vec3 {
     let r2 = trax::rand();
-    let phi = 2.0 * PI * trax::rand();
+    let phi = TAU * trax::rand();
     let r = r2.sqrt();
     let (s, c) = phi.sin_cos();
     let z = (1.0 - r2).max(0.0).sqrt();
     Onb::new(n).to_world(Vec3::new(r * c, r * s, z))
 }
 
-/// Direct light at `p` (unit normal `n`, diffuse albedo `albedo`) from one uniformly
-/// chosen emissive triangle and every point light, with shadow rays.
-fn direct_light(p: Vec3, n: Vec3, albedo: Vec3, eps: f32) -> Vec3 {
+/// Direct light at surface point `sp` (diffuse albedo `albedo`) from one uniformly chosen
+/// emissive triangle and every point light, with shadow rays.
+fn direct_light(sp: &SurfacePoint, albedo: Vec3) -> Vec3 {
     let brdf = albedo.scale(FRAC_1_PI);
-    let origin = p + n.scale(eps);
+    let n = sp.n;
+    let origin = sp.origin();
     let mut sum = Vec3::zero();
     let emitters = trax::scene::emitter_count();
     if emitters > 0 {
@@ -82,20 +85,19 @@ fn direct_light(p: Vec3, n: Vec3, albedo: Vec3, eps: f32) -> Vec3 {
         let tri_index = trax::scene::emitter(k);
         let tri = trax::scene::triangle(tri_index);
         let q = trax::sampling::triangle_point(&tri);
-        let to_light = q - origin;
-        let dist2 = to_light.length_squared();
-        let dist = dist2.sqrt();
-        let l = to_light.scale(1.0 / dist);
-        let cos_surf = n.dot(l);
-        let cos_light = tri.normal().dot(l).abs();
+        // Direction, distance, area / distance² and the light's normal, right at every
+        // scale.
+        let eg = trax::sampling::emitter_geometry(&tri, origin, q);
+        let cos_surf = n.dot(eg.dir);
+        let cos_light = eg.normal.dot(eg.dir).abs();
         // Stop just short of the light so its own triangle does not occlude.
         if cos_surf > 0.0
             && cos_light > 0.0
-            && !trax::bvh::occluded(&Ray::new(origin, l), 0.0, dist * (1.0 - 1e-4))
+            && !trax::bvh::occluded(&Ray::new(origin, eg.dir), 0.0, eg.dist * (1.0 - 1e-4))
         {
             if let Some(emission) = Surface::of(tri_index).emission() {
                 // pdf (area) = 1 / (emitters * area); solid-angle conversion cos_light / d².
-                let g = cos_surf * cos_light / dist2 * tri.area() * emitters as f32;
+                let g = cos_surf * cos_light / eg.dist2 * eg.area * emitters as f32;
                 sum += brdf * emission.scale(g);
             }
         }
@@ -104,7 +106,9 @@ fn direct_light(p: Vec3, n: Vec3, albedo: Vec3, eps: f32) -> Vec3 {
         let light = trax::scene::point_light(k);
         let to_light = light.position - origin;
         let dist2 = to_light.length_squared();
-        let dist = dist2.sqrt();
+        // Direction and distance right at every scale (`length` rescales; `dist2` may
+        // overflow, giving the contribution's limit of 0).
+        let dist = to_light.length();
         let l = to_light.scale(1.0 / dist);
         let cos = n.dot(l);
         if cos > 0.0 && !trax::bvh::occluded(&Ray::new(origin, l), 0.0, dist) {
@@ -115,7 +119,7 @@ fn direct_light(p: Vec3, n: Vec3, albedo: Vec3, eps: f32) -> Vec3 {
 }
 
 /// Radiance along a camera ray.
-fn radiance(camera_ray: Ray, max_depth: u32, eps: f32) -> Vec3 {
+fn radiance(camera_ray: Ray, max_depth: u32) -> Vec3 {
     let mut ray = camera_ray;
     let mut throughput = Vec3::splat(1.0);
     let mut l = Vec3::zero();
@@ -128,19 +132,16 @@ fn radiance(camera_ray: Ray, max_depth: u32, eps: f32) -> Vec3 {
         if let (0, Some(emission)) = (depth, surface.emission()) {
             l += emission;
         }
-        let mut n = trax::scene::triangle(hit.tri).normal();
-        if n.dot(ray.dir) > 0.0 {
-            n = -n;
-        }
-        let p = ray.at(hit.t);
+        // New rays start just off the surface, by the hit point's rounding error.
+        let sp = SurfacePoint::new(&ray, &hit, &trax::scene::triangle(hit.tri));
         let albedo = surface.albedo();
-        l += throughput * direct_light(p, n, albedo, eps);
+        l += throughput * direct_light(&sp, albedo);
         if depth + 1 >= max_depth || albedo.is_black() {
             break;
         }
         // Cosine sampling: brdf * cos / pdf = albedo.
         throughput *= albedo;
-        ray = Ray::new(p + n.scale(eps), cosine_sample(n));
+        ray = Ray::new(sp.origin(), cosine_sample(sp.n));
     }
     l
 }
@@ -156,7 +157,6 @@ fn next_pixel(share: &mut trax::scene::PixelShare) -> Option<u32> {
 fn trax_main() {
     let cam = trax::Camera::load();
     let w = trax::scene::width();
-    let eps = trax::scene::epsilon();
     let max_depth = trax::scene::max_depth();
     let spp = trax::scene::spp().max(1);
     let inv_spp = 1.0 / spp as f32;
@@ -167,7 +167,7 @@ fn trax_main() {
         let mut c = Vec3::zero();
         for s in 0..spp {
             trax::seed_pixel(i, s);
-            c += radiance(cam.jittered_ray(i % w, i / w), max_depth, eps);
+            c += radiance(cam.jittered_ray(i % w, i / w), max_depth);
         }
         trax::scene::set_pixel_index(i, c.scale(inv_spp));
     }

@@ -2,6 +2,7 @@
 //! light with a hard shadow ray each, plus a small ambient term and emission. Point lights
 //! are not attenuated with distance (simtrax ray-caster style).
 
+use trax::ray::SurfacePoint;
 use trax::{Ray, Vec3};
 
 /// Ambient fraction of the diffuse colour.
@@ -13,16 +14,12 @@ fn trace(ray: &Ray) -> Vec3 {
     if !hit.is_hit() {
         return trax::scene::background();
     }
-    let tri = trax::scene::triangle(hit.tri);
     let mat = trax::scene::triangle_material(hit.tri);
-    // Geometric normal, facing the viewer.
-    let mut n = tri.normal();
-    if n.dot(ray.dir) > 0.0 {
-        n = -n;
-    }
-    let p = ray.at(hit.t);
-    let eps = trax::scene::epsilon();
-    let origin = p + n.scale(eps);
+    // Hit point and geometric normal facing the viewer; shadow rays start just off the
+    // surface, by the hit point's rounding error.
+    let sp = SurfacePoint::new(ray, &hit, &trax::scene::triangle(hit.tri));
+    let n = sp.n;
+    let origin = sp.origin();
     let mut c = mat.emission + mat.diffuse.scale(AMBIENT);
     let lights = trax::scene::point_light_count();
     for k in 0..lights {

@@ -18,8 +18,8 @@ use std::process::Command;
 
 use trax_assembler::link::{link, Input, LinkOptions};
 use trax_compiler::{compile_file, CompileOptions, Emit, Prelude};
-use trax_emulator::machine::{MachineConfig, Outcome, RunSummary};
-use trax_emulator::session::{run, RunRequest};
+use trax_emulator::timing::{ChipConfig, DEFAULT_CHIP};
+use trax_emulator::{run, Mode, RunRequest};
 
 /// The host build of the library: the oracle.
 #[allow(dead_code)]
@@ -291,8 +291,9 @@ fn compare(what: &str, stdout: &str, exp: &[String], inp: &Inputs) -> Vec<String
     bad
 }
 
-/// Compiles, links and runs `kernel` on the functional emulator (one thread).
-fn emulate(kernel: &Path, opt: u8) -> (String, RunSummary) {
+/// Compiles, links and runs `kernel` on the functional emulator (one thread); returns
+/// its output and the instructions of each profile region.
+fn emulate(kernel: &Path, opt: u8) -> (String, Vec<u64>) {
     let copts = CompileOptions {
         opt_level: opt,
         emit: Emit::Obj,
@@ -307,24 +308,23 @@ fn emulate(kernel: &Path, opt: u8) -> (String, RunSummary) {
         &LinkOptions::default(),
     )
     .unwrap_or_else(|e| panic!("link: {e}"));
+    let mut chip = ChipConfig::preset(DEFAULT_CHIP).unwrap();
+    chip.tms = 1;
+    chip.threads_per_tm = 1;
     let mut out = Vec::new();
     let result = run(
-        RunRequest {
-            elf_path: "libm_kernel.elf",
-            elf: &linked.elf,
-            segments: None,
-            config: MachineConfig::default(),
-        },
+        RunRequest::new("libm_kernel.elf", &linked.elf, &chip, Mode::Functional),
         &mut out,
     )
     .unwrap_or_else(|e| panic!("-O{opt}: {e}"));
     assert!(
-        matches!(result.summary.outcome, Outcome::Finished),
+        result.finished(),
         "-O{opt}: {:?}\n{}",
-        result.summary.outcome,
-        result.report.unwrap_or_default()
+        result.outcome,
+        result.failure.unwrap_or_default()
     );
-    (String::from_utf8(out).unwrap(), result.summary)
+    let profile = result.machine.shared.profile.to_vec();
+    (String::from_utf8(out).unwrap(), profile)
 }
 
 fn native(kernel: &Path) -> String {
@@ -478,10 +478,10 @@ fn instruction_counts_per_call() {
         s.push_str("    println!(\"{}\", acc);\n}\n");
         let path = tmp().join(format!("libm_cost_{group}.rs"));
         std::fs::write(&path, &s).unwrap();
-        let (_, summary) = emulate(&path, 2);
-        let base = summary.profile[0] as f64 / ITERS as f64;
+        let (_, profile) = emulate(&path, 2);
+        let base = profile[0] as f64 / ITERS as f64;
         for (k, (label, _, lo, hi)) in fns.iter().enumerate() {
-            let per = summary.profile[k + 1] as f64 / ITERS as f64 - base;
+            let per = profile[k + 1] as f64 / ITERS as f64 - base;
             rows.push((label.clone(), lo.to_string(), hi.to_string(), per));
         }
     }

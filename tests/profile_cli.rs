@@ -34,7 +34,7 @@ fn json(path: &Path) -> serde_json::Value {
 fn tree_total(stdout: &str, unit: &str) -> u64 {
     let head = stdout
         .lines()
-        .find(|l| l.starts_with("# ") && l.ends_with(&format!(" {unit} in total")))
+        .find(|l| l.starts_with("# ") && l.contains(&format!(" {unit} in total")))
         .unwrap_or_else(|| panic!("no tree header in\n{stdout}"));
     head[2..].split(' ').next().unwrap().parse().unwrap()
 }
@@ -127,9 +127,13 @@ fn timing_profile_total_is_the_live_thread_cycles() {
     ]);
     assert!(out.status.success(), "{}", text(&out.stderr));
     let stdout = text(&out.stdout);
-    let total = tree_total(&stdout, "cycles");
+    let total = tree_total(&stdout, "thread-cycles");
+    assert!(
+        stdout.contains("thread-cycles in total (cycles summed over the hardware threads)"),
+        "{stdout}"
+    );
     let st = json(&stats);
-    let tc = st["thread_cycles"].as_object().unwrap();
+    let tc = st["timing"]["thread_cycles"].as_object().unwrap();
     // Every thread-cycle is charged except those of threads that already halted.
     let live: u64 = tc
         .iter()
@@ -151,6 +155,46 @@ fn timing_profile_total_is_the_live_thread_cycles() {
         root_line.contains("stall"),
         "no stall breakdown: {root_line}"
     );
+}
+
+/// Every cost is on a labelled row: no bare `0 |` row for code without a source line
+/// (once printed as an empty "line 0"), and the rows add up to the whole run.
+#[test]
+fn annotate_labels_costs_without_a_source_line() {
+    let dir = scratch("annotate-line0");
+    let stats = dir.join("stats.json");
+    let out = trax(&[
+        "annotate",
+        "examples/pathtracer.rs",
+        "--functional",
+        "--width",
+        "8",
+        "--height",
+        "8",
+        "--stats-json",
+        stats.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let stdout = text(&out.stdout);
+    let mut sum = 0u64;
+    let mut labelled = 0;
+    for l in stdout.lines().filter(|l| l.contains(" | ")) {
+        let (head, src) = l.split_once(" | ").unwrap();
+        let cols: Vec<&str> = head.split_whitespace().collect();
+        assert_eq!(cols.len(), 3, "row: {l}");
+        assert_ne!(cols[2], "0", "bare line-0 row: {l}");
+        if cols[2] == "-" {
+            assert!(src.starts_with('(') && src.ends_with(')'), "{l}");
+            labelled += 1;
+        }
+        sum += cols[0].parse::<u64>().unwrap();
+    }
+    assert!(
+        labelled > 0,
+        "the path tracer has code without a line:\n{stdout}"
+    );
+    assert_eq!(sum, json(&stats)["instructions"].as_u64().unwrap());
+    assert!(!stdout.contains("??"), "{stdout}");
 }
 
 #[test]

@@ -168,6 +168,46 @@ fn bad_inputs_are_named() {
     );
 }
 
+/// `--scene-scale` and `icosphere:N` from the command line: a scaled run works, `trax scene
+/// info` shows the scaled bounds, and unusable scales are errors naming the flag's value.
+#[test]
+fn scene_scale_flag() {
+    let out = trax(&[
+        "run",
+        "examples/raycast.rs",
+        "--functional",
+        "--scene",
+        "icosphere:2",
+        "--scene-scale",
+        "1e-20",
+        "--width",
+        "8",
+        "--height",
+        "8",
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let out = trax(&["scene", "info", "cornell", "--scene-scale", "1e20"]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let info = text(&out.stdout);
+    assert!(info.contains("5.56e22"), "{info}");
+    for bad in ["0", "-2", "1e36"] {
+        let out = trax(&["scene", "info", "cornell", "--scene-scale", bad]);
+        assert_eq!(out.status.code(), Some(1), "{bad}");
+        assert!(
+            text(&out.stderr).contains("scene scale"),
+            "{}",
+            text(&out.stderr)
+        );
+        let out = trax(&["run", "examples/hello.rs", "--scene-scale", bad]);
+        assert_eq!(out.status.code(), Some(1), "{bad}");
+        assert!(
+            text(&out.stderr).contains("scene scale"),
+            "{}",
+            text(&out.stderr)
+        );
+    }
+}
+
 /// The acceptance check: the same path-tracer run on 1 and 2 host threads writes
 /// identical JSON statistics and an identical image (4 TMs of detailed-DRAM baseline chip).
 #[test]
@@ -325,7 +365,7 @@ fn run_reports_scene_components_and_what_was_left_out() {
                 );
                 // Element sizes of the scene ABI.
                 let per = match name {
-                    "camera" => 88,
+                    "camera" => std::mem::size_of::<trax_runtime::abi::Camera>() as u64,
                     "framebuffer" => 12,
                     "triangles" => 36,
                     "bvh_nodes" => 32,
@@ -412,4 +452,63 @@ fn trax_main() {
     assert!(out.status.success(), "{}", text(&out.stderr));
     let asm = std::fs::read_to_string(&asm).unwrap();
     assert!(!asm.contains("fmax_a"), "{asm}");
+}
+
+/// Messages name each thing once, list the choices and say where a config is wrong.
+#[test]
+fn messages_name_the_input_once_and_list_choices() {
+    let count = |hay: &str, needle: &str| hay.matches(needle).count();
+    for (scene, name) in [
+        ("/nonexistent.obj", "nonexistent.obj"),
+        ("nosuch", "nosuch"),
+        ("procedural:x", "procedural:x"),
+    ] {
+        let out = trax(&["run", "examples/hello.rs", "--scene", scene]);
+        assert_eq!(out.status.code(), Some(1));
+        let err = text(&out.stderr);
+        assert_eq!(count(&err, name), 1, "scene named once:\n{err}");
+    }
+    // A scene error that does not name the scene itself still gets its name.
+    let dir = scratch("messages");
+    let empty = dir.join("empty.obj");
+    std::fs::write(&empty, "# nothing\n").unwrap();
+    let out = trax(&[
+        "run",
+        "examples/hello.rs",
+        "--scene",
+        empty.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        text(&out.stderr).contains("empty.obj"),
+        "{}",
+        text(&out.stderr)
+    );
+
+    let out = trax(&["run", "examples/hello.rs", "--config", "huge"]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = text(&out.stderr);
+    assert!(
+        err.contains("`huge`") && err.contains("tiny, baseline, strata"),
+        "{err}"
+    );
+
+    let bad = dir.join("bad.toml");
+    std::fs::write(
+        &bad,
+        "preset = \"tiny\"\n[units.fp_add]\ncount = \"four\"\n",
+    )
+    .unwrap();
+    let out = trax(&[
+        "run",
+        "examples/hello.rs",
+        "--config",
+        bad.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = text(&out.stderr);
+    assert!(
+        err.contains("bad.toml:3:9") && err.contains("`units.fp_add.count`"),
+        "{err}"
+    );
 }

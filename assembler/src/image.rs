@@ -1,6 +1,8 @@
 //! The machine's initial memory: program segments from the linked ELF, the scene header at
-//! [`abi::SCENE_HEADER_ADDR`], scene components after the program (64-byte aligned), the
-//! framebuffer, and descriptions of the null guard and the per-thread stack window.
+//! [`abi::SCENE_HEADER_ADDR`], scene components after the program (64-byte aligned, each
+//! after an unmapped guard gap of [`GUARD_GAP`] bytes, so an index just past one component
+//! faults instead of reading the next), the framebuffer, and descriptions of the null guard
+//! and the per-thread stack window.
 //!
 //! Scene components are linked on demand: a program that references the header field
 //! `<field>` carries the absolute symbol `__trax_scene_<field>` in its `.symtab` (the linker
@@ -36,8 +38,11 @@ pub const OPTIONAL_COMPONENTS: [&str; 10] = [
 
 /// Alignment of every placed component.
 pub const COMPONENT_ALIGN: u32 = 64;
-/// Bytes of the stored camera (22 × f32).
-pub const CAMERA_BYTES: u32 = 88;
+/// Unmapped bytes left before every placed component (after the program and between
+/// components): accesses up to this far past a component's end or before its start fault.
+pub const GUARD_GAP: u32 = 4096;
+/// Bytes of the stored camera (18 × f32, [`Camera`]).
+pub const CAMERA_BYTES: u32 = std::mem::size_of::<Camera>() as u32;
 
 /// A contiguous range of initial memory. Bytes past `data.len()` up to `size` are zero.
 #[derive(Clone, Debug, PartialEq)]
@@ -94,7 +99,7 @@ pub struct RenderOptions {
     pub spp: u32,
     /// Maximum path depth.
     pub max_depth: u32,
-    /// Ray offset; `None` = 1e-4 × the scene's bounding-box diagonal.
+    /// Ray offset; `None` = 1e-4 × the scene's bounding-box diagonal (see [`default_epsilon`]).
     pub epsilon: Option<f32>,
     /// Seed for per-thread random streams.
     pub seed: u32,
@@ -122,6 +127,18 @@ impl Default for RenderOptions {
     }
 }
 
+/// The header's default `epsilon`: 1e-4 × the scene's bounding-box diagonal, computed in
+/// f64, with no absolute floor, so it scales with the scene at every scale (an absolute
+/// floor would swamp scenes smaller than it). A scene of zero size gets 1e-4 × 2^-20 × its
+/// distance from the origin (or the smallest positive f32 at the origin).
+pub fn default_epsilon(scene: &Scene) -> f32 {
+    let b = scene.bounds();
+    let mut size = b.diagonal_f64();
+    if size == 0.0 {
+        size = b.magnitude() as f64 * f64::powi(2.0, -20);
+    }
+    ((1e-4 * size) as f32).max(f32::from_bits(1))
+}
 /// The per-thread stack window: every thread sees its own `size` bytes below `top`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct StackLayout {
@@ -394,15 +411,15 @@ pub fn build_image_from_symbols(
             ("emitters", 4),
         ] {
             if wants(f) {
-                probe += per * n_tris + COMPONENT_ALIGN as u64;
+                probe += per * n_tris + (GUARD_GAP + COMPONENT_ALIGN) as u64;
             }
         }
         for (f, per) in [("bvh_nodes", 32u64), ("bvh_parents", 4), ("treelet_ids", 4)] {
             if wants(f) {
-                probe += per * 2 * n_tris + COMPONENT_ALIGN as u64;
+                probe += per * 2 * n_tris + (GUARD_GAP + COMPONENT_ALIGN) as u64;
             }
         }
-        probe += fb_bytes + CAMERA_BYTES as u64;
+        probe += fb_bytes + CAMERA_BYTES as u64 + 2 * (GUARD_GAP + COMPONENT_ALIGN) as u64;
         if probe > limit {
             let what = if fb_bytes > limit {
                 "framebuffer"
@@ -451,9 +468,7 @@ pub fn build_image_from_symbols(
         inv_height: 1.0 / opts.height as f32,
         spp: opts.spp,
         max_depth: opts.max_depth,
-        epsilon: opts
-            .epsilon
-            .unwrap_or_else(|| (1e-4 * scene.bounds().diagonal()).max(1e-7)),
+        epsilon: opts.epsilon.unwrap_or_else(|| default_epsilon(scene)),
         seed: opts.seed,
         background: opts.background,
         ..SceneHeader::default()
@@ -685,7 +700,7 @@ pub fn build_image_from_symbols(
     })
 }
 
-/// Places components one after another below a limit.
+/// Places components one after another below a limit, each after a guard gap.
 struct Placer {
     cursor: u64,
     limit: u64,
@@ -693,7 +708,7 @@ struct Placer {
 
 impl Placer {
     fn place(&mut self, what: &'static str, bytes: u64, align: u32) -> Result<u32, ImageError> {
-        let addr = self.cursor.div_ceil(align as u64) * align as u64;
+        let addr = (self.cursor + GUARD_GAP as u64).div_ceil(align as u64) * align as u64;
         let end = addr + bytes;
         if end > self.limit {
             return Err(ImageError::TooLarge {
@@ -782,7 +797,7 @@ fn words(it: impl Iterator<Item = u32>) -> Vec<u8> {
     out
 }
 
-/// The camera's 88 bytes: eye, u, v, w, left, right, bottom, top, distance, aperture.
+/// The camera's 72 bytes: eye, u, v, w, left, right, bottom, top, distance, aperture.
 pub fn camera_bytes(c: &Camera) -> Vec<u8> {
     words(
         c.eye

@@ -400,3 +400,61 @@ fn bad_text_base_is_an_invalid_option() {
         );
     }
 }
+
+/// Offset of the section header named `want` in an ELF32 LE object.
+fn section_header(elf: &[u8], want: &str) -> usize {
+    let u32_at = |o: usize| u32::from_le_bytes(elf[o..o + 4].try_into().unwrap()) as usize;
+    let u16_at = |o: usize| u16::from_le_bytes(elf[o..o + 2].try_into().unwrap()) as usize;
+    let (shoff, size, n, strndx) = (u32_at(0x20), u16_at(0x2e), u16_at(0x30), u16_at(0x32));
+    let strtab = u32_at(shoff + strndx * size + 16);
+    (0..n)
+        .map(|i| shoff + i * size)
+        .find(|&h| {
+            let name = &elf[strtab + u32_at(h)..];
+            name.starts_with(want.as_bytes()) && name[want.len()] == 0
+        })
+        .unwrap_or_else(|| panic!("no section {want}"))
+}
+
+/// Section headers that would make the linker materialise gigabytes are rejected: a
+/// contents-less (SHT_NOBITS) section going into `.text` (found by fuzzing: a 704 MB
+/// `.bss` with the exec flag was filled with trap words), and a huge alignment.
+#[test]
+fn sections_that_would_size_the_output_at_gigabytes_are_rejected() {
+    let dir = scratch("huge");
+    let main = clang_text(
+        &dir,
+        "m",
+        "int trax_main(void) { return 0; }\n",
+        CLANG_FLAGS,
+    );
+    let good = std::fs::read(&main).unwrap();
+    let h = section_header(&good, ".text");
+    let link_bytes = |bytes: Vec<u8>| {
+        link(
+            &[Input {
+                name: "m.o".into(),
+                bytes,
+            }],
+            &LinkOptions::default(),
+        )
+        .expect_err("must be rejected")
+        .to_string()
+    };
+    let mut nobits = good.clone();
+    nobits[h + 4..h + 8].copy_from_slice(&8u32.to_le_bytes()); // SHT_NOBITS
+    nobits[h + 20..h + 24].copy_from_slice(&0x2a00_0000u32.to_le_bytes());
+    let e = link_bytes(nobits);
+    assert!(
+        e.contains("m.o") && e.contains("SHT_NOBITS") && e.contains(".text"),
+        "{e}"
+    );
+    let mut aligned = good.clone();
+    aligned[h + 32..h + 36].copy_from_slice(&0x4000_0000u32.to_le_bytes());
+    let e = link_bytes(aligned);
+    assert!(
+        e.contains("m.o") && e.contains("alignment 1073741824"),
+        "{e}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -218,7 +218,7 @@ fn missing_files() {
         d.join("x.obj").to_str().unwrap(),
         &LoadOptions {
             view: Some(d.join("none.view")),
-            light: None,
+            ..LoadOptions::default()
         },
     ) {
         Err(SceneError::Io { .. }) => {}
@@ -230,7 +230,7 @@ fn missing_files() {
         obj.to_str().unwrap(),
         &LoadOptions {
             view: Some(d.join("none.view")),
-            light: None,
+            ..LoadOptions::default()
         },
     ) {
         Err(SceneError::Io { path, .. }) => assert!(path.ends_with("none.view")),

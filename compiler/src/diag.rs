@@ -62,14 +62,19 @@ impl Loc {
     /// Converts a proc-macro2 span (0-based columns) to a 1-based location.
     ///
     /// This is the only place where the column base is converted.
+    ///
+    /// A span without a location (line 0: synthesized tokens, or proc-macro2 without
+    /// location tracking) has column 0 too, as DWARF requires (LLVM rejects a lexical block
+    /// with a column but no line: fuzzing found this as an internal compiler error).
     pub fn of(span: proc_macro2::Span) -> Loc {
         let s = span.start();
         let e = span.end();
+        let col = |line: usize, column: usize| if line == 0 { 0 } else { column as u32 + 1 };
         Loc {
             line: s.line as u32,
-            col: s.column as u32 + 1,
+            col: col(s.line, s.column),
             end_line: e.line as u32,
-            end_col: e.column as u32 + 1,
+            end_col: col(e.line, e.column),
         }
     }
 
@@ -391,5 +396,14 @@ mod tests {
         };
         let l = Loc::of(b.sig.ident.span());
         assert_eq!((l.line, l.col, l.end_col), (2, 6, 7));
+    }
+
+    /// A span without a line (proc-macro2's call site has line 0 or 1, depending on its
+    /// build) must not get a column: LLVM rejects such debug locations.
+    #[test]
+    fn a_span_without_a_line_has_no_column() {
+        let l = Loc::of(proc_macro2::Span::call_site());
+        assert!(l.line > 0 || l.col == 0, "{l:?}");
+        assert!(l.end_line > 0 || l.end_col == 0, "{l:?}");
     }
 }

@@ -162,6 +162,68 @@ pub fn compile_file(path: &Path, opts: &CompileOptions) -> Result<Output, Compil
     compile_parsed(&sources, &kernel, &name, prelude.as_ref(), opts)
 }
 
+/// Compiles a kernel given as text (`name` is its crate and file name in diagnostics),
+/// with the prelude of `opts`.
+pub fn compile_source(
+    name: &str,
+    text: &str,
+    opts: &CompileOptions,
+) -> Result<Output, CompileError> {
+    let mut sources = SourceMap::default();
+    let files = [("lib.rs", text)];
+    let src = CrateSource::Memory {
+        files: &files,
+        dir: PathBuf::from(name),
+    };
+    let kernel =
+        parse::parse_crate(&mut sources, &src).map_err(|d| CompileError::Diagnostics(vec![d]))?;
+    let prelude = match &opts.prelude {
+        Some(p) => {
+            let files: Vec<(&str, &str)> = p
+                .files
+                .iter()
+                .map(|(a, b)| (a.as_str(), b.as_str()))
+                .collect();
+            let src = CrateSource::Memory {
+                files: &files,
+                dir: p.dir.clone(),
+            };
+            Some(
+                parse::parse_crate(&mut sources, &src)
+                    .map_err(|d| CompileError::Diagnostics(vec![d]))?,
+            )
+        }
+        None => None,
+    };
+    compile_parsed(&sources, &kernel, name, prelude.as_ref(), opts)
+}
+
+/// Entry point of the `kernel` fuzz target in `fuzz/` (and of its regression test): any
+/// bytes must compile or give diagnostics, never panic or hang.
+pub mod fuzzing {
+    use super::*;
+
+    /// Compiles `data` (if UTF-8) as a kernel with the prelude, at `-O0` when the first
+    /// byte is even, else `-O1`.
+    pub fn kernel(data: &[u8]) {
+        let Ok(text) = std::str::from_utf8(data) else {
+            return;
+        };
+        let opts = CompileOptions {
+            opt_level: if data.first().is_some_and(|b| b % 2 == 1) {
+                1
+            } else {
+                0
+            },
+            prelude: Some(Prelude::runtime()),
+            ..CompileOptions::default()
+        };
+        if let Err(CompileError::Internal(msg)) = compile_source("fuzz", text, &opts) {
+            panic!("internal compiler error: {msg}");
+        }
+    }
+}
+
 /// Prints the time of each stage to stderr when `TRAX_COMPILER_TIMINGS` is set.
 struct Timer {
     on: bool,

@@ -23,11 +23,18 @@ static INIT: Once = Once::new();
 fn init() {
     INIT.call_once(|| {
         Target::initialize_mips(&InitializationConfig::default());
+        // The delay-slot filler is kept from moving instructions into delay slots: LLVM
+        // emits line-table rows only for the branch of a (branch, slot) bundle, so a moved
+        // instruction would be attributed to the branch's source line (a faulting store
+        // reported on the line after its own). Unfilled slots take r6 compact branches
+        // (no delay slot) wherever one exists, so this costs few instructions.
         let args = [
             c"trax-compiler".as_ptr(),
             c"-mips-ssection-threshold=0".as_ptr(),
+            c"-disable-mips-df-backward-search".as_ptr(),
+            c"-disable-mips-df-succbb-search".as_ptr(),
         ];
-        // SAFETY: `args` holds two valid NUL-terminated strings that outlive the call;
+        // SAFETY: `args` holds valid NUL-terminated strings that outlive the call;
         // LLVM only reads them. Called once per process (guarded by `Once`), as LLVM's
         // option parser requires.
         unsafe {

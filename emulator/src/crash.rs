@@ -17,10 +17,14 @@ pub fn report(
     dbg: Option<&DebugInfo>,
 ) -> String {
     let mut s = String::new();
+    let when = match crash.cycle {
+        Some(c) => format!("at cycle {c}, after {} instructions", crash.retired),
+        None => format!("after {} instructions", crash.retired),
+    };
     let _ = writeln!(
         s,
-        "error: thread {} (TM {}, thread {}) crashed after {} instructions",
-        crash.gid, crash.tm, crash.tid, crash.retired
+        "error: thread {} (TM {}, thread {}) crashed {when}",
+        crash.gid, crash.tm, crash.tid
     );
     // A multi-line panic message (assert_eq!'s left/right) stays in the message column.
     let what = crash.fault.to_string().replace('\n', "\n        ");

@@ -167,6 +167,184 @@ pub enum Inst {
     Reserved(u32),
 }
 
+/// How an instruction transfers control (MIPS32r6).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Cti {
+    /// Not a branch or jump: control falls through.
+    None,
+    /// A branch or jump with a delay slot: the next instruction always runs, then the
+    /// branch takes effect (`beq`, `j`, `jalr`, `bc1eqz`, the MSA branches, ...).
+    DelaySlot,
+    /// A compact conditional branch: taken, it jumps at once; not taken, the next
+    /// instruction is a forbidden slot (a branch there is a reserved instruction).
+    CompactBranch,
+    /// A compact unconditional branch or jump (`bc`, `balc`, `jic`, `jialc`): no slot.
+    CompactJump,
+}
+
+/// Control-flow facts of an instruction: the one place that says which instructions
+/// have a delay slot, which are compact and where they go. The interpreter, the
+/// disassembler, the timing model's operand table, the profiler and the GDB server use
+/// these (the interpreter's behaviour is checked against them by
+/// `exec::tests::control_flow_facts_match_execution`).
+impl Inst {
+    /// How the instruction transfers control.
+    pub fn cti(&self) -> Cti {
+        use Inst::*;
+        match self {
+            Beq { .. }
+            | Bne { .. }
+            | Blez { .. }
+            | Bgtz { .. }
+            | Bltz { .. }
+            | Bgez { .. }
+            | Bal { .. }
+            | J { .. }
+            | Jal { .. }
+            | Jalr { .. }
+            | Bc1eqz { .. }
+            | Bc1nez { .. } => Cti::DelaySlot,
+            Msa(m) if m.is_branch() => Cti::DelaySlot,
+            Beqc { .. }
+            | Bnec { .. }
+            | Bltc { .. }
+            | Bgec { .. }
+            | Bltuc { .. }
+            | Bgeuc { .. }
+            | Bovc { .. }
+            | Bnvc { .. }
+            | Beqzc { .. }
+            | Bnezc { .. }
+            | Blezc { .. }
+            | Bgezc { .. }
+            | Bgtzc { .. }
+            | Bltzc { .. }
+            | Blezalc { .. }
+            | Bgezalc { .. }
+            | Bgtzalc { .. }
+            | Bltzalc { .. }
+            | Beqzalc { .. }
+            | Bnezalc { .. } => Cti::CompactBranch,
+            Bc { .. } | Balc { .. } | Jic { .. } | Jialc { .. } => Cti::CompactJump,
+            _ => Cti::None,
+        }
+    }
+
+    /// A branch or jump of any kind.
+    pub fn is_cti(&self) -> bool {
+        self.cti() != Cti::None
+    }
+
+    /// The next instruction is a delay slot.
+    pub fn has_delay_slot(&self) -> bool {
+        self.cti() == Cti::DelaySlot
+    }
+
+    /// A compact (no delay slot) branch or jump.
+    pub fn is_compact(&self) -> bool {
+        matches!(self.cti(), Cti::CompactBranch | Cti::CompactJump)
+    }
+
+    /// Not taken, the next instruction is a forbidden slot.
+    pub fn has_forbidden_slot(&self) -> bool {
+        self.cti() == Cti::CompactBranch
+    }
+
+    /// The register a call writes its return address to (`$31`, or `rd` of `jalr`;
+    /// the `*alc` branches write it taken or not). `None` for everything else.
+    pub fn link_reg(&self) -> Option<u8> {
+        use Inst::*;
+        match *self {
+            Bal { .. }
+            | Jal { .. }
+            | Balc { .. }
+            | Jialc { .. }
+            | Blezalc { .. }
+            | Bgezalc { .. }
+            | Bgtzalc { .. }
+            | Bltzalc { .. }
+            | Beqzalc { .. }
+            | Bnezalc { .. } => Some(31),
+            Jalr { rd, .. } if rd != 0 => Some(rd),
+            _ => None,
+        }
+    }
+
+    /// The return address a call at `pc` links: past the delay slot (`pc + 8`) or, for a
+    /// compact call, the next instruction (`pc + 4`).
+    pub fn return_address(&self, pc: u32) -> u32 {
+        if self.has_delay_slot() {
+            pc.wrapping_add(8)
+        } else {
+            pc.wrapping_add(4)
+        }
+    }
+
+    /// Byte offset of a PC-relative branch's target from the branch itself (the form
+    /// LLVM prints); `None` for jumps through a register or a region (`j`, `jal`).
+    pub fn branch_offset(&self) -> Option<i32> {
+        use Inst::*;
+        match *self {
+            Beq { off, .. }
+            | Bne { off, .. }
+            | Blez { off, .. }
+            | Bgtz { off, .. }
+            | Bltz { off, .. }
+            | Bgez { off, .. }
+            | Bal { off }
+            | Bc1eqz { off, .. }
+            | Bc1nez { off, .. }
+            | Bc { off }
+            | Balc { off }
+            | Beqc { off, .. }
+            | Bnec { off, .. }
+            | Bltc { off, .. }
+            | Bgec { off, .. }
+            | Bltuc { off, .. }
+            | Bgeuc { off, .. }
+            | Bovc { off, .. }
+            | Bnvc { off, .. }
+            | Beqzc { off, .. }
+            | Bnezc { off, .. }
+            | Blezc { off, .. }
+            | Bgezc { off, .. }
+            | Bgtzc { off, .. }
+            | Bltzc { off, .. }
+            | Blezalc { off, .. }
+            | Bgezalc { off, .. }
+            | Bgtzalc { off, .. }
+            | Bltzalc { off, .. }
+            | Beqzalc { off, .. }
+            | Bnezalc { off, .. } => Some(off.wrapping_add(4)),
+            Msa(m) => m.branch_offset(),
+            _ => None,
+        }
+    }
+
+    /// The target of a branch or jump at `pc` when it does not depend on registers
+    /// (PC-relative branches, `j`, `jal`); `None` for `jalr`, `jic`, `jialc` and
+    /// everything that is not a branch.
+    pub fn branch_target(&self, pc: u32) -> Option<u32> {
+        match *self {
+            Inst::J { target } | Inst::Jal { target } => Some(Inst::region_target(pc, target)),
+            _ => self.branch_offset().map(|o| pc.wrapping_add(o as u32)),
+        }
+    }
+
+    /// Target of a branch at `pc` with byte offset `off` relative to `pc + 4` (the
+    /// decoded `off` fields).
+    #[inline(always)]
+    pub fn rel_target(pc: u32, off: i32) -> u32 {
+        pc.wrapping_add(4).wrapping_add(off as u32)
+    }
+
+    /// Target of `j`/`jal` at `pc`: the 256 MiB region of the delay slot.
+    #[inline(always)]
+    pub fn region_target(pc: u32, target: u32) -> u32 {
+        (pc.wrapping_add(4) & 0xF000_0000) | target
+    }
+}
+
 fn msa(w: u32) -> Inst {
     match crate::msa::decode(w) {
         Some(m) => Inst::Msa(m),
@@ -203,12 +381,6 @@ fn boff16(w: u32) -> i32 {
 #[inline(always)]
 fn boff(w: u32, bits: u32) -> i32 {
     (((w << (32 - bits)) as i32) >> (32 - bits)) << 2
-}
-
-/// True if the word's major opcode or COP1 sub-format belongs to MSA.
-pub fn is_msa_word(w: u32) -> bool {
-    let op = w >> 26;
-    op == 0x1E || (op == 0x11 && matches!(rs(w), 0x0B | 0x0F | 0x18..=0x1F))
 }
 
 /// Decodes one instruction word.

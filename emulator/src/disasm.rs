@@ -103,14 +103,21 @@ impl fmt::Display for Inst {
                 write!(f, concat!($m, "\t{}, {}({})"), Fr($r), $off, G($base))
             };
         }
+        // PC-relative branches print `Inst::branch_offset` (from the branch itself).
+        let boff = self.branch_offset().unwrap_or_default();
         macro_rules! br2 {
-            ($m:literal, $a:expr, $b:expr, $off:expr) => {
-                write!(f, concat!($m, "\t{}, {}, {}"), G($a), G($b), $off + 4)
+            ($m:literal, $a:expr, $b:expr) => {
+                write!(f, concat!($m, "\t{}, {}, {}"), G($a), G($b), boff)
             };
         }
         macro_rules! br1 {
-            ($m:literal, $a:expr, $off:expr) => {
-                write!(f, concat!($m, "\t{}, {}"), G($a), $off + 4)
+            ($m:literal, $a:expr) => {
+                write!(f, concat!($m, "\t{}, {}"), G($a), boff)
+            };
+        }
+        macro_rules! br0 {
+            ($m:literal) => {
+                write!(f, concat!($m, "\t{}"), boff)
             };
         }
         match *self {
@@ -221,16 +228,16 @@ impl fmt::Display for Inst {
             Sync { stype } => write!(f, "sync {stype}"),
             Rdhwr { rt, rd, sel: 0 } => write!(f, "rdhwr\t{}, ${rd}", G(rt)),
             Rdhwr { rt, rd, sel } => write!(f, "rdhwr\t{}, ${rd}, {sel}", G(rt)),
-            Beq { rs: 0, rt: 0, off } => write!(f, "b\t{}", off + 4),
-            Beq { rs, rt: 0, off } => br1!("beqz", rs, off),
-            Beq { rs, rt, off } => br2!("beq", rs, rt, off),
-            Bne { rs, rt: 0, off } => br1!("bnez", rs, off),
-            Bne { rs, rt, off } => br2!("bne", rs, rt, off),
-            Blez { rs, off } => br1!("blez", rs, off),
-            Bgtz { rs, off } => br1!("bgtz", rs, off),
-            Bltz { rs, off } => br1!("bltz", rs, off),
-            Bgez { rs, off } => br1!("bgez", rs, off),
-            Bal { off } => write!(f, "bal\t{}", off + 4),
+            Beq { rs: 0, rt: 0, .. } => br0!("b"),
+            Beq { rs, rt: 0, .. } => br1!("beqz", rs),
+            Beq { rs, rt, .. } => br2!("beq", rs, rt),
+            Bne { rs, rt: 0, .. } => br1!("bnez", rs),
+            Bne { rs, rt, .. } => br2!("bne", rs, rt),
+            Blez { rs, .. } => br1!("blez", rs),
+            Bgtz { rs, .. } => br1!("bgtz", rs),
+            Bltz { rs, .. } => br1!("bltz", rs),
+            Bgez { rs, .. } => br1!("bgez", rs),
+            Bal { .. } => br0!("bal"),
             J { target } => write!(f, "j\t{target}"),
             Jal { target } => write!(f, "jal\t{target}"),
             Jalr {
@@ -262,30 +269,30 @@ impl fmt::Display for Inst {
                     G(rs)
                 )
             }
-            Bc1eqz { ft, off } => write!(f, "bc1eqz {}, {}", Fr(ft), off + 4),
-            Bc1nez { ft, off } => write!(f, "bc1nez {}, {}", Fr(ft), off + 4),
-            Bc { off } => write!(f, "bc\t{}", off + 4),
-            Balc { off } => write!(f, "balc\t{}", off + 4),
-            Beqc { rs, rt, off } => br2!("beqc", rs, rt, off),
-            Bnec { rs, rt, off } => br2!("bnec", rs, rt, off),
-            Bltc { rs, rt, off } => br2!("bltc", rs, rt, off),
-            Bgec { rs, rt, off } => br2!("bgec", rs, rt, off),
-            Bltuc { rs, rt, off } => br2!("bltuc", rs, rt, off),
-            Bgeuc { rs, rt, off } => br2!("bgeuc", rs, rt, off),
-            Bovc { rs, rt, off } => br2!("bovc", rs, rt, off),
-            Bnvc { rs, rt, off } => br2!("bnvc", rs, rt, off),
-            Beqzc { rs, off } => br1!("beqzc", rs, off),
-            Bnezc { rs, off } => br1!("bnezc", rs, off),
-            Blezc { rt, off } => br1!("blezc", rt, off),
-            Bgezc { rt, off } => br1!("bgezc", rt, off),
-            Bgtzc { rt, off } => br1!("bgtzc", rt, off),
-            Bltzc { rt, off } => br1!("bltzc", rt, off),
-            Blezalc { rt, off } => br1!("blezalc", rt, off),
-            Bgezalc { rt, off } => br1!("bgezalc", rt, off),
-            Bgtzalc { rt, off } => br1!("bgtzalc", rt, off),
-            Bltzalc { rt, off } => br1!("bltzalc", rt, off),
-            Beqzalc { rt, off } => br1!("beqzalc", rt, off),
-            Bnezalc { rt, off } => br1!("bnezalc", rt, off),
+            Bc1eqz { ft, .. } => write!(f, "bc1eqz {}, {boff}", Fr(ft)),
+            Bc1nez { ft, .. } => write!(f, "bc1nez {}, {boff}", Fr(ft)),
+            Bc { .. } => br0!("bc"),
+            Balc { .. } => br0!("balc"),
+            Beqc { rs, rt, .. } => br2!("beqc", rs, rt),
+            Bnec { rs, rt, .. } => br2!("bnec", rs, rt),
+            Bltc { rs, rt, .. } => br2!("bltc", rs, rt),
+            Bgec { rs, rt, .. } => br2!("bgec", rs, rt),
+            Bltuc { rs, rt, .. } => br2!("bltuc", rs, rt),
+            Bgeuc { rs, rt, .. } => br2!("bgeuc", rs, rt),
+            Bovc { rs, rt, .. } => br2!("bovc", rs, rt),
+            Bnvc { rs, rt, .. } => br2!("bnvc", rs, rt),
+            Beqzc { rs, .. } => br1!("beqzc", rs),
+            Bnezc { rs, .. } => br1!("bnezc", rs),
+            Blezc { rt, .. } => br1!("blezc", rt),
+            Bgezc { rt, .. } => br1!("bgezc", rt),
+            Bgtzc { rt, .. } => br1!("bgtzc", rt),
+            Bltzc { rt, .. } => br1!("bltzc", rt),
+            Blezalc { rt, .. } => br1!("blezalc", rt),
+            Bgezalc { rt, .. } => br1!("bgezalc", rt),
+            Bgtzalc { rt, .. } => br1!("bgtzalc", rt),
+            Bltzalc { rt, .. } => br1!("bltzalc", rt),
+            Beqzalc { rt, .. } => br1!("beqzalc", rt),
+            Bnezalc { rt, .. } => br1!("bnezalc", rt),
             // LLVM prints the jic/jialc offset unsigned.
             Jic { rt, off } => write!(f, "jic\t{}, {}", G(rt), off as u16),
             Jialc { rt, off } => write!(f, "jialc\t{}, {}", G(rt), off as u16),

@@ -23,6 +23,15 @@ pub enum ElfError {
         addr: u32,
         msg: String,
     },
+    /// An executable section is not backed by the file or not inside a loadable segment.
+    #[error("{path}: section `{name}` at {addr:#x} (+{size:#x} bytes): {msg}")]
+    Section {
+        path: String,
+        name: String,
+        addr: u64,
+        size: u64,
+        msg: String,
+    },
 }
 
 /// A function symbol.
@@ -94,8 +103,12 @@ impl Executable {
                 writable: p_flags & object::elf::PF_W.0 != 0,
             });
         }
+        // The executable sections are predecoded word by word, so their sizes are checked
+        // against the file and the segments before anything is allocated: a corrupt
+        // section header must not make the loader decode gigabytes of nothing.
         let mut text_start = u32::MAX;
         let mut text_end = 0u32;
+        let mut text_bytes = 0u64;
         for s in file.sections() {
             let exec = match s.flags() {
                 SectionFlags::Elf { sh_flags, .. } => {
@@ -103,10 +116,48 @@ impl Executable {
                 }
                 _ => false,
             };
-            if exec && s.size() > 0 && s.address() != 0 {
-                text_start = text_start.min(s.address() as u32);
-                text_end = text_end.max((s.address() + s.size()) as u32);
+            if !(exec && s.size() > 0 && s.address() != 0) {
+                continue;
             }
+            let (addr, size) = (s.address(), s.size());
+            let bad = |msg: String| ElfError::Section {
+                path: path.into(),
+                name: s.name().unwrap_or("?").to_string(),
+                addr,
+                size,
+                msg,
+            };
+            match s.data() {
+                Ok(d) if d.len() as u64 == size => {}
+                Ok(_) => return Err(bad("has no contents in the file".into())),
+                Err(e) => return Err(bad(format!("contents lie outside the file ({e})"))),
+            }
+            let end = addr + size;
+            let inside = segments.iter().any(|g| {
+                let g_end = g.addr as u64 + g.mem_size.max(g.data.len() as u32) as u64;
+                addr >= g.addr as u64 && end <= g_end
+            });
+            if !inside {
+                return Err(bad("is not inside any loadable segment".into()));
+            }
+            text_start = text_start.min(addr as u32);
+            text_end = text_end.max(end as u32);
+            text_bytes += size;
+        }
+        // Gaps between executable sections are predecoded too; they may not dwarf the file.
+        if text_start < text_end
+            && (text_end - text_start) as u64 > text_bytes.max(data.len() as u64)
+        {
+            return Err(ElfError::Section {
+                path: path.into(),
+                name: "(executable sections)".into(),
+                addr: text_start as u64,
+                size: (text_end - text_start) as u64,
+                msg: format!(
+                    "span more than the file's {} bytes (the gaps would be predecoded)",
+                    data.len()
+                ),
+            });
         }
         if text_start >= text_end {
             return Err(ElfError::NoText { path: path.into() });

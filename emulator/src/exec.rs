@@ -22,9 +22,10 @@
 
 use crate::chip::Chip;
 use crate::decode::{Conv, Inst, F2, F3};
-use crate::fpu::{self, BinOp, IntRound};
+use crate::fpu;
 use crate::memory::MemFault;
 use crate::msa_glue::MsaStep;
+use crate::softfloat::{self as sf, Arith, Env, Fmt, MinMax, Round};
 use crate::thread::{CallFrame, Fault, Shared, Thread, MAX_SHADOW_FRAMES};
 use crate::trax::{exec_trax, TraxFlow};
 use trax_runtime::fops;
@@ -292,13 +293,14 @@ impl Thread {
                 }
             };
         }
-        // Branch with a delay slot.
+        // Branch with a delay slot (`Cti::DelaySlot`; `npc` is `pc + 4`, as a branch in a
+        // slot has faulted).
         macro_rules! branch {
             ($cond:expr, $off:expr) => {{
                 cti!();
                 self.slot_pc = npc;
                 if $cond {
-                    next = npc.wrapping_add($off as u32);
+                    next = Inst::rel_target(pc, $off);
                 }
             }};
         }
@@ -307,7 +309,7 @@ impl Thread {
             ($cond:expr, $off:expr) => {{
                 cti!();
                 if $cond {
-                    let t = pc.wrapping_add(4).wrapping_add($off as u32);
+                    let t = Inst::rel_target(pc, $off);
                     return Ok((t, t.wrapping_add(4)));
                 }
                 self.slot_pc = pc.wrapping_add(4);
@@ -370,37 +372,57 @@ impl Thread {
                 self.regs.set_f64_bits(($r & 31) as usize, $v)
             };
         }
-        macro_rules! bin_s {
-            ($op:expr, $x:expr) => {{
-                let F3 { fd, fs, ft } = $x;
-                let (v, e) = fpu::bin_s($op, fs32!(fs), fs32!(ft), self.regs.fcsr);
-                fcsr!(e);
-                set32!(fd, v);
+        // A scalar FPU operation: `$g` computes the result bits in `$e`, the environment
+        // FCSR selects; its exceptions go to FCSR (or trap).
+        macro_rules! fop {
+            ($set:ident, $fd:expr, |$e:ident| $g:expr) => {{
+                let mut $e = Env::from_fcsr(self.regs.fcsr);
+                let v = $g;
+                fcsr!($e.flags);
+                $set!($fd, v as _);
             }};
         }
-        // Each min/max arm passes constant flags, so the helper's branches on them fold.
-        macro_rules! minmax_s {
-            ($x:expr, $max:expr, $mag:expr) => {{
-                let F3 { fd, fs, ft } = $x;
-                let (v, e) = fpu::minmax::<f32>(fs32!(fs), fs32!(ft), $max, $mag);
+        // Arithmetic `fd = op(fs, ft, fd)` in the soft-float core's scalar entry.
+        macro_rules! arith {
+            ($set:ident, $fd:expr, $f:expr, $op:expr, $a:expr, $b:expr, $c:expr) => {{
+                let (v, e) = sf::arith($op, $f, $a, $b, $c, self.regs.fcsr);
                 fcsr!(e);
-                set32!(fd, v);
+                $set!($fd, v as _);
+            }};
+        }
+        // `$acc`: whether `fd` is also an operand (fused multiply-add).
+        macro_rules! arith_s {
+            ($x:expr, $op:expr, $acc:expr) => {{
+                let F3 { fd, fs, ft } = $x;
+                let (a, b) = (fs32!(fs) as u64, fs32!(ft) as u64);
+                let c = if $acc { fs32!(fd) as u64 } else { 0 };
+                arith!(set32, fd, Fmt::S, $op, a, b, c)
+            }};
+        }
+        macro_rules! arith_d {
+            ($x:expr, $op:expr, $acc:expr) => {{
+                let F3 { fd, fs, ft } = $x;
+                let c = if $acc { fs64!(fd) } else { 0 };
+                arith!(set64, fd, Fmt::D, $op, fs64!(fs), fs64!(ft), c)
+            }};
+        }
+        macro_rules! minmax_s {
+            ($x:expr, $kind:expr) => {{
+                let F3 { fd, fs, ft } = $x;
+                let (a, b) = (fs32!(fs) as u64, fs32!(ft) as u64);
+                fop!(set32, fd, |e| sf::min_max(&mut e, Fmt::S, a, b, $kind))
             }};
         }
         macro_rules! minmax_d {
-            ($x:expr, $max:expr, $mag:expr) => {{
+            ($x:expr, $kind:expr) => {{
                 let F3 { fd, fs, ft } = $x;
-                let (v, e) = fpu::minmax::<f64>(fs64!(fs), fs64!(ft), $max, $mag);
-                fcsr!(e);
-                set64!(fd, v);
-            }};
-        }
-        macro_rules! bin_d {
-            ($op:expr, $x:expr) => {{
-                let F3 { fd, fs, ft } = $x;
-                let (v, e) = fpu::bin_d($op, fs64!(fs), fs64!(ft), self.regs.fcsr);
-                fcsr!(e);
-                set64!(fd, v);
+                fop!(set64, fd, |e| sf::min_max(
+                    &mut e,
+                    Fmt::D,
+                    fs64!(fs),
+                    fs64!(ft),
+                    $kind
+                ))
             }};
         }
         match *inst {
@@ -607,13 +629,13 @@ impl Thread {
             J { target } => {
                 cti!();
                 self.slot_pc = npc;
-                next = (npc & 0xF000_0000) | target;
+                next = Inst::region_target(pc, target);
                 self.note_jump(next);
             }
             Jal { target } => {
                 cti!();
                 self.slot_pc = npc;
-                next = (npc & 0xF000_0000) | target;
+                next = Inst::region_target(pc, target);
                 g!(31) = pc.wrapping_add(8);
                 self.push_call(pc, pc.wrapping_add(8), next);
             }
@@ -634,7 +656,7 @@ impl Thread {
             Balc { off } => {
                 cti!();
                 g!(31) = pc.wrapping_add(4);
-                let t = pc.wrapping_add(4).wrapping_add(off as u32);
+                let t = Inst::rel_target(pc, off);
                 self.push_call(pc, pc.wrapping_add(4), t);
                 compact!(true, off);
             }
@@ -675,7 +697,7 @@ impl Thread {
                 // The link register is written whether or not the branch is taken.
                 g!(31) = pc.wrapping_add(4);
                 if cond {
-                    let t = pc.wrapping_add(4).wrapping_add(off as u32);
+                    let t = Inst::rel_target(pc, off);
                     self.push_call(pc, pc.wrapping_add(4), t);
                 }
                 compact!(cond, off);
@@ -693,24 +715,16 @@ impl Thread {
                 self.push_call(pc, pc.wrapping_add(4), t);
                 return Ok((t, t.wrapping_add(4)));
             }
-            AddS(x) => bin_s!(BinOp::Add, x),
-            SubS(x) => bin_s!(BinOp::Sub, x),
-            MulS(x) => bin_s!(BinOp::Mul, x),
-            DivS(x) => bin_s!(BinOp::Div, x),
-            AddD(x) => bin_d!(BinOp::Add, x),
-            SubD(x) => bin_d!(BinOp::Sub, x),
-            MulD(x) => bin_d!(BinOp::Mul, x),
-            DivD(x) => bin_d!(BinOp::Div, x),
-            SqrtS(F2 { fd, fs }) => {
-                let (v, e) = fpu::sqrt_s(fs32!(fs), self.regs.fcsr);
-                fcsr!(e);
-                set32!(fd, v);
-            }
-            SqrtD(F2 { fd, fs }) => {
-                let (v, e) = fpu::sqrt_d(fs64!(fs), self.regs.fcsr);
-                fcsr!(e);
-                set64!(fd, v);
-            }
+            AddS(x) => arith_s!(x, Arith::Add, false),
+            SubS(x) => arith_s!(x, Arith::Sub, false),
+            MulS(x) => arith_s!(x, Arith::Mul, false),
+            DivS(x) => arith_s!(x, Arith::Div, false),
+            AddD(x) => arith_d!(x, Arith::Add, false),
+            SubD(x) => arith_d!(x, Arith::Sub, false),
+            MulD(x) => arith_d!(x, Arith::Mul, false),
+            DivD(x) => arith_d!(x, Arith::Div, false),
+            SqrtS(F2 { fd, fs }) => arith!(set32, fd, Fmt::S, Arith::Sqrt, fs32!(fs) as u64, 0, 0),
+            SqrtD(F2 { fd, fs }) => arith!(set64, fd, Fmt::D, Arith::Sqrt, fs64!(fs), 0, 0),
             AbsS(F2 { fd, fs }) => set32!(fd, fs32!(fs) & 0x7FFF_FFFF),
             AbsD(F2 { fd, fs }) => set64!(fd, fs64!(fs) & !(1 << 63)),
             NegS(F2 { fd, fs }) => set32!(fd, fs32!(fs) ^ 0x8000_0000),
@@ -718,52 +732,35 @@ impl Thread {
             MovS(F2 { fd, fs }) => set32!(fd, fs32!(fs)),
             MovD(F2 { fd, fs }) => set64!(fd, fs64!(fs)),
             RecipS(F2 { fd, fs }) => {
-                let (v, e) = fpu::bin_s(BinOp::Div, 1f32.to_bits(), fs32!(fs), self.regs.fcsr);
-                fcsr!(e);
-                set32!(fd, v);
+                let one = Fmt::S.one();
+                arith!(set32, fd, Fmt::S, Arith::Div, one, fs32!(fs) as u64, 0)
             }
             RecipD(F2 { fd, fs }) => {
-                let (v, e) = fpu::bin_d(BinOp::Div, 1f64.to_bits(), fs64!(fs), self.regs.fcsr);
-                fcsr!(e);
-                set64!(fd, v);
+                arith!(set64, fd, Fmt::D, Arith::Div, Fmt::D.one(), fs64!(fs), 0)
             }
+            // Two roundings, both steps' exceptions.
             RsqrtS(F2 { fd, fs }) => {
-                let (s, e1) = fpu::sqrt_s(fs32!(fs), self.regs.fcsr);
-                let (v, e2) = fpu::bin_s(BinOp::Div, 1f32.to_bits(), s, self.regs.fcsr);
+                let rm = self.regs.fcsr;
+                let (r, e1) = sf::arith(Arith::Sqrt, Fmt::S, fs32!(fs) as u64, 0, 0, rm);
+                let (v, e2) = sf::arith(Arith::Div, Fmt::S, Fmt::S.one(), r, 0, rm);
                 fcsr!(e1 | e2);
-                set32!(fd, v);
+                set32!(fd, v as u32);
             }
             RsqrtD(F2 { fd, fs }) => {
-                let (s, e1) = fpu::sqrt_d(fs64!(fs), self.regs.fcsr);
-                let (v, e2) = fpu::bin_d(BinOp::Div, 1f64.to_bits(), s, self.regs.fcsr);
+                let rm = self.regs.fcsr;
+                let (r, e1) = sf::arith(Arith::Sqrt, Fmt::D, fs64!(fs), 0, 0, rm);
+                let (v, e2) = sf::arith(Arith::Div, Fmt::D, Fmt::D.one(), r, 0, rm);
                 fcsr!(e1 | e2);
                 set64!(fd, v);
             }
-            RintS(F2 { fd, fs }) => {
-                let (v, e) =
-                    fpu::rint::<f32>(fs32!(fs), self.regs.fcsr, |x| x as f64, |x| x as f32);
-                fcsr!(e);
-                set32!(fd, v);
-            }
-            RintD(F2 { fd, fs }) => {
-                let (v, e) = fpu::rint::<f64>(fs64!(fs), self.regs.fcsr, |x| x, |x| x);
-                fcsr!(e);
-                set64!(fd, v);
-            }
-            ClassS(F2 { fd, fs }) => set32!(fd, fpu::class::<f32>(fs32!(fs))),
-            ClassD(F2 { fd, fs }) => set64!(fd, fpu::class::<f64>(fs64!(fs)) as u64),
-            MaddfS(F3 { fd, fs, ft }) | MsubfS(F3 { fd, fs, ft }) => {
-                let sub = matches!(*inst, MsubfS(_));
-                let (v, e) = fpu::fma_s(fs32!(fd), fs32!(fs), fs32!(ft), sub, self.regs.fcsr);
-                fcsr!(e);
-                set32!(fd, v);
-            }
-            MaddfD(F3 { fd, fs, ft }) | MsubfD(F3 { fd, fs, ft }) => {
-                let sub = matches!(*inst, MsubfD(_));
-                let (v, e) = fpu::fma_d(fs64!(fd), fs64!(fs), fs64!(ft), sub, self.regs.fcsr);
-                fcsr!(e);
-                set64!(fd, v);
-            }
+            RintS(F2 { fd, fs }) => fop!(set32, fd, |e| sf::rint(&mut e, Fmt::S, fs32!(fs) as u64)),
+            RintD(F2 { fd, fs }) => fop!(set64, fd, |e| sf::rint(&mut e, Fmt::D, fs64!(fs))),
+            ClassS(F2 { fd, fs }) => set32!(fd, sf::class(Fmt::S, fs32!(fs) as u64) as u32),
+            ClassD(F2 { fd, fs }) => set64!(fd, sf::class(Fmt::D, fs64!(fs))),
+            MaddfS(x) => arith_s!(x, Arith::Madd, true),
+            MsubfS(x) => arith_s!(x, Arith::Msub, true),
+            MaddfD(x) => arith_d!(x, Arith::Madd, true),
+            MsubfD(x) => arith_d!(x, Arith::Msub, true),
             // Selects use masks, not branches: their conditions are data (ray tests).
             SelS(F3 { fd, fs, ft }) => {
                 let m = (fs32!(fd) & 1).wrapping_neg();
@@ -785,30 +782,34 @@ impl Thread {
             SelnezD(F3 { fd, fs, ft }) => {
                 set64!(fd, fs64!(fs) & (fs64!(ft) & 1).wrapping_neg())
             }
-            MinS(x) => minmax_s!(x, false, false),
-            MaxS(x) => minmax_s!(x, true, false),
-            MinaS(x) => minmax_s!(x, false, true),
-            MaxaS(x) => minmax_s!(x, true, true),
-            MinD(x) => minmax_d!(x, false, false),
-            MaxD(x) => minmax_d!(x, true, false),
-            MinaD(x) => minmax_d!(x, false, true),
-            MaxaD(x) => minmax_d!(x, true, true),
+            MinS(x) => minmax_s!(x, MinMax::Min),
+            MaxS(x) => minmax_s!(x, MinMax::Max),
+            MinaS(x) => minmax_s!(x, MinMax::MinA),
+            MaxaS(x) => minmax_s!(x, MinMax::MaxA),
+            MinD(x) => minmax_d!(x, MinMax::Min),
+            MaxD(x) => minmax_d!(x, MinMax::Max),
+            MinaD(x) => minmax_d!(x, MinMax::MinA),
+            MaxaD(x) => minmax_d!(x, MinMax::MaxA),
             CmpS {
                 cond,
                 f: F3 { fd, fs, ft },
-            } => {
-                let (v, e) = fpu::compare::<f32>(fs32!(fs), fs32!(ft), cond);
-                fcsr!(e);
-                set32!(fd, (v as u32).wrapping_neg());
-            }
+            } => fop!(set32, fd, |e| {
+                let rel = sf::compare(
+                    &mut e,
+                    Fmt::S,
+                    fs32!(fs) as u64,
+                    fs32!(ft) as u64,
+                    cond & 8 != 0,
+                );
+                (sf::cond_holds(rel, cond) as u32).wrapping_neg()
+            }),
             CmpD {
                 cond,
                 f: F3 { fd, fs, ft },
-            } => {
-                let (v, e) = fpu::compare::<f64>(fs64!(fs), fs64!(ft), cond);
-                fcsr!(e);
-                set64!(fd, (v as u64).wrapping_neg());
-            }
+            } => fop!(set64, fd, |e| {
+                let rel = sf::compare(&mut e, Fmt::D, fs64!(fs), fs64!(ft), cond & 8 != 0);
+                (sf::cond_holds(rel, cond) as u64).wrapping_neg()
+            }),
             Cvt {
                 op,
                 f: F2 { fd, fs },
@@ -923,49 +924,32 @@ impl Thread {
         use Conv::*;
         let r = &mut self.regs;
         let (fd, fs) = ((fd & 31) as usize, (fs & 31) as usize);
-        let fcsr = r.fcsr;
-        let s = || f32::from_bits(r.f32_bits(fs)) as f64;
-        let d = || f64::from_bits(r.f64_bits(fs));
-        let (bits, e, wide): (u64, u32, bool) = match op {
-            CvtSD => {
-                let (v, e) = fpu::f64_to_f32(d(), fcsr);
-                (v as u64, e, false)
-            }
-            CvtSW => {
-                let (v, e) = fpu::i64_to_f32(r.f32_bits(fs) as i32 as i64, fcsr);
-                (v as u64, e, false)
-            }
-            CvtSL => {
-                let (v, e) = fpu::i64_to_f32(r.f64_bits(fs) as i64, fcsr);
-                (v as u64, e, false)
-            }
-            CvtDS => {
-                let (v, e) = fpu::f32_to_f64(r.f32_bits(fs));
-                (v, e, true)
-            }
-            CvtDW => ((r.f32_bits(fs) as i32 as f64).to_bits(), 0, true),
-            CvtDL => {
-                let (v, e) = fpu::i64_to_f64(r.f64_bits(fs) as i64, fcsr);
-                (v, e, true)
-            }
+        let mut e = Env::from_fcsr(r.fcsr);
+        let e = &mut e;
+        let s = r.f32_bits(fs) as u64;
+        let d = r.f64_bits(fs);
+        let rm = int_round(op, e.mode);
+        let (bits, wide) = match op {
+            CvtSD => (sf::convert(e, Fmt::D, Fmt::S, d), false),
+            CvtSW => (sf::from_int(e, Fmt::S, s as i32 as i128), false),
+            CvtSL => (sf::from_int(e, Fmt::S, d as i64 as i128), false),
+            CvtDS => (sf::convert(e, Fmt::S, Fmt::D, s), true),
+            CvtDW => (sf::from_int(e, Fmt::D, s as i32 as i128), true),
+            CvtDL => (sf::from_int(e, Fmt::D, d as i64 as i128), true),
             CvtWS | RoundWS | TruncWS | CeilWS | FloorWS => {
-                let (v, e) = fpu::to_i32(s(), int_round(op), fcsr);
-                (v as u64, e, false)
+                (sf::to_int(e, Fmt::S, s, rm, true, 32), false)
             }
             CvtWD | RoundWD | TruncWD | CeilWD | FloorWD => {
-                let (v, e) = fpu::to_i32(d(), int_round(op), fcsr);
-                (v as u64, e, false)
+                (sf::to_int(e, Fmt::D, d, rm, true, 32), false)
             }
             CvtLS | RoundLS | TruncLS | CeilLS | FloorLS => {
-                let (v, e) = fpu::to_i64(s(), int_round(op), fcsr);
-                (v, e, true)
+                (sf::to_int(e, Fmt::S, s, rm, true, 64), true)
             }
             CvtLD | RoundLD | TruncLD | CeilLD | FloorLD => {
-                let (v, e) = fpu::to_i64(d(), int_round(op), fcsr);
-                (v, e, true)
+                (sf::to_int(e, Fmt::D, d, rm, true, 64), true)
             }
         };
-        if let Err(t) = fpu::update(&mut r.fcsr, e) {
+        if let Err(t) = fpu::update(&mut r.fcsr, e.flags) {
             return Err(Fault::FpException {
                 cause: t.cause,
                 msa: false,
@@ -996,14 +980,15 @@ fn fminmax_num(a: f32, b: f32, max: bool) -> u32 {
     }
 }
 
-fn int_round(op: Conv) -> IntRound {
+/// The rounding of a conversion to an integer: its own, or FCSR's (`current`).
+fn int_round(op: Conv, current: Round) -> Round {
     use Conv::*;
     match op {
-        RoundWS | RoundWD | RoundLS | RoundLD => IntRound::Nearest,
-        TruncWS | TruncWD | TruncLS | TruncLD => IntRound::Trunc,
-        CeilWS | CeilWD | CeilLS | CeilLD => IntRound::Ceil,
-        FloorWS | FloorWD | FloorLS | FloorLD => IntRound::Floor,
-        _ => IntRound::Current,
+        RoundWS | RoundWD | RoundLS | RoundLD => Round::Nearest,
+        TruncWS | TruncWD | TruncLS | TruncLD => Round::Zero,
+        CeilWS | CeilWD | CeilLS | CeilLD => Round::Up,
+        FloorWS | FloorWD | FloorLS | FloorLD => Round::Down,
+        _ => current,
     }
 }
 
@@ -1106,6 +1091,153 @@ mod tests {
         init(&mut t);
         let stop = t.run(&mut sh, 1000);
         (t, stop)
+    }
+
+    /// One word per branch/jump variant (and two that are not), testing `$2`/`$3`, `$f1`
+    /// or `$w1`, branching +16 bytes (from the instruction after it).
+    fn cti_words() -> Vec<u32> {
+        let (s, t) = (2u32 << 21, 3u32 << 16);
+        let op = |o: u32| o << 26;
+        let off16 = 4u32;
+        vec![
+            op(4) | s | t | off16,                       // beq
+            op(5) | s | t | off16,                       // bne
+            op(6) | s | off16,                           // blez
+            op(7) | s | off16,                           // bgtz
+            op(1) | s | off16,                           // bltz
+            op(1) | s | (1 << 16) | off16,               // bgez
+            op(1) | (0x11 << 16) | off16,                // bal
+            op(2) | 0x4_0010,                            // j
+            op(3) | 0x4_0010,                            // jal
+            s | 9,                                       // jr $2
+            s | (31 << 11) | 9,                          // jalr $2
+            s | (5 << 11) | 9,                           // jalr $5, $2
+            op(0x11) | (9 << 21) | (1 << 16) | off16,    // bc1eqz $f1
+            op(0x11) | (13 << 21) | (1 << 16) | off16,   // bc1nez $f1
+            op(0x32) | off16,                            // bc
+            op(0x3A) | off16,                            // balc
+            op(8) | (2 << 21) | t | off16,               // beqc $2, $3
+            op(0x18) | (2 << 21) | t | off16,            // bnec $2, $3
+            op(0x17) | (2 << 21) | t | off16,            // bltc $2, $3
+            op(0x16) | (2 << 21) | t | off16,            // bgec $2, $3
+            op(7) | (2 << 21) | t | off16,               // bltuc $2, $3
+            op(6) | (2 << 21) | t | off16,               // bgeuc $2, $3
+            op(8) | (3 << 21) | (2 << 16) | off16,       // bovc $3, $2
+            op(0x18) | (3 << 21) | (2 << 16) | off16,    // bnvc $3, $2
+            op(0x36) | s | off16,                        // beqzc $2
+            op(0x3E) | s | off16,                        // bnezc $2
+            op(0x16) | t | off16,                        // blezc $3
+            op(0x16) | (3 << 21) | t | off16,            // bgezc $3
+            op(0x17) | t | off16,                        // bgtzc $3
+            op(0x17) | (3 << 21) | t | off16,            // bltzc $3
+            op(6) | t | off16,                           // blezalc $3
+            op(6) | (3 << 21) | t | off16,               // bgezalc $3
+            op(7) | t | off16,                           // bgtzalc $3
+            op(7) | (3 << 21) | t | off16,               // bltzalc $3
+            op(8) | t | off16,                           // beqzalc $3
+            op(0x18) | t | off16,                        // bnezalc $3
+            op(0x36) | t | 0x10,                         // jic $3, 16
+            op(0x3E) | t | 0x10,                         // jialc $3, 16
+            op(0x11) | (0x0B << 21) | (1 << 16) | off16, // bz.v $w1
+            op(0x11) | (0x0F << 21) | (1 << 16) | off16, // bnz.v $w1
+            0x2404_0001,                                 // addiu $4, $0, 1
+            0x7C08_103B,                                 // rdhwr $8, $2
+        ]
+    }
+
+    /// The interpreter does what `Inst`'s control-flow facts say: a delay slot follows
+    /// exactly the `Cti::DelaySlot` instructions, a forbidden slot exactly the untaken
+    /// `Cti::CompactBranch`es, taken branches go to `branch_target`, calls write
+    /// `return_address` to `link_reg` (and nothing else writes `$31`).
+    #[test]
+    fn control_flow_facts_match_execution() {
+        use crate::decode::{decode, Cti};
+        let pc = 0x10_0000u32;
+        let mut seen = std::collections::BTreeSet::new();
+        let (mut taken, mut untaken) = (0, 0);
+        for w in cti_words() {
+            let inst = decode(w);
+            let name = format!("{inst:?}");
+            seen.insert(name.split([' ', '(']).next().unwrap().to_string());
+            for (v2, v3) in [
+                (0u32, 0u32),
+                (1, 0),
+                (0, 1),
+                (u32::MAX, 1),
+                (0x7FFF_FFFF, 1),
+                (5, 5),
+            ] {
+                let (mut t, mut sh) = setup(&[w, 0, 0, 0, 0, 0, 0, 0], None);
+                t.regs.gpr[2] = v2;
+                t.regs.gpr[3] = v3;
+                t.regs.gpr[5] = 0xAAAA;
+                t.regs.gpr[31] = 0x5555;
+                t.regs.fpr[1] = v2 as u128;
+                assert_eq!(t.step_once(&mut sh), Stop::Budget, "{name}");
+                let what = format!("{name} with $2={v2:#x} $3={v3:#x}");
+                // Where a taken branch goes: its static target, or the register's.
+                let dynamic = match inst {
+                    Inst::Jalr { .. } => v2,
+                    Inst::Jic { off, .. } | Inst::Jialc { off, .. } => {
+                        v3.wrapping_add(off as i32 as u32)
+                    }
+                    _ => inst.branch_target(pc).unwrap_or(u32::MAX),
+                };
+                match inst.cti() {
+                    Cti::None => {
+                        assert_eq!((t.pc, t.npc), (pc + 4, pc + 8), "{what}");
+                        assert_ne!(t.slot_pc, pc + 4, "{what}");
+                    }
+                    Cti::DelaySlot => {
+                        assert_eq!((t.pc, t.slot_pc), (pc + 4, pc + 4), "{what}");
+                        if t.npc == pc + 8 && dynamic != pc + 8 {
+                            untaken += 1;
+                        } else {
+                            assert_eq!(t.npc, dynamic, "{what}");
+                            taken += 1;
+                        }
+                    }
+                    Cti::CompactBranch => {
+                        if t.pc == pc + 4 {
+                            assert_eq!(
+                                (t.npc, t.slot_pc),
+                                (pc + 8, pc + 4),
+                                "{what}: forbidden slot"
+                            );
+                            untaken += 1;
+                        } else {
+                            assert_eq!((t.pc, t.npc), (dynamic, dynamic + 4), "{what}");
+                            assert_ne!(t.slot_pc, pc + 4, "{what}");
+                            taken += 1;
+                        }
+                    }
+                    Cti::CompactJump => {
+                        assert_eq!((t.pc, t.npc), (dynamic, dynamic + 4), "{what}");
+                        assert_ne!(t.slot_pc, pc + 4, "{what}");
+                    }
+                }
+                match inst.link_reg() {
+                    Some(r) => {
+                        assert_eq!(t.regs.gpr[r as usize], inst.return_address(pc), "{what}");
+                        if r != 31 {
+                            assert_eq!(t.regs.gpr[31], 0x5555, "{what}");
+                        }
+                    }
+                    None => {
+                        assert_eq!(t.regs.gpr[31], 0x5555, "{what}");
+                        assert_eq!(t.regs.gpr[5], 0xAAAA, "{what}");
+                    }
+                }
+            }
+        }
+        // Every branch and jump variant was run, taken and not.
+        let all = "Beq Bne Blez Bgtz Bltz Bgez Bal J Jal Jalr Bc1eqz Bc1nez Bc Balc Beqc Bnec \
+                   Bltc Bgec Bltuc Bgeuc Bovc Bnvc Beqzc Bnezc Blezc Bgezc Bgtzc Bltzc Blezalc \
+                   Bgezalc Bgtzalc Bltzalc Beqzalc Bnezalc Jic Jialc Msa Addiu Rdhwr";
+        let want: std::collections::BTreeSet<String> =
+            all.split_whitespace().map(String::from).collect();
+        assert_eq!(seen, want);
+        assert!(taken > 50 && untaken > 50, "{taken} taken, {untaken} not");
     }
 
     /// addiu $4,$0,1 ; beq $0,$0,+8 ; addiu $5,$0,1 (delay slot) ; addiu $6,$0,1
@@ -1272,7 +1404,7 @@ mod tests {
         });
         assert_eq!(stop, Stop::Halted);
         assert_eq!((t.regs.gpr[4] >> 12) & 0x3F, 0, "cause of the exact add");
-        assert_eq!((t.regs.gpr[4] >> 2) & 0x1F, fpu::EX_INEXACT, "sticky flag");
+        assert_eq!((t.regs.gpr[4] >> 2) & 0x1F, sf::FLAG_I, "sticky flag");
         assert_eq!(t.regs.fcsr, t.regs.gpr[4], "FCSR is written back on exit");
         assert_eq!(t.regs.f32_bits(3), 2f32.to_bits());
         // Without cfc1, the pending bits still reach FCSR when run returns.
@@ -1280,8 +1412,8 @@ mod tests {
             t.regs.gpr[2] = (1.0f32 / 3.0).to_bits();
             t.regs.gpr[3] = 3f32.to_bits();
         });
-        assert_eq!((t.regs.fcsr >> 12) & 0x3F, fpu::EX_INEXACT);
-        assert_eq!((t.regs.fcsr >> 2) & 0x1F, fpu::EX_INEXACT);
+        assert_eq!((t.regs.fcsr >> 12) & 0x3F, sf::FLAG_I);
+        assert_eq!((t.regs.fcsr >> 2) & 0x1F, sf::FLAG_I);
         // An enabled Inexact traps at the mul; the earlier flags are kept. ctc1 $6,$31
         // enables Inexact after a div.s $f5,$f4,$f7 by zero (flag DivZero).
         let words = [
@@ -1296,17 +1428,17 @@ mod tests {
             t.regs.gpr[2] = (1.0f32 / 3.0).to_bits();
             t.regs.gpr[3] = 3f32.to_bits();
             t.regs.gpr[5] = 1f32.to_bits();
-            t.regs.gpr[6] = (1 << 7) | (fpu::EX_DIVZERO << 2);
+            t.regs.gpr[6] = (1 << 7) | (sf::FLAG_Z << 2);
         });
         assert_eq!(
             stop,
             Stop::Fault(Fault::FpException {
-                cause: fpu::EX_INEXACT,
+                cause: sf::FLAG_I,
                 msa: false
             })
         );
-        assert_eq!((t.regs.fcsr >> 12) & 0x3F, fpu::EX_INEXACT, "cause");
-        assert_eq!((t.regs.fcsr >> 2) & 0x1F, fpu::EX_DIVZERO, "flags");
+        assert_eq!((t.regs.fcsr >> 12) & 0x3F, sf::FLAG_I, "cause");
+        assert_eq!((t.regs.fcsr >> 2) & 0x1F, sf::FLAG_Z, "flags");
     }
 
     #[test]
@@ -1315,16 +1447,8 @@ mod tests {
         let words = [0x4482_0000, 0x4600_004D, 0x4404_0800, 0x4445_F800];
         let (t, _) = run(&words, |t| t.regs.gpr[2] = 3e9f32.to_bits());
         assert_eq!(t.regs.gpr[4], i32::MAX as u32, "saturates");
-        assert_eq!(
-            (t.regs.gpr[5] >> 12) & 0x3F,
-            fpu::EX_INVALID,
-            "cause = invalid"
-        );
-        assert_eq!(
-            (t.regs.gpr[5] >> 2) & 0x1F,
-            fpu::EX_INVALID,
-            "flag = invalid"
-        );
+        assert_eq!((t.regs.gpr[5] >> 12) & 0x3F, sf::FLAG_V, "cause = invalid");
+        assert_eq!((t.regs.gpr[5] >> 2) & 0x1F, sf::FLAG_V, "flag = invalid");
         assert_eq!(t.regs.gpr[5] & 0x000C_0000, 0x000C_0000, "NaN2008/ABS2008");
         // An enabled exception traps: ctc1 enables Invalid, then the conversion faults.
         let words = [0x44C6_F800, 0x4482_0000, 0x4600_004D];
@@ -1335,7 +1459,7 @@ mod tests {
         assert_eq!(
             stop,
             Stop::Fault(Fault::FpException {
-                cause: fpu::EX_INVALID,
+                cause: sf::FLAG_V,
                 msa: false
             })
         );

@@ -10,9 +10,10 @@
 
 use std::io::Write;
 
+use crate::elf::Executable;
 use crate::memory::{LayoutError, Memory, Segment};
-use crate::profile::sched::{Driven, Executor, PlainExec, Scheduler};
 use crate::program::Program;
+use crate::sched::{Driven, Executor, PlainExec, Scheduler};
 use crate::thread::{CallFrame, ChipShape, Fault, Shared, Thread};
 use crate::RegFile;
 use trax_runtime::abi;
@@ -68,6 +69,8 @@ pub struct Crash {
     pub tm: u32,
     /// Instructions the thread retired before the fault.
     pub retired: u64,
+    /// Core cycle of the fault (timing mode; `None` in functional mode).
+    pub cycle: Option<u64>,
     /// Address of the faulting instruction.
     pub pc: u32,
     /// The faulting instruction was in a delay slot or forbidden slot.
@@ -87,6 +90,7 @@ impl Crash {
             tid: t.tid,
             tm: t.tm,
             retired: t.retired,
+            cycle: None,
             pc: t.pc,
             in_slot: t.slot_pc == t.pc,
             calls: t.calls.clone(),
@@ -109,6 +113,8 @@ pub enum Outcome {
     },
     /// The instruction limit was reached.
     InstructionLimit,
+    /// The cycle limit was reached (timing mode).
+    CycleLimit,
 }
 
 /// Summary of a run.
@@ -184,6 +190,17 @@ impl Machine {
             threads,
             config,
         })
+    }
+
+    /// A machine running the executable `exe` on every thread, with memory `segments`
+    /// (`None`: the executable's own segments).
+    pub fn load(
+        exe: &Executable,
+        segments: Option<&[Segment]>,
+        config: MachineConfig,
+    ) -> Result<Machine, SetupError> {
+        let segments = segments.unwrap_or(&exe.segments);
+        Machine::new(segments, exe.text_start, exe.text_end, exe.entry, config)
     }
 
     /// Runs to completion, writing print output to `out` as it is produced.

@@ -3,8 +3,12 @@
 //!
 //! Global memory is one `Vec<u8>` from address 0 to the end of the highest segment, plus
 //! a page table of permissions (4 KiB pages): the common access path is one bounds check,
-//! one permission byte and one unaligned load. Pages not covered by a segment are
-//! unmapped; the null guard `[0, NULL_GUARD_END)` is never mapped.
+//! one permission byte and one unaligned load. Bounds are exact to the byte: a page that a
+//! segment covers only in part (its first or last page, or one shared by two segments) is
+//! marked *partial*, and accesses there are checked against the segments themselves on a
+//! slow path, so an access just past the end of a segment (e.g. the framebuffer) faults
+//! even though it lies in the same page. Bytes outside every segment are unmapped; the
+//! null guard `[0, NULL_GUARD_END)` is never mapped.
 //!
 //! Misaligned accesses (a `lw` at an address not a multiple of 4, etc.) are reported as
 //! faults: MIPS32r6 lets an implementation either support them or raise an Address Error,
@@ -15,9 +19,23 @@ use trax_runtime::abi;
 /// Page size of the permission map.
 pub const PAGE_SHIFT: u32 = 12;
 
-const PERM_NONE: u8 = 0;
-const PERM_R: u8 = 1;
-const PERM_RW: u8 = 2;
+/// Page permission bits (the low byte of a page's entry): the whole page is readable
+/// (`PERM_R`), also writable (`PERM_W`); one region covers part of the page (`PERM_PART`,
+/// writable: `PERM_PART_W`), the mapped offsets `[lo, hi]` inclusive packed above the
+/// permission byte (see [`page_entry`]); or several regions share the page (`PERM_MULTI`:
+/// checked against the region list).
+const PERM_NONE: u32 = 0;
+const PERM_R: u32 = 1;
+const PERM_W: u32 = 2;
+const PERM_RW: u32 = PERM_R | PERM_W;
+const PERM_PART: u32 = 4;
+const PERM_PART_W: u32 = 8;
+const PERM_MULTI: u32 = 16;
+
+/// A partial page's entry: `perm | lo << 8 | hi << 20`, offsets `lo..=hi` mapped.
+const fn page_entry(perm: u32, lo: u32, hi: u32) -> u32 {
+    perm | lo << 8 | hi << 20
+}
 
 /// Highest end address of global memory (it is backed by one host allocation).
 pub const MAX_GLOBAL: u32 = 1 << 30;
@@ -92,11 +110,22 @@ pub enum LayoutError {
     Overlap { a: u32, b: u32 },
 }
 
+/// A mapped address range `[start, end)` (adjacent segments of equal permission merged).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Region {
+    start: u32,
+    end: u64,
+    writable: bool,
+}
+
 /// Chip-wide global memory.
 #[derive(Clone, Debug)]
 pub struct Memory {
     bytes: Vec<u8>,
-    perms: Vec<u8>,
+    /// One entry per page: permission bits and, for partial pages, the mapped offsets.
+    perms: Vec<u32>,
+    /// Mapped ranges in address order: the exact bounds behind `PERM_MULTI` pages.
+    regions: Vec<Region>,
     /// Lowest address of the per-thread stack window.
     pub stack_base: u32,
     /// Size of each thread's local store.
@@ -139,23 +168,82 @@ impl Memory {
         }
         let pages = end.div_ceil(1 << PAGE_SHIFT) as usize;
         let mut bytes = vec![0u8; pages << PAGE_SHIFT];
-        let mut perms = vec![PERM_NONE; pages];
-        for s in sorted {
+        let mut regions: Vec<Region> = Vec::new();
+        for s in &sorted {
             let a = s.addr as usize;
             bytes[a..a + s.data.len()].copy_from_slice(&s.data);
-            let size = s.mem_size.max(s.data.len() as u32) as usize;
-            let (p0, p1) = (a >> PAGE_SHIFT, (a + size).div_ceil(1 << PAGE_SHIFT));
-            for p in &mut perms[p0..p1] {
-                // A page shared by a read-only and a writable segment becomes writable.
-                *p = (*p).max(if s.writable { PERM_RW } else { PERM_R });
+            let size = s.mem_size.max(s.data.len() as u32);
+            if size == 0 {
+                continue;
+            }
+            let r = Region {
+                start: s.addr,
+                end: s.addr as u64 + size as u64,
+                writable: s.writable,
+            };
+            match regions.last_mut() {
+                Some(last) if last.end == r.start as u64 && last.writable == r.writable => {
+                    last.end = r.end
+                }
+                _ => regions.push(r),
+            }
+        }
+        // A page is fast-path mapped only when one region covers all of it.
+        let mut perms = vec![PERM_NONE; pages];
+        for r in &regions {
+            let (start, end) = (r.start as u64, r.end);
+            let (p0, p1) = (start >> PAGE_SHIFT, end.div_ceil(1 << PAGE_SHIFT));
+            for p in p0..p1 {
+                let (lo, hi) = (p << PAGE_SHIFT, (p + 1) << PAGE_SHIFT);
+                let slot = &mut perms[p as usize];
+                *slot = if *slot != PERM_NONE {
+                    PERM_MULTI
+                } else if start <= lo && hi <= end {
+                    if r.writable {
+                        PERM_RW
+                    } else {
+                        PERM_R
+                    }
+                } else {
+                    let (a, b) = (start.max(lo) - lo, end.min(hi) - lo - 1);
+                    let perm = if r.writable {
+                        PERM_PART | PERM_PART_W
+                    } else {
+                        PERM_PART
+                    };
+                    page_entry(perm, a as u32, b as u32)
+                };
             }
         }
         Ok(Memory {
             bytes,
             perms,
+            regions,
             stack_base,
             stack_size,
         })
+    }
+
+    /// Whether the `n` bytes at `a` (not crossing a page) lie inside the mapped part of a
+    /// `PERM_PART` page whose entry is `e`.
+    #[inline(always)]
+    fn in_part(e: u32, a: usize, n: usize) -> bool {
+        let off = (a & ((1 << PAGE_SHIFT) - 1)) as u32;
+        let (lo, hi) = ((e >> 8) & 0xfff, e >> 20);
+        off >= lo && off + (n as u32 - 1) <= hi
+    }
+
+    /// Whether `[addr, addr + n)` on a page shared by several regions is mapped (and writable, for `write`).
+    #[inline(never)]
+    fn partial_ok(&self, addr: u32, n: u32, write: bool) -> bool {
+        self.region(addr, n).is_some_and(|r| r.writable || !write)
+    }
+
+    /// The mapped region holding all of `[addr, addr + n)`, if any.
+    fn region(&self, addr: u32, n: u32) -> Option<&Region> {
+        let i = self.regions.partition_point(|r| r.start <= addr);
+        let r = self.regions.get(i.checked_sub(1)?)?;
+        (addr as u64 + n as u64 <= r.end).then_some(r)
     }
 
     /// One past the highest global address.
@@ -171,10 +259,7 @@ impl Memory {
             MemFaultKind::Misaligned
         } else if addr < self.stack_base && addr >= self.stack_base.saturating_sub(STACK_GUARD) {
             MemFaultKind::StackOverflow
-        } else if write
-            && (addr as usize) < self.bytes.len()
-            && self.perms[(addr >> PAGE_SHIFT) as usize] == PERM_R
-        {
+        } else if write && self.region(addr, size as u32).is_some_and(|r| !r.writable) {
             MemFaultKind::ReadOnly
         } else {
             MemFaultKind::BadAddress
@@ -200,7 +285,11 @@ impl Memory {
             // `perms.len()` is the page count, so `a >> PAGE_SHIFT < perms.len()`. `a` is a
             // multiple of N (checked above) and N divides the page size, so `a + N` does
             // not cross the end of `bytes`.
-            if unsafe { *self.perms.get_unchecked(a >> PAGE_SHIFT) } != PERM_NONE {
+            let perm = unsafe { *self.perms.get_unchecked(a >> PAGE_SHIFT) };
+            if perm & PERM_R != 0
+                || (perm & PERM_PART != 0 && Self::in_part(perm, a, N))
+                || (perm == PERM_MULTI && self.partial_ok(addr, N as u32, false))
+            {
                 let mut out = [0u8; N];
                 out.copy_from_slice(unsafe { self.bytes.get_unchecked(a..a + N) });
                 return Ok(out);
@@ -231,7 +320,11 @@ impl Memory {
         let a = addr as usize;
         if a < self.bytes.len() {
             // SAFETY: as in `read`: the page index and `a..a + N` are in bounds.
-            if unsafe { *self.perms.get_unchecked(a >> PAGE_SHIFT) } == PERM_RW {
+            let perm = unsafe { *self.perms.get_unchecked(a >> PAGE_SHIFT) };
+            if perm & PERM_W != 0
+                || (perm & PERM_PART_W != 0 && Self::in_part(perm, a, N))
+                || (perm == PERM_MULTI && self.partial_ok(addr, N as u32, true))
+            {
                 unsafe { self.bytes.get_unchecked_mut(a..a + N) }.copy_from_slice(&v);
                 return Ok(());
             }
@@ -295,8 +388,17 @@ impl Memory {
         if e > self.bytes.len() {
             return None;
         }
-        let ok = (a >> PAGE_SHIFT..e.div_ceil(1 << PAGE_SHIFT)).all(|p| self.perms[p] != PERM_NONE);
-        ok.then(|| &self.bytes[a..e])
+        // Every byte must be mapped; adjacent regions may split the range.
+        let mut at = addr as u64;
+        while at < e as u64 {
+            let i = self.regions.partition_point(|r| r.start as u64 <= at);
+            let r = self.regions.get(i.checked_sub(1)?)?;
+            if r.end <= at {
+                return None;
+            }
+            at = r.end;
+        }
+        Some(&self.bytes[a..e])
     }
 }
 
@@ -352,6 +454,57 @@ mod tests {
         assert_eq!(local[4092..], [9, 8, 7, 6]);
         m.write::<2>(&mut local, 0x20_1ffe, [5, 5]).unwrap();
         assert_eq!(m.read::<2>(&local, 0x20_1ffe).unwrap(), [5, 5]);
+    }
+
+    #[test]
+    fn bounds_are_exact_to_the_byte() {
+        // A writable segment ending mid-page (like the framebuffer), a read-only and a
+        // writable segment sharing one page, and a gap between them.
+        let segs = vec![
+            Segment {
+                addr: 0x10_0000,
+                data: vec![7; 0x10],
+                mem_size: 0x10,
+                writable: false,
+            },
+            Segment {
+                addr: 0x10_0010,
+                data: vec![],
+                mem_size: 0x30,
+                writable: true,
+            },
+            Segment {
+                addr: 0x10_0100,
+                data: vec![],
+                mem_size: 0x1_2344,
+                writable: true,
+            },
+        ];
+        let mut m = Memory::new(&segs, 4096).unwrap();
+        let mut local = vec![0u8; 4096];
+        let end = 0x10_0100 + 0x1_2344;
+        m.write::<4>(&mut local, end - 4, [1; 4]).unwrap();
+        assert_eq!(m.read::<4>(&local, end - 4).unwrap(), [1; 4]);
+        for k in [0, 4, 12 * 300, 0xcb8] {
+            let e = m.write::<4>(&mut local, end + k, [1; 4]).unwrap_err();
+            assert_eq!(e.kind, MemFaultKind::BadAddress, "store at end + {k:#x}");
+            let e = m.read::<4>(&local, end + k).unwrap_err();
+            assert_eq!(e.kind, MemFaultKind::BadAddress, "load at end + {k:#x}");
+        }
+        // The page shared by read-only and writable data keeps both permissions.
+        assert_eq!(m.read::<4>(&local, 0x10_000c).unwrap(), [7; 4]);
+        let e = m.write::<4>(&mut local, 0x10_000c, [0; 4]).unwrap_err();
+        assert_eq!(e.kind, MemFaultKind::ReadOnly);
+        m.write::<8>(&mut local, 0x10_0010, [3; 8]).unwrap();
+        // The gap between the small segments and the large one is unmapped.
+        let e = m.read::<4>(&local, 0x10_0040).unwrap_err();
+        assert_eq!(e.kind, MemFaultKind::BadAddress);
+        assert_eq!(m.read::<4>(&local, 0x10_00fc).unwrap_err().addr, 0x10_00fc);
+        // Tooling sees the same bounds.
+        assert!(m.global_slice(0x10_0000, 0x40).is_some());
+        assert!(m.global_slice(0x10_0000, 0x44).is_none());
+        assert!(m.global_slice(end - 8, 8).is_some());
+        assert!(m.global_slice(end - 8, 12).is_none());
     }
 
     #[test]

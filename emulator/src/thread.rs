@@ -72,7 +72,7 @@ pub enum Fault {
     DebugBreakpoint(u32),
     /// An enabled floating-point exception (FCSR or MSACSR Enables).
     FpException {
-        /// Cause bits (`fpu::EX_*`).
+        /// Cause bits (`softfloat::FLAG_*`).
         cause: u32,
         /// Raised by an MSA instruction.
         msa: bool,
@@ -136,7 +136,7 @@ impl std::fmt::Display for Fault {
                 f,
                 "{}floating-point exception: {}",
                 if *msa { "MSA " } else { "" },
-                crate::fpu::describe_exceptions(*cause)
+                crate::softfloat::describe_flags(*cause)
             ),
             Fault::Abort {
                 kind,

@@ -331,7 +331,10 @@ fn toml_presets_overrides_and_errors() {
 
     let err = |text: &str| MemSysConfig::from_toml_str(text).unwrap_err().to_string();
     let e = err("[l1]\ncapacity = 4\n");
-    assert!(e.contains("capacity") && e.contains("[l1]"), "{e}");
+    assert!(
+        e.contains("`l1.capacity`") && e.contains("line 2, column 12"),
+        "{e}"
+    );
     let e = err("[dram]\npreset = \"gddr5-thesis\"\n[dram.detailed.timing]\ntXYZ = 3\n");
     assert!(e.contains("tXYZ"), "{e}");
     // Without a preset, partial tables override the default (gddr5-thesis).

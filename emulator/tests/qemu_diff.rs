@@ -10,13 +10,10 @@
 
 use std::fmt::Write as _;
 use std::path::Path;
-use std::process::Command;
-
-use trax_emulator::machine::{Machine, MachineConfig};
-use trax_emulator::thread::Fault;
-use trax_emulator::Outcome;
 
 mod common;
+
+use common::qemu::{build, for_qemu, run_emulator, run_qemu, FPU_CONDITIONS, FPU_CONVERSIONS};
 
 struct Rng(u64);
 impl Rng {
@@ -212,44 +209,8 @@ fn fpu(r: &mut Rng) -> String {
             "{}.{fmt} $f{d}, $f{s}, $f{t}",
             r.pick(&["min", "max", "mina", "maxa"])
         ),
-        7 => {
-            let c = r.pick(&[
-                "af", "un", "eq", "ueq", "lt", "ult", "le", "ule", "saf", "sun", "seq", "sueq",
-                "slt", "sult", "sle", "sule",
-            ]);
-            format!("cmp.{c}.{fmt} $f{d}, $f{s}, $f{t}")
-        }
-        8 | 9 => {
-            let op = r.pick(&[
-                "cvt.s.d",
-                "cvt.d.s",
-                "cvt.s.w",
-                "cvt.d.w",
-                "cvt.s.l",
-                "cvt.d.l",
-                "cvt.w.s",
-                "cvt.w.d",
-                "cvt.l.s",
-                "cvt.l.d",
-                "round.w.s",
-                "round.w.d",
-                "round.l.s",
-                "round.l.d",
-                "trunc.w.s",
-                "trunc.w.d",
-                "trunc.l.s",
-                "trunc.l.d",
-                "ceil.w.s",
-                "ceil.w.d",
-                "ceil.l.s",
-                "ceil.l.d",
-                "floor.w.s",
-                "floor.w.d",
-                "floor.l.s",
-                "floor.l.d",
-            ]);
-            format!("{op} $f{d}, $f{s}")
-        }
+        7 => format!("cmp.{}.{fmt} $f{d}, $f{s}, $f{t}", r.pick(&FPU_CONDITIONS)),
+        8 | 9 => format!("{} $f{d}, $f{s}", r.pick(&FPU_CONVERSIONS)),
         10 => format!(
             "{} ${}, $f{s}",
             r.pick(&["mfc1", "mtc1", "mfhc1", "mthc1"]),
@@ -380,70 +341,6 @@ fn program(seed: u64, units: usize, keep: usize) -> (String, String) {
     (s, last)
 }
 
-fn build(dir: &Path, name: &str, asm: &str) -> std::path::PathBuf {
-    let s = dir.join(format!("{name}.s"));
-    let o = dir.join(format!("{name}.o"));
-    let e = dir.join(format!("{name}.elf"));
-    std::fs::write(&s, asm).unwrap();
-    let st = Command::new("clang-14")
-        .args([
-            "--target=mipsel-unknown-linux-gnu",
-            "-march=mips32r6",
-            "-mfp64",
-            "-c",
-        ])
-        .arg(&s)
-        .arg("-o")
-        .arg(&o)
-        .output()
-        .unwrap();
-    assert!(
-        st.status.success(),
-        "assembling {name}: {}",
-        String::from_utf8_lossy(&st.stderr)
-    );
-    let st = Command::new("ld.lld-14")
-        .args(["-static", "-e", "__start", "-Ttext=0x100000"])
-        .arg(&o)
-        .arg("-o")
-        .arg(&e)
-        .output()
-        .unwrap();
-    assert!(
-        st.status.success(),
-        "linking {name}: {}",
-        String::from_utf8_lossy(&st.stderr)
-    );
-    e
-}
-
-fn run_emulator(elf: &Path) -> Result<Vec<u8>, String> {
-    let data = std::fs::read(elf).unwrap();
-    let exe = trax_emulator::elf::Executable::parse("diff", &data).map_err(|e| e.to_string())?;
-    let mut m = Machine::new(
-        &exe.segments,
-        exe.text_start,
-        exe.text_end,
-        exe.entry,
-        MachineConfig::default(),
-    )
-    .map_err(|e| e.to_string())?;
-    let summary = m.run(&mut std::io::sink());
-    match summary.outcome {
-        Outcome::Crashed(c) if matches!(c.fault, Fault::Syscall(_)) => {
-            // `dump` is a data symbol: read the address the program used ($25).
-            let base = c.regs.gpr[25];
-            m.shared
-                .mem
-                .global_slice(base, 456)
-                .map(|s| s.to_vec())
-                .ok_or_else(|| "dump unmapped".into())
-        }
-        Outcome::Crashed(c) => Err(format!("emulator crashed at {:#x}: {}", c.pc, c.fault)),
-        o => Err(format!("emulator ended with {o:?}")),
-    }
-}
-
 fn describe(off: usize) -> String {
     match off {
         0..=127 => format!("${}", off / 4),
@@ -453,44 +350,13 @@ fn describe(off: usize) -> String {
     }
 }
 
-/// The program as QEMU must see it. LLVM 14 encodes `max.fmt` with funct 0x1D and
-/// `mina.fmt` with 0x1E, the reverse of the architecture (and QEMU): MINA = 0x1D,
-/// MAX = 0x1E. The emulator follows LLVM 14, the only producer of code for this machine
-/// (see `decode.rs`), so the QEMU build swaps the two mnemonics to get the same operation.
-fn for_qemu(asm: &str) -> String {
-    asm.lines()
-        .map(|l| {
-            let t = l.trim_start();
-            if let Some(rest) = t.strip_prefix("max.") {
-                format!("    mina.{rest}")
-            } else if let Some(rest) = t.strip_prefix("mina.") {
-                format!("    max.{rest}")
-            } else {
-                l.to_string()
-            }
-        })
-        .collect::<Vec<_>>()
-        .join("\n")
-        + "\n"
-}
-
 /// Runs one program on both; returns the mismatches.
 fn compare(dir: &Path, name: &str, asm: &str) -> Vec<String> {
     let elf = build(dir, name, asm);
     let qelf = build(dir, &format!("{name}_qemu"), &for_qemu(asm));
-    let q = Command::new("qemu-mipsel")
-        .args(["-cpu", "mips32r6-generic"])
-        .arg(&qelf)
-        .output()
-        .expect("qemu-mipsel (package qemu-user) must be installed");
-    assert!(
-        q.status.success(),
-        "qemu failed on {name}: {}",
-        String::from_utf8_lossy(&q.stderr)
-    );
-    let want = q.stdout;
+    let want = run_qemu(&qelf);
     assert_eq!(want.len(), 456, "qemu output of {name}");
-    let got = match run_emulator(&elf) {
+    let got = match run_emulator(&elf, 456) {
         Ok(g) => g,
         Err(e) => return vec![e],
     };

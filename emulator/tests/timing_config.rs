@@ -107,3 +107,160 @@ fn errors_name_the_field() {
         .to_string();
     assert!(e.contains("/nonexistent/chip.toml"), "{e}");
 }
+
+/// `set_field` (`trax run --set`, sweep axes) reaches every kind of field, gives the same
+/// config as the equivalent TOML file, and names the path when it is wrong.
+#[test]
+fn set_field_overrides_by_path() {
+    let mut c = ChipConfig::preset("baseline").unwrap();
+    c.set_field("tms", toml::Value::Integer(4)).unwrap();
+    c.set_field("memory.l2.capacity_bytes", toml::Value::Integer(1 << 20))
+        .unwrap();
+    c.set_field("units.fp_add.count", toml::Value::Integer(2))
+        .unwrap();
+    // An optional field the serialized config leaves out, and an enum.
+    c.set_field("memory.l1.area_mm2", toml::Value::Float(0.5))
+        .unwrap();
+    c.set_field("memory.l1.interleave", toml::Value::String("line".into()))
+        .unwrap();
+    c.set_field(
+        "memory.dram.detailed.timing.tRCD",
+        toml::Value::String("12ns".into()),
+    )
+    .unwrap();
+    let file = ChipConfig::from_toml_str(
+        r#"
+preset = "baseline"
+tms = 4
+[units.fp_add]
+count = 2
+latency = 2
+area_mm2 = 0.003
+energy_nj = 0.0074
+[memory.l1]
+area_mm2 = 0.5
+interleave = "line"
+[memory.l2]
+capacity_bytes = 1048576
+[memory.dram.detailed.timing]
+tRCD = "12ns"
+"#,
+        "t",
+    )
+    .unwrap();
+    assert_eq!(c, file);
+
+    // A DRAM preset first, whatever the order, then fields that refine it.
+    let mut c = ChipConfig::preset("tiny").unwrap();
+    c.apply_overrides(&[
+        (
+            "memory.dram.detailed.channels".into(),
+            toml::Value::Integer(4),
+        ),
+        (
+            "memory.dram.preset".into(),
+            toml::Value::String("hbm2".into()),
+        ),
+    ])
+    .unwrap();
+    let mut hbm = trax_emulator::memsys::DramConfig::preset("hbm2").unwrap();
+    hbm.detailed.channels = 4;
+    assert_eq!(c.memory.dram, hbm);
+
+    // Fields that must agree can be set together.
+    let mut c = ChipConfig::preset("tiny").unwrap();
+    c.apply_overrides(&[
+        ("memory.l1.line_bytes".into(), toml::Value::Integer(128)),
+        ("memory.l2.line_bytes".into(), toml::Value::Integer(128)),
+        (
+            "memory.dram.simple.line_bytes".into(),
+            toml::Value::Integer(128),
+        ),
+        (
+            "memory.dram.detailed.line_bytes".into(),
+            toml::Value::Integer(128),
+        ),
+    ])
+    .unwrap();
+    assert_eq!(c.memory.l2.line_bytes, 128);
+
+    let tiny = ChipConfig::preset("tiny").unwrap();
+    let cases: &[(&str, toml::Value, &str)] = &[
+        (
+            "memory.l2.capcity_bytes",
+            1.into(),
+            "unknown field `capcity_bytes`",
+        ),
+        ("tms", "four".into(), "invalid type: string \"four\""),
+        ("tms", 0.into(), "tms = 0"),
+        ("tms.x", 1.into(), "`tms` is a integer, not a table"),
+        ("memory.l2", 1.into(), "is a table of fields"),
+        ("nosuch.field", 1.into(), "unknown field `nosuch`"),
+        (
+            "units.fp_ad.count",
+            1.into(),
+            "units.fp_ad: unknown unit class",
+        ),
+        ("memory.dram.preset", "ddr9".into(), "unknown DRAM preset"),
+        ("a..b", 1.into(), "not a field path"),
+    ];
+    for (path, value, want) in cases {
+        let mut c = tiny.clone();
+        let e = c.set_field(path, value.clone()).unwrap_err().to_string();
+        assert!(
+            e.contains(want) && e.contains(path.split('.').next().unwrap()),
+            "{path} = {value}: {e}"
+        );
+        assert_eq!(c, tiny, "{path}: unchanged after an error");
+    }
+}
+
+/// A mistyped value names its field path and where it is in the file (once it said only
+/// `invalid type: string "four", expected u32`).
+#[test]
+fn type_errors_name_the_field_path_and_position() {
+    let err = |text: &str| {
+        ChipConfig::from_toml_str(text, "t.toml")
+            .unwrap_err()
+            .to_string()
+    };
+    let e = err("preset = \"baseline\"\n[units.fp_add]\ncount = \"four\"\n");
+    assert!(
+        e.contains("t.toml:3:9") && e.contains("`units.fp_add.count`"),
+        "{e}"
+    );
+    assert!(e.contains("invalid type: string \"four\""), "{e}");
+    let e = err("tms = 2\n[memory]\nl1 = { banks = 2.5 }\n");
+    assert!(
+        e.contains("t.toml:3:16") && e.contains("`memory.l1.banks`"),
+        "{e}"
+    );
+    let e = err("tms = 2\n\n  threads_per_tm = true\n");
+    assert!(
+        e.contains("t.toml:3:20") && e.contains("`threads_per_tm`"),
+        "{e}"
+    );
+    let e = err("[memory.dram.detailed.timing]\ntCAS = [1]\n");
+    assert!(
+        e.contains("t.toml:2:8") && e.contains("memory.dram.detailed.timing.tCAS"),
+        "{e}"
+    );
+    // Syntax errors have a position too.
+    let e = err("tms = 4\ntms = ]\n");
+    assert!(e.contains("t.toml:2:"), "{e}");
+    // The memory-system and DRAM documents alike.
+    let e = trax_emulator::memsys::MemSysConfig::from_toml_str("[l1]\ncapacity_bytes = \"big\"\n")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("line 2, column 18") && e.contains("`l1.capacity_bytes`"),
+        "{e}"
+    );
+    let e = trax_emulator::memsys::DramConfig::from_toml_str("[detailed]\nchannels = -1\n")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("line 2, column 12") && e.contains("`detailed.channels`"),
+        "{e}"
+    );
+}

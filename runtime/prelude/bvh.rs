@@ -15,7 +15,26 @@ pub const STACK_SIZE: u32 = 64;
 /// far slab distance by this makes the box test conservative under f32 rounding.
 const SLAB_FAR_SCALE: f32 = 1.000_000_4;
 
+/// Constants of pbrt's bound on the rounding error of a triangle hit's `t` (times
+/// `|det|`), from `gamma(n) = n u / (1 - n u)`, `u = 2^-24`, rounded up:
+/// `6 gamma(3)` (the `maxE` terms), `6 (gamma(2) + 2 gamma(5))` and `12 gamma(5)` (three
+/// times `deltaE = 2 (gamma(2) X Y + gamma(5) (Y + Z) X + gamma(5) (X + Z) Y)` with
+/// `X = Y`).
+const ERR_T: f32 = 1.072_884e-6;
+const ERR_XY: f32 = 4.291_536e-6;
+const ERR_Z: f32 = 3.576_280_3e-6;
+
 /// Per-ray constants of the watertight triangle test.
+///
+/// The edge functions are products of two sheared coordinates, and the scaled distance
+/// adds a third factor, so in plain f32 they overflow for coordinates beyond about 1e12 and
+/// underflow below about 1e-13. The sheared x and y coordinates are therefore multiplied by
+/// a power of two, [`TriRay::scale`], that brings the magnitude of the ray origin and of the
+/// scene to about 1: the edge functions and the determinant then stay near 1 and the
+/// scaled distance near the hit distance at every scale, and the distance and barycentrics
+/// come out unscaled (the factor cancels in their quotients). Multiplying by a power of two
+/// is exact, so wherever the plain computation was in range the result is bit for bit the
+/// same.
 #[derive(Clone, Copy)]
 pub struct TriRay {
     pub origin: Vec3,
@@ -25,11 +44,20 @@ pub struct TriRay {
     pub sx: f32,
     pub sy: f32,
     pub sz: f32,
+    /// The power of two the sheared x and y coordinates are multiplied by.
+    pub scale: f32,
+    /// `scale * |dir[kz]|`: converts a z distance in units of the ray parameter to
+    /// scaled units (for the error bound).
+    pub scale_dz: f32,
 }
 
 impl TriRay {
-    /// Precomputes the shear/permutation of `ray`.
-    pub fn new(ray: &Ray) -> TriRay {
+    /// Precomputes the shear/permutation of `ray` and the scale for triangles whose
+    /// coordinates are at most about `bound` in magnitude (for example [`scene_bound`]).
+    /// The bound need not be tight: the test stays exact for triangles within a factor of
+    /// about 2^±30 of `max(bound, |origin|)`.
+    #[inline(always)]
+    pub fn new(ray: &Ray, bound: f32) -> TriRay {
         let kz = ray.dir.max_dimension();
         let a: u32 = if kz == 2 { 0 } else { kz + 1 };
         let b: u32 = if a == 2 { 0 } else { a + 1 };
@@ -37,6 +65,7 @@ impl TriRay {
         // Swap x and y for a negative z so the winding does not depend on the sign.
         let kx = if dz < 0.0 { b } else { a };
         let ky = if dz < 0.0 { a } else { b };
+        let scale = super::math::pow2_scale(super::max(ray.origin.max_abs(), bound));
         TriRay {
             origin: ray.origin,
             kx,
@@ -45,6 +74,8 @@ impl TriRay {
             sx: ray.dir.get(kx) / dz,
             sy: ray.dir.get(ky) / dz,
             sz: 1.0 / dz,
+            scale,
+            scale_dz: scale * dz.abs(),
         }
     }
 
@@ -58,12 +89,13 @@ impl TriRay {
         let az = a.get(self.kz);
         let bz = b.get(self.kz);
         let cz = c.get(self.kz);
-        let ax = a.get(self.kx) - self.sx * az;
-        let ay = a.get(self.ky) - self.sy * az;
-        let bx = b.get(self.kx) - self.sx * bz;
-        let by = b.get(self.ky) - self.sy * bz;
-        let cx = c.get(self.kx) - self.sx * cz;
-        let cy = c.get(self.ky) - self.sy * cz;
+        let k = self.scale;
+        let ax = (a.get(self.kx) - self.sx * az) * k;
+        let ay = (a.get(self.ky) - self.sy * az) * k;
+        let bx = (b.get(self.kx) - self.sx * bz) * k;
+        let by = (b.get(self.ky) - self.sy * bz) * k;
+        let cx = (c.get(self.kx) - self.sx * cz) * k;
+        let cy = (c.get(self.ky) - self.sy * cz) * k;
         let mut u = cx * by - cy * bx;
         let mut v = ax * cy - ay * cx;
         let mut w = bx * ay - by * ax;
@@ -80,7 +112,10 @@ impl TriRay {
         if det == 0.0 {
             return false;
         }
-        let t_scaled = u * (self.sz * az) + v * (self.sz * bz) + w * (self.sz * cz);
+        let azt = self.sz * az;
+        let bzt = self.sz * bz;
+        let czt = self.sz * cz;
+        let t_scaled = u * azt + v * bzt + w * czt;
         // Compare t = t_scaled / det against the interval without dividing.
         if det > 0.0 {
             if t_scaled <= t_min * det || t_scaled >= hit.t * det {
@@ -95,11 +130,56 @@ impl TriRay {
         if t <= t_min || t >= hit.t {
             return false;
         }
+        // pbrt's conservative test (pbrt-v3 section 3.9.6): a hit closer than the bound on
+        // the rounding error of `t` might be behind the origin, as when a ray leaves the
+        // surface it starts on ([`super::ray::SurfacePoint`]); reject it. Here x and y
+        // carry the scale `k` (the edge functions `k²`) and z is in units of `t`
+        // (`z * sz`); the shear's error in x and y involves the plain z, `max_zt * |dz|`,
+        // scaled like x and y. pbrt's bound `3 (gamma3 maxE maxZt + deltaE maxZt +
+        // deltaZ maxE) / |det|` is compared multiplied by `|det|` (no division), with the
+        // largest |x| and |y| taken together and `maxE <= |det|` (u, v, w share a sign).
+        let max_zt = super::max(azt.abs(), super::max(bzt.abs(), czt.abs()));
+        let max_xy = super::max(
+            super::max(ax.abs(), super::max(bx.abs(), cx.abs())),
+            super::max(ay.abs(), super::max(by.abs(), cy.abs())),
+        );
+        let kz = self.scale_dz * max_zt;
+        let bound = max_zt * (ERR_T * det.abs() + max_xy * (ERR_XY * max_xy + ERR_Z * kz));
+        let t_det = if det > 0.0 { t_scaled } else { -t_scaled };
+        if t_det <= bound {
+            return false;
+        }
         hit.t = t;
         hit.u = v * inv_det;
         hit.v = w * inv_det;
         true
     }
+}
+
+/// Largest absolute coordinate of BVH node `n`'s box.
+#[inline(always)]
+pub fn node_bound(n: &BvhNode) -> f32 {
+    super::max(n.min.max_abs(), n.max.max_abs())
+}
+
+/// Largest absolute coordinate of the scene: of the BVH's root box, or, without a BVH, of
+/// every triangle vertex. The bound [`TriRay::new`] wants.
+pub fn scene_bound() -> f32 {
+    if scene::bvh_node_count() > 0 {
+        return node_bound(&scene::bvh_node_at(scene::bvh_base(), 0));
+    }
+    let mut m: f32 = 0.0;
+    let n = scene::triangle_count();
+    let mut i: u32 = 0;
+    while i < n {
+        let t = scene::triangle(i);
+        m = super::max(
+            m,
+            super::max(t.v0.max_abs(), super::max(t.v1.max_abs(), t.v2.max_abs())),
+        );
+        i += 1;
+    }
+    m
 }
 
 /// Per-ray constants of the slab test.
@@ -168,9 +248,9 @@ impl BoxRay {
 pub fn intersect(ray: &Ray, t_min: f32, t_max: f32) -> Hit {
     hw::count_ray();
     let mut hit = Hit::none(t_max);
-    let tr = TriRay::new(ray);
     let base = scene::bvh_base();
     if scene::bvh_node_count() == 0 {
+        let tr = TriRay::new(ray, scene_bound());
         let n = scene::triangle_count();
         let mut i: u32 = 0;
         while i < n {
@@ -188,6 +268,7 @@ pub fn intersect(ray: &Ray, t_min: f32, t_max: f32) -> Hit {
     if br.node_entry(&node, t_min, hit.t) == super::INFINITY {
         return hit;
     }
+    let tr = TriRay::new(ray, node_bound(&node));
     loop {
         if node.is_leaf() {
             let mut i = node.a;
@@ -244,9 +325,9 @@ pub fn intersect(ray: &Ray, t_min: f32, t_max: f32) -> Hit {
 pub fn occluded(ray: &Ray, t_min: f32, t_max: f32) -> bool {
     hw::count_ray();
     let mut hit = Hit::none(t_max);
-    let tr = TriRay::new(ray);
     let base = scene::bvh_base();
     if scene::bvh_node_count() == 0 {
+        let tr = TriRay::new(ray, scene_bound());
         let n = scene::triangle_count();
         let mut i: u32 = 0;
         while i < n {
@@ -258,6 +339,7 @@ pub fn occluded(ray: &Ray, t_min: f32, t_max: f32) -> bool {
         return false;
     }
     let br = BoxRay::new(ray);
+    let tr = TriRay::new(ray, node_bound(&scene::bvh_node_at(base, 0)));
     let mut stack: [u32; 64] = [0; 64];
     let mut sp: usize = 1;
     stack[0] = 0;

@@ -9,7 +9,7 @@
 //! Calls whose arguments are all constants are folded by rustc with the host's libm and
 //! do not reach these functions.
 
-use crate::libm;
+use super::libm;
 
 macro_rules! unary {
     ($($c:ident => $f:ident : $t:ty),* $(,)?) => {$(

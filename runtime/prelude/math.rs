@@ -62,19 +62,37 @@ impl Vec3 {
         }
     }
 
-    /// Squared length.
+    /// Squared length (overflows for components beyond about 1e19 and underflows below
+    /// about 1e-19; see [`Vec3::length`]).
     pub fn length_squared(self) -> f32 {
         self.dot(self)
     }
 
-    /// Length.
+    /// Length, at every scale. The squared length overflows for components beyond about
+    /// 1e19 and underflows below about 1e-19; then it is computed on the vector multiplied
+    /// by [`pow2_scale`] of its largest component and divided by that factor again (both
+    /// exact). Bit for bit `length_squared().sqrt()` wherever that one works.
     pub fn length(self) -> f32 {
-        self.dot(self).sqrt()
+        let d = self.dot(self);
+        if in_range(d) {
+            return d.sqrt();
+        }
+        let k = pow2_scale(self.max_abs());
+        let s = self.scale(k);
+        s.dot(s).sqrt() / k
     }
 
-    /// Unit vector in the same direction (uses `trax.invsqrt`).
+    /// Unit vector in the same direction (uses `trax.invsqrt`), at every scale: when the
+    /// squared length overflows or underflows, the vector is first multiplied by the power
+    /// of two that brings its largest component to about 1 ([`pow2_scale`], exact). Bit for
+    /// bit `self.scale(invsqrt(self.dot(self)))` wherever that one works.
     pub fn normalize(self) -> Vec3 {
-        self.scale(super::invsqrt(self.dot(self)))
+        let d = self.dot(self);
+        if in_range(d) {
+            return self.scale(super::invsqrt(d));
+        }
+        let s = self.scale(pow2_scale(self.max_abs()));
+        s.scale(super::invsqrt(s.dot(s)))
     }
 
     /// Component-wise minimum.
@@ -93,6 +111,12 @@ impl Vec3 {
             y: super::max(self.y, o.y),
             z: super::max(self.z, o.z),
         }
+    }
+
+    /// Largest absolute value of the components (the vector's magnitude, up to a factor
+    /// of at most √3).
+    pub fn max_abs(self) -> f32 {
+        super::max(self.x.abs(), super::max(self.y.abs(), self.z.abs()))
     }
 
     /// Smallest component.
@@ -247,6 +271,29 @@ impl std::ops::DivAssign for Vec3 {
         self.y = self.y / o.y;
         self.z = self.z / o.z;
     }
+}
+
+/// The power of two `k` with `m * k` in `[1, 2)`, for `m >= 0`: the factor that brings a
+/// quantity of magnitude `m` to about 1. Multiplying by it is exact (absent overflow and
+/// underflow), so a computation done on `k`-scaled inputs gives exactly `k^n` times the
+/// unscaled result wherever the unscaled one neither overflows nor underflows, and stays
+/// accurate at every other scale. `k` is a normal f32: `m` is clamped to at most 2^126
+/// first (so huge, infinite and NaN `m` get 2^-126), and zero and subnormal `m` get 2^127.
+/// A few integer instructions on the bits of `m` (the same function as the runtime's
+/// `pipes::pow2_scale`, which the fused triangle pipeline uses).
+#[inline(always)]
+pub fn pow2_scale(m: f32) -> f32 {
+    let m = super::min(m, 8.507_059e37); // 2^126
+    f32::from_bits(0x7F00_0000 - (m.to_bits() & 0x7F80_0000))
+}
+
+/// True if `x` lies between the smallest
+/// positive normal f32 and the largest finite one (false for zero, subnormals, infinities
+/// and NaN): a squared length in this range has lost nothing to underflow or overflow.
+pub fn in_range(x: f32) -> bool {
+    // Positive normal f32s are the bit patterns 0x0080_0000 ..= 0x7F7F_FFFF (integer
+    // instructions only: cheaper here than two float compares).
+    x.to_bits().wrapping_sub(0x0080_0000) < 0x7F00_0000
 }
 
 /// `x` clamped to `[lo, hi]` (NaN stays NaN).

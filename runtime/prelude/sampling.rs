@@ -70,3 +70,53 @@ pub fn triangle_point(tri: &Triangle) -> Vec3 {
     let r2 = super::rand();
     tri.point(r2 * su, 1.0 - su)
 }
+
+/// What next-event estimation needs about a point `q` sampled on an emitting triangle,
+/// seen from `p`: [`emitter_geometry`].
+#[derive(Clone, Copy)]
+pub struct EmitterGeometry {
+    /// Unit direction from `p` to `q`.
+    pub dir: Vec3,
+    /// Distance from `p` to `q`.
+    pub dist: f32,
+    /// Squared distance, in the same units as `area` (see there).
+    pub dist2: f32,
+    /// The triangle's area, in units where `area / dist2` is the true ratio: the plain
+    /// values when both are normal f32s, else both multiplied by the same power of two
+    /// squared (a huge scene's squares overflow, a tiny one's underflow).
+    pub area: f32,
+    /// The triangle's unit geometric normal ([`Triangle::normal`]).
+    pub normal: Vec3,
+}
+
+/// Direction, distance, area-to-distance-squared ratio and the emitter's normal, from `p`
+/// to the point `q` of triangle `tri`, right at every scale. Bit for bit the plain
+/// `length_squared`, `sqrt`, `scale(1 / dist)`, `Triangle::area` and `Triangle::normal`
+/// wherever those neither overflow nor underflow.
+pub fn emitter_geometry(tri: &Triangle, p: Vec3, q: Vec3) -> EmitterGeometry {
+    let d = q - p;
+    let dist2 = d.length_squared();
+    let c = tri.normal_unnormalized();
+    let c2 = c.dot(c);
+    if super::math::in_range(dist2) && super::math::in_range(c2) {
+        let dist = dist2.sqrt();
+        return EmitterGeometry {
+            dir: d.scale(1.0 / dist),
+            dist,
+            dist2,
+            area: 0.5 * c2.sqrt(),
+            normal: c.scale(super::invsqrt(c2)),
+        };
+    }
+    let k = super::math::pow2_scale(d.max_abs());
+    let ds = d.scale(k);
+    let dist2 = ds.length_squared();
+    let dist_s = dist2.sqrt();
+    EmitterGeometry {
+        dir: ds.scale(1.0 / dist_s),
+        dist: dist_s / k,
+        dist2,
+        area: tri.area_scaled(k),
+        normal: tri.normal(),
+    }
+}

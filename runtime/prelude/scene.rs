@@ -185,14 +185,35 @@ impl Triangle {
         (self.v1 - self.v0).cross(self.v2 - self.v0)
     }
 
-    /// Unit geometric normal.
+    /// Unit geometric normal, the same direction at every scale: when the cross product of
+    /// the edges (or its squared length) overflows or underflows, the edges are first
+    /// multiplied by a power of two ([`super::math::pow2_scale`], exact). Bit for bit
+    /// `normal_unnormalized().normalize()` wherever no rescaling is needed.
     pub fn normal(&self) -> Vec3 {
-        self.normal_unnormalized().normalize()
+        let e1 = self.v1 - self.v0;
+        let e2 = self.v2 - self.v0;
+        let n = e1.cross(e2);
+        let d = n.dot(n);
+        if super::math::in_range(d) {
+            return n.scale(super::invsqrt(d));
+        }
+        let k = super::math::pow2_scale(super::max(e1.max_abs(), e2.max_abs()));
+        e1.scale(k).cross(e2.scale(k)).normalize()
     }
 
-    /// Area.
+    /// Area (overflows for edges beyond about 1e19; see [`Triangle::area_scaled`]).
     pub fn area(&self) -> f32 {
         0.5 * self.normal_unnormalized().length()
+    }
+
+    /// Area times `k²`, the edges multiplied by `k` first: with `k` a power of two that
+    /// brings a length of the scene to about 1 ([`super::math::pow2_scale`]), the area in
+    /// that length's units, finite where the plain area overflows.
+    pub fn area_scaled(&self, k: f32) -> f32 {
+        0.5 * (self.v1 - self.v0)
+            .scale(k)
+            .cross((self.v2 - self.v0).scale(k))
+            .length()
     }
 
     /// The point with barycentric coordinates `(1 - u - v, u, v)`.

@@ -329,6 +329,5 @@ mod tests {
             .copied()
             .unwrap();
         assert_eq!(Field::Sa.extract(stat), 3);
-        std::fs::remove_dir_all(dir).ok();
     }
 }

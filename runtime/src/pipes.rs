@@ -53,9 +53,35 @@ fn dot(a: [f32; 3], b: [f32; 3]) -> f32 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
+fn scale(a: [f32; 3], k: f32) -> [f32; 3] {
+    [a[0] * k, a[1] * k, a[2] * k]
+}
+
+fn max_abs(a: [f32; 3]) -> f32 {
+    fops::fmax(a[0].abs(), fops::fmax(a[1].abs(), a[2].abs()))
+}
+
+/// The power of two `k` with `m * k` in `[1, 2)` for `m >= 0`, a normal f32: `m` is
+/// clamped to at most 2^126 first (IEEE minNum, so huge, infinite and NaN `m` get 2^-126),
+/// and zero and subnormal `m` get 2^127. The prelude's `math::pow2_scale`.
+pub fn pow2_scale(m: f32) -> f32 {
+    let m = fops::fmin(m, POW2_126);
+    f32::from_bits(0x7F00_0000 - (m.to_bits() & 0x7F80_0000))
+}
+
+/// 2^126.
+const POW2_126: f32 = 8.507_059e37;
+
 /// `trax.tritest`: Möller–Trumbore ray/triangle test. Returns `(t, u, v)`: the hit
 /// distance (`+inf` on a miss, and for hits at `t <= 0`) and the barycentric weights of
 /// `v1` and `v2` (both 0 on a miss).
+///
+/// The edges and the origin's offset from `v0` are first multiplied by the power of two
+/// that brings the largest of their coordinates to about 1 (an exponent adjustment in
+/// hardware), and `t` divided by it at the end: the determinant and the distance's
+/// numerator (products of two and three lengths) then neither overflow nor underflow at
+/// any scene scale, and since the scaling is exact the result is bit for bit the plain
+/// computation's wherever that one was in range (lengths from about 1e-12 to 1e12).
 pub fn tri_test(
     origin: [f32; 3],
     dir: [f32; 3],
@@ -66,13 +92,15 @@ pub fn tri_test(
     let miss = (f32::INFINITY, 0.0, 0.0);
     let e1 = sub(v1, v0);
     let e2 = sub(v2, v0);
+    let s = sub(origin, v0);
+    let k = pow2_scale(fops::fmax(max_abs(e1), fops::fmax(max_abs(e2), max_abs(s))));
+    let (e1, e2, s) = (scale(e1, k), scale(e2, k), scale(s, k));
     let p = cross(dir, e2);
     let det = dot(e1, p);
     if det == 0.0 || det.is_nan() {
         return miss;
     }
     let inv = 1.0 / det;
-    let s = sub(origin, v0);
     let u = dot(s, p) * inv;
     if !(0.0..=1.0).contains(&u) {
         return miss;
@@ -82,7 +110,7 @@ pub fn tri_test(
     if !(v >= 0.0 && u + v <= 1.0) {
         return miss;
     }
-    let t = dot(e2, q) * inv;
+    let t = dot(e2, q) * inv / k;
     if t > 0.0 {
         (t, u, v)
     } else {
@@ -132,6 +160,47 @@ mod tests {
             box_test([3.0, 0.5, 0.5], inv([-1.0, 0.0, 0.0]), lo, hi),
             2.0
         );
+    }
+
+    #[test]
+    fn triangle_test_is_the_same_at_every_scale() {
+        let (v0, v1, v2) = ([0.0, 0.0, -2.0], [1.0, 0.0, -2.0], [0.0, 1.0, -2.0]);
+        let o = [0.25, 0.5, 0.0];
+        let d = [0.0, 0.0, -1.0];
+        // Powers of two scale exactly: the same hit, t scaled, at every representable scale.
+        for e in -60..=60 {
+            let k = 2f32.powi(e);
+            let sc = |a: [f32; 3]| a.map(|c| c * k);
+            let (t, u, v) = tri_test(sc(o), d, sc(v0), sc(v1), sc(v2));
+            assert_eq!((t, u, v), (2.0 * k, 0.25, 0.5), "scale 2^{e}");
+        }
+        // Decimal scales round the vertices; the hit stays within rounding.
+        for e in -30..=30 {
+            let k = 10f64.powi(e);
+            let sc = |a: [f32; 3]| a.map(|c| (c as f64 * k) as f32);
+            let (t, u, v) = tri_test(sc(o), d, sc(v0), sc(v1), sc(v2));
+            assert!(((t as f64) / (2.0 * k) - 1.0).abs() < 1e-6, "1e{e}: t {t}");
+            assert!((u - 0.25).abs() < 1e-6 && (v - 0.5).abs() < 1e-6, "1e{e}");
+        }
+    }
+
+    #[test]
+    fn pow2_scale_brings_magnitudes_to_one() {
+        for m in [1.0f32, 1.5, 3.0, 1e-30, 7e30, f32::MIN_POSITIVE, f32::MAX] {
+            let k = pow2_scale(m);
+            assert!(k.is_normal() && (k.to_bits() & 0x7f_ffff) == 0, "{m}");
+            assert!(
+                (1.0..2.0).contains(&(m * k)) || m == f32::MAX,
+                "{m}: {}",
+                m * k
+            );
+        }
+        assert_eq!(POW2_126, 2f32.powi(126));
+        assert_eq!(pow2_scale(0.0), 2f32.powi(127));
+        assert_eq!(pow2_scale(1e-45), 2f32.powi(127));
+        assert_eq!(pow2_scale(f32::MIN_POSITIVE), 2f32.powi(126));
+        assert_eq!(pow2_scale(f32::INFINITY), 2f32.powi(-126));
+        assert_eq!(pow2_scale(f32::NAN), 2f32.powi(-126));
     }
 
     #[test]

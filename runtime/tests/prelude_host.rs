@@ -710,8 +710,15 @@ fn octahedron(s: f32) -> Vec<trax::Triangle> {
     ]
 }
 
+/// Largest absolute coordinate of a mesh (the bound `TriRay::new` wants).
+fn bound(tris: &[trax::Triangle]) -> f32 {
+    tris.iter()
+        .map(|t| t.v0.max_abs().max(t.v1.max_abs()).max(t.v2.max_abs()))
+        .fold(0.0, f32::max)
+}
+
 fn hits_any(ray: &Ray, tris: &[trax::Triangle]) -> bool {
-    let tr = trax::bvh::TriRay::new(ray);
+    let tr = trax::bvh::TriRay::new(ray, bound(tris));
     let mut hit = trax::Hit::none(f32::INFINITY);
     let mut any = false;
     for t in tris {
@@ -722,7 +729,12 @@ fn hits_any(ray: &Ray, tris: &[trax::Triangle]) -> bool {
 
 #[test]
 fn watertight_rays_through_edges_and_vertices_never_leak() {
-    for scale in [1e-4f32, 1.0, 1e5] {
+    // Decimal scales from 1e-30 to 1e30 (the plain f32 test leaked beyond about 1e12 and
+    // below about 1e-13), and powers of two.
+    let scales = (-30..=30)
+        .map(|k| 10f64.powi(k) as f32)
+        .chain([2f32.powi(-100), 2f32.powi(100)]);
+    for scale in scales {
         let mesh = octahedron(scale);
         let mut targets: Vec<Vec3> = Vec::new();
         for t in &mesh {
@@ -762,7 +774,7 @@ fn watertight_rays_through_edges_and_vertices_never_leak() {
 fn triangle_hit_distance_and_barycentrics() {
     let t = tri([0.0, 0.0, -2.0], [1.0, 0.0, -2.0], [0.0, 1.0, -2.0]);
     let ray = Ray::new(Vec3::new(0.25, 0.5, 0.0), Vec3::new(0.0, 0.0, -1.0));
-    let tr = trax::bvh::TriRay::new(&ray);
+    let tr = trax::bvh::TriRay::new(&ray, 2.0);
     let mut h = trax::Hit::none(f32::INFINITY);
     assert!(tr.intersect(&t, 0.0, &mut h));
     assert_eq!(h.t, 2.0);
@@ -775,10 +787,175 @@ fn triangle_hit_distance_and_barycentrics() {
     let mut h3 = trax::Hit::none(f32::INFINITY);
     assert!(!tr.intersect(&t, 2.5, &mut h3));
     let miss = Ray::new(Vec3::new(0.8, 0.8, 0.0), Vec3::new(0.0, 0.0, -1.0));
-    assert!(!trax::bvh::TriRay::new(&miss).intersect(&t, 0.0, &mut trax::Hit::none(f32::INFINITY)));
+    assert!(!trax::bvh::TriRay::new(&miss, 2.0).intersect(
+        &t,
+        0.0,
+        &mut trax::Hit::none(f32::INFINITY)
+    ));
     // Both windings hit.
     let back = tri([0.0, 0.0, -2.0], [0.0, 1.0, -2.0], [1.0, 0.0, -2.0]);
     assert!(tr.intersect(&back, 0.0, &mut trax::Hit::none(f32::INFINITY)));
+}
+
+fn arr(v: Vec3) -> [f32; 3] {
+    [v.x, v.y, v.z]
+}
+
+/// A deterministic generator for the tests below (SplitMix64), uniform in [-1, 1).
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> f32 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^= z >> 31;
+        (z >> 40) as f32 / (1u64 << 23) as f32 - 1.0
+    }
+
+    fn vec(&mut self) -> Vec3 {
+        Vec3::new(self.next(), self.next(), self.next())
+    }
+}
+
+/// The triangle test works in a frame scaled by a power of two; where the plain f32
+/// computation is in range, every scale gives bit-identical hits.
+#[test]
+fn triangle_test_frame_scale_is_exact() {
+    let mut rng = Rng(7);
+    let mut hits = 0;
+    for _ in 0..20_000 {
+        let t = tri(
+            [rng.next(), rng.next(), rng.next() - 3.0],
+            [rng.next(), rng.next(), rng.next() - 3.0],
+            [rng.next(), rng.next(), rng.next() - 3.0],
+        );
+        // Aimed at the triangle's plane, inside or just outside the triangle.
+        let target = t.point(0.7 * rng.next() + 0.3, 0.7 * rng.next() + 0.3);
+        let o = rng.vec().scale(0.5);
+        let ray = Ray::new(o, (target - o).normalize());
+        let mut results = Vec::new();
+        for bound in [0.0f32, 1.0, 1e-3, 1e6, 3e9] {
+            let tr = trax::bvh::TriRay::new(&ray, bound);
+            let mut h = trax::Hit::none(f32::INFINITY);
+            let hit = tr.intersect(&t, 0.0, &mut h);
+            results.push((hit, h.t.to_bits(), h.u.to_bits(), h.v.to_bits()));
+        }
+        hits += results[0].0 as u32;
+        assert!(results.iter().all(|r| *r == results[0]), "{results:?}");
+    }
+    assert!(hits > 1000, "too few hits ({hits}) to mean anything");
+}
+
+/// `math::pow2_scale` is the runtime's (the fused triangle pipeline's) `pow2_scale`.
+#[test]
+fn pow2_scale_matches_the_runtime() {
+    let mut x = 1e-45f32;
+    while x.is_finite() {
+        for m in [x, x * 1.7, -0.0, f32::INFINITY, f32::NAN] {
+            assert_eq!(
+                trax::math::pow2_scale(m).to_bits(),
+                trax_runtime::pipes::pow2_scale(m).to_bits(),
+                "{m}"
+            );
+        }
+        x *= 3.1;
+    }
+}
+
+/// Rays spawned from a hit by `SurfacePoint::origin` into the hemisphere they may leave
+/// by never hit the triangle they leave, at every scale, while staying within a
+/// millionth of the hit point's magnitude of it; and triangle normals are the same
+/// direction at every scale.
+#[test]
+fn spawned_rays_do_not_hit_their_own_surface_at_any_scale() {
+    let mut rng = Rng(11);
+    for k in -20..=20 {
+        let s = 10f64.powi(k);
+        for case in 0..4_000 {
+            let unit = if case % 2 == 0 {
+                let c = rng.vec().scale(4.0);
+                tri(arr(c + rng.vec()), arr(c + rng.vec()), arr(c + rng.vec()))
+            } else {
+                // A large, slightly tilted wall close to a coordinate plane (like the
+                // Cornell box's walls): its coordinates along the normal are tiny next to
+                // the others, so an offset from the point's error along the normal alone
+                // is far smaller than the intersection's rounding error.
+                let axis = (case / 2) % 3;
+                let mut v = [[0.0f32; 3]; 3];
+                for p in v.iter_mut() {
+                    for (i, c) in p.iter_mut().enumerate() {
+                        *c = if i == axis {
+                            3.0 + 0.02 * rng.next()
+                        } else {
+                            300.0 * rng.next() + 250.0
+                        };
+                    }
+                }
+                tri(v[0], v[1], v[2])
+            };
+            let sc = |v: Vec3| {
+                Vec3::new(
+                    (v.x as f64 * s) as f32,
+                    (v.y as f64 * s) as f32,
+                    (v.z as f64 * s) as f32,
+                )
+            };
+            let t = trax::Triangle {
+                v0: sc(unit.v0),
+                v1: sc(unit.v1),
+                v2: sc(unit.v2),
+            };
+            let n = t.normal();
+            let n1 = unit.normal();
+            assert!(
+                n.dot(n1) > 0.9999,
+                "1e{k}: normal {:?} vs {:?}",
+                arr(n),
+                arr(n1)
+            );
+            // A camera ray at a random point of the triangle.
+            let (b1, b2) = ((rng.next() + 1.0) * 0.5, (rng.next() + 1.0) * 0.5);
+            let (b1, b2) = if b1 + b2 > 1.0 {
+                (1.0 - b1, 1.0 - b2)
+            } else {
+                (b1, b2)
+            };
+            let target = t.point(b1, b2);
+            let eye = target + (n.scale(2.0) + rng.vec()).scale(s as f32);
+            let ray = Ray::new(eye, (target - eye).normalize());
+            let bnd = bound(std::slice::from_ref(&t)).max(eye.max_abs());
+            let tr = trax::bvh::TriRay::new(&ray, bnd);
+            let mut hit = trax::Hit::none(f32::INFINITY);
+            if !tr.intersect(&t, 0.0, &mut hit) {
+                continue; // grazing; nothing to spawn from
+            }
+            let sp = trax::ray::SurfacePoint::new(&ray, &hit, &t);
+            let o = sp.origin();
+            let moved = (o - sp.p).max_abs();
+            assert!(
+                moved <= 1e-5 * sp.p.max_abs().max(t.v0.max_abs()),
+                "1e{k}: offset {moved} for a point of magnitude {}",
+                sp.p.max_abs()
+            );
+            for _ in 0..8 {
+                let mut d = rng.vec().normalize();
+                if d.dot(sp.n) < 0.0 {
+                    d = -d;
+                }
+                let r = Ray::new(o, d);
+                let tr = trax::bvh::TriRay::new(&r, bnd);
+                let mut h = trax::Hit::none(f32::INFINITY);
+                assert!(
+                    !tr.intersect(&t, 0.0, &mut h),
+                    "1e{k}: self-hit at t {} leaving along {:?}",
+                    h.t,
+                    arr(d)
+                );
+            }
+        }
+    }
 }
 
 #[test]

@@ -7,10 +7,11 @@ mod build;
 mod common;
 mod disasm;
 mod native;
-mod prepare;
+mod plot;
 mod progress;
 mod run;
 mod scene;
+mod sweep;
 
 #[derive(Parser, Debug)]
 #[command(
@@ -37,9 +38,14 @@ enum Command {
     Disasm(disasm::DisasmArgs),
     /// Run a kernel with profiling and print per-source-line costs next to the source.
     Annotate(annotate::AnnotateArgs),
+    /// Run a design-space sweep (a grid of `trax run`s) here or on Slurm, or collect one.
+    Sweep(sweep::SweepArgs),
+    /// Chart a sweep's results (PNG and SVG).
+    Plot(plot::PlotArgs),
 }
 
 pub fn main() -> std::process::ExitCode {
+    watch_sweep_parent();
     let cli = Cli::parse();
     match cli.command {
         Command::Build(a) => build::run(a),
@@ -48,7 +54,30 @@ pub fn main() -> std::process::ExitCode {
         Command::Run(a) => run::run(a),
         Command::Disasm(a) => disasm::run(a),
         Command::Annotate(a) => annotate::run(a),
+        Command::Sweep(a) => sweep::run(a),
+        Command::Plot(a) => plot::run(a),
     }
+}
+
+/// A point of a sweep (`TRAX_SWEEP_PARENT` = the sweep's pid) ends when the sweep is gone,
+/// so a killed sweep leaves no runs behind: a thread checks the parent every 100 ms.
+pub fn watch_sweep_parent() {
+    let Some(parent) = std::env::var(sweep::runner::PARENT_ENV)
+        .ok()
+        .and_then(|v| v.parse::<u32>().ok())
+    else {
+        return;
+    };
+    let orphaned = move || std::os::unix::process::parent_id() != parent;
+    if orphaned() {
+        std::process::exit(137);
+    }
+    std::thread::spawn(move || loop {
+        std::thread::sleep(std::time::Duration::from_millis(100));
+        if orphaned() {
+            std::process::exit(137);
+        }
+    });
 }
 
 #[cfg(test)]

@@ -7,10 +7,10 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use clap::{Args, Subcommand};
+use trax::pipeline::lay_out_scene;
 use trax_assembler::bvh::{Bvh, BvhOptions, TreeletOptions};
-use trax_assembler::image::{build_image_from_symbols, RenderOptions, OPTIONAL_COMPONENTS};
+use trax_assembler::image::{RenderOptions, OPTIONAL_COMPONENTS};
 use trax_assembler::scene::{load_scene, LoadOptions};
-use trax_runtime::abi;
 
 /// Arguments of `trax scene`.
 #[derive(Args, Debug)]
@@ -27,8 +27,12 @@ enum SceneCommand {
 
 #[derive(Args, Debug)]
 struct InfoArgs {
-    /// `cornell`, `procedural:N`, or a path to an .obj/.objl file.
+    /// `cornell`, `procedural:N`, `icosphere:N`, or a path to an .obj/.objl file.
     scene: String,
+    /// Scale the whole scene by this factor (vertices, camera eye, point lights), after the
+    /// .view/.light files are applied; see `trax run --help`.
+    #[arg(long, value_name = "S", allow_negative_numbers = true)]
+    scene_scale: Option<f64>,
     /// Camera file (simtrax .view); default: one beside the scene file.
     #[arg(long)]
     view: Option<PathBuf>,
@@ -82,6 +86,7 @@ fn info(a: &InfoArgs) -> Result<(), Box<dyn std::error::Error>> {
         &LoadOptions {
             view: a.view.clone(),
             light: a.light.clone(),
+            scale: a.scene_scale,
         },
     )?;
     let load_time = t0.elapsed();
@@ -108,15 +113,9 @@ fn info(a: &InfoArgs) -> Result<(), Box<dyn std::error::Error>> {
     outln!("materials    {}", scene.materials.len());
     outln!("emitters     {}", scene.emitters().len());
     outln!("point lights {}", scene.point_lights.len());
-    outln!(
-        "bounds       [{} {} {}] .. [{} {} {}]",
-        b.min[0],
-        b.min[1],
-        b.min[2],
-        b.max[0],
-        b.max[1],
-        b.max[2]
-    );
+    let [x0, y0, z0] = b.min.map(show);
+    let [x1, y1, z1] = b.max.map(show);
+    outln!("bounds       [{x0} {y0} {z0}] .. [{x1} {y1} {z1}]");
     outln!(
         "bvh          {} nodes, {} leaves, depth {}, largest leaf {}, SAH cost {:.3}",
         stats.nodes,
@@ -151,13 +150,7 @@ fn info(a: &InfoArgs) -> Result<(), Box<dyn std::error::Error>> {
         ..RenderOptions::default()
     };
     let t2 = Instant::now();
-    let image = build_image_from_symbols(
-        Vec::new(),
-        abi::TEXT_BASE,
-        &OPTIONAL_COMPONENTS,
-        &scene,
-        &opts,
-    )?;
+    let image = lay_out_scene(&scene, &OPTIONAL_COMPONENTS, &opts)?;
     let image_time = t2.elapsed();
     outln!("memory (all components referenced):");
     for c in &image.components {
@@ -183,6 +176,15 @@ fn info(a: &InfoArgs) -> Result<(), Box<dyn std::error::Error>> {
     }
 }
 
+/// A coordinate as written by a person: plain for moderate magnitudes, else `1.5e20`.
+fn show(x: f32) -> String {
+    if x != 0.0 && x.is_finite() && !(1e-4..1e6).contains(&x.abs()) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -190,6 +192,7 @@ mod tests {
     fn args(scene: &str) -> InfoArgs {
         InfoArgs {
             scene: scene.into(),
+            scene_scale: None,
             view: None,
             light: None,
             max_leaf: 4,

@@ -81,11 +81,13 @@ impl Bin {
         }
     }
 
-    /// Surface area of a non-empty bin (callers only use it once something was added; an
-    /// empty bin's value is meaningless but never NaN-trapping).
+    /// Surface area of a non-empty bin times `k²` (the extents are multiplied by the
+    /// node's [`Aabb::area_scale`] `k` first, so no scale overflows or underflows). Callers
+    /// only use it once something was added; an empty bin's value is meaningless but never
+    /// NaN-trapping.
     #[inline(always)]
-    fn area(&self) -> f32 {
-        let d = [0, 1, 2].map(|i| self.hi[i] - self.lo[i]);
+    fn area(&self, k: f32) -> f32 {
+        let d = [0, 1, 2].map(|i| (self.hi[i] - self.lo[i]) * k);
         2.0 * (d[0] * d[1] + d[1] * d[2] + d[2] * d[0])
     }
 }
@@ -311,11 +313,13 @@ fn sah_split(
     let bx = [&bins[..nb], &bins[nb..2 * nb], &bins[2 * nb..3 * nb]];
     let cx = [&counts[..nb], &counts[nb..2 * nb], &counts[2 * nb..3 * nb]];
     let right_area = &mut right_area[..3 * nb];
+    // Areas relative to the node's size (exact power-of-two scaling), see `Aabb::area_scale`.
+    let ks = t.bounds.area_scale();
     let mut acc = [Bin::EMPTY; 3];
     for k in (1..nb).rev() {
         for axis in 0..3 {
             acc[axis].merge(&bx[axis][k]);
-            right_area[3 * k + axis] = acc[axis].area();
+            right_area[3 * k + axis] = acc[axis].area(ks);
         }
     }
     let mut acc = [Bin::EMPTY; 3];
@@ -330,7 +334,7 @@ fn sah_split(
                 continue;
             }
             let cost =
-                acc[axis].area() * nl[axis] as f32 + right_area[3 * (k + 1) + axis] * nr as f32;
+                acc[axis].area(ks) * nl[axis] as f32 + right_area[3 * (k + 1) + axis] * nr as f32;
             if cost < axis_best[axis].0 {
                 axis_best[axis] = (cost, k);
             }
@@ -343,7 +347,7 @@ fn sah_split(
             best = (cost, axis, k);
         }
     }
-    let area = t.bounds.area();
+    let area = t.bounds.area_scaled(ks);
     let leaf_cost = n as f32 * area;
     if !best.0.is_finite() {
         // No split with both sides non-empty (e.g. extents too small to bin).
@@ -590,6 +594,7 @@ impl Small {
                 right[k][axis] = acc[axis];
             }
         }
+        let ks = bounds.area_scale();
         let mut acc = [Bin::EMPTY; 3];
         let mut axis_best = [(f32::INFINITY, 0usize, Bin::EMPTY); 3]; // (cost, k, left box)
         for k in 1..n {
@@ -599,7 +604,7 @@ impl Small {
                 if keys[axis][prev] == keys[axis][next] {
                     continue;
                 }
-                let cost = acc[axis].area() * k as f32 + right[k][axis].area() * (n - k) as f32;
+                let cost = acc[axis].area(ks) * k as f32 + right[k][axis].area(ks) * (n - k) as f32;
                 if cost < axis_best[axis].0 {
                     axis_best[axis] = (cost, k, acc[axis]);
                 }
@@ -612,7 +617,7 @@ impl Small {
                 best = (cost, axis, k);
             }
         }
-        let area = bounds.area();
+        let area = bounds.area_scaled(ks);
         if !best.0.is_finite() {
             return (n > self.max_leaf).then_some((0, n / 2, None));
         }

@@ -182,7 +182,7 @@ impl Bvh {
 
     /// Depth, leaf count and SAH cost.
     pub fn stats(&self) -> BvhStats {
-        let root_area = self.nodes[0].aabb().area();
+        let root_area = self.nodes[0].aabb().area_f64();
         let mut cost = 0.0f64;
         let mut leaves = 0;
         let mut depth = 0;
@@ -192,7 +192,7 @@ impl Bvh {
             let n = self.nodes[i as usize];
             depth = depth.max(d);
             let rel = if root_area > 0.0 {
-                (n.aabb().area() / root_area) as f64
+                n.aabb().area_f64() / root_area
             } else {
                 1.0
             };

@@ -22,6 +22,8 @@ pub fn build(triangles: &[[Vec3; 3]], opts: &BvhOptions) -> Result<Bvh, BvhError
             .iter()
             .fold(Aabb::EMPTY, |b, &i| b.union(&boxes[i as usize]));
         let mut best: Option<(f32, usize, usize)> = None; // (cost, axis, left size)
+                                                          // Areas relative to the node's size (exact power-of-two scaling).
+        let ks = bounds.area_scale();
         if n > 1 {
             #[allow(clippy::needless_range_loop)] // `axis` indexes each centroid, not `cent`
             for axis in 0..3 {
@@ -31,7 +33,7 @@ pub fn build(triangles: &[[Vec3; 3]], opts: &BvhOptions) -> Result<Bvh, BvhError
                 let mut acc = Aabb::EMPTY;
                 for k in (1..n).rev() {
                     acc = acc.union(&boxes[range[k] as usize]);
-                    right_area[k] = acc.area();
+                    right_area[k] = acc.area_scaled(ks);
                 }
                 let mut acc = Aabb::EMPTY;
                 for k in 1..n {
@@ -40,14 +42,14 @@ pub fn build(triangles: &[[Vec3; 3]], opts: &BvhOptions) -> Result<Bvh, BvhError
                     if cent[range[k - 1] as usize][axis] == cent[range[k] as usize][axis] {
                         continue;
                     }
-                    let cost = acc.area() * k as f32 + right_area[k] * (n - k) as f32;
+                    let cost = acc.area_scaled(ks) * k as f32 + right_area[k] * (n - k) as f32;
                     if best.is_none_or(|b| cost < b.0) {
                         best = Some((cost, axis, k));
                     }
                 }
             }
         }
-        let area = bounds.area();
+        let area = bounds.area_scaled(ks);
         let split = match best {
             Some((cost, axis, k)) => {
                 if n <= max_leaf && n as f32 * area <= C_TRAV * area + cost {

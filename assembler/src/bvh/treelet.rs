@@ -122,7 +122,12 @@ pub fn apply(bvh: &mut Bvh, opts: &TreeletOptions, max_leaf: u32) -> Result<(), 
     }
     let cap = (opts.budget_bytes / NODE_BYTES) as usize;
     let old = &bvh.nodes;
-    let area = |i: u32| old[i as usize].aabb().area() + old[i as usize + 1].aabb().area();
+    // Areas relative to the root's size (an exact power-of-two scaling: the same order as
+    // plain areas, without overflow for huge scenes or underflow for tiny ones).
+    let ks = old[0].aabb().area_scale();
+    let area = |i: u32| {
+        old[i as usize].aabb().area_scaled(ks) + old[i as usize + 1].aabb().area_scaled(ks)
+    };
 
     // Subtree sizes in nodes (children always follow their parent in the array).
     let mut size = vec![1u32; old.len()];

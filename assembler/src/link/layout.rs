@@ -176,6 +176,9 @@ fn align_up(v: u64, a: u32) -> u64 {
     v.div_ceil(a) * a
 }
 
+/// Largest input section alignment accepted (64 KiB: far above what code and data need).
+pub const MAX_SECTION_ALIGN: u32 = 1 << 16;
+
 fn section_props(key: &OutKey, first: &InSection) -> (String, u32, u32, u32) {
     let (wa, a, ax) = (
         (elf::SHF_WRITE.0 | elf::SHF_ALLOC.0) as u32,
@@ -267,6 +270,26 @@ pub(crate) fn layout(
         let mut align = 1u32;
         for (f, s) in mine {
             let sec = &objs[f].sections[s];
+            // Contents are materialised for every output section but `.bss`: a member
+            // without file contents (or a huge alignment) could size it at gigabytes.
+            if sh_type != elf::SHT_NOBITS.0 && sec.sh_type == elf::SHT_NOBITS.0 && sec.size > 0 {
+                return Err(LinkError::Malformed {
+                    file: objs[f].name.clone(),
+                    detail: format!(
+                        "section `{}` has no contents in the file (SHT_NOBITS, {} bytes) but goes into `{name}`",
+                        sec.name, sec.size
+                    ),
+                });
+            }
+            if sec.align > MAX_SECTION_ALIGN {
+                return Err(LinkError::Malformed {
+                    file: objs[f].name.clone(),
+                    detail: format!(
+                        "section `{}` alignment {} is above the supported {MAX_SECTION_ALIGN}",
+                        sec.name, sec.align
+                    ),
+                });
+            }
             size = align_up(size, sec.align);
             place[f][s] = Some((out_index, size as u32));
             size += u64::from(sec.size);

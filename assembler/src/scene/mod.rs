@@ -11,9 +11,9 @@ mod view;
 use std::path::{Path, PathBuf};
 
 pub use cornell::cornell_box;
-pub use obj::{load_obj, load_objl};
-pub use procedural::procedural;
-pub use view::{parse_light, parse_view, View};
+pub use obj::{load_obj, load_obj_with, load_objl, ReadText};
+pub use procedural::{icosphere, procedural};
+pub use view::{parse_light, parse_light_str, parse_view, parse_view_str, View};
 
 /// A 3-component vector.
 pub type Vec3 = [f32; 3];
@@ -115,15 +115,32 @@ pub struct Bounds {
 }
 
 impl Bounds {
-    /// Length of the diagonal.
+    /// Length of the diagonal, computed in f64 so that boxes from the smallest to the largest
+    /// finite f32 coordinates neither overflow nor underflow on the way (the result is
+    /// `inf` only when the diagonal itself exceeds `f32::MAX`).
     pub fn diagonal(&self) -> f32 {
-        let d: f32 = (0..3).map(|i| (self.max[i] - self.min[i]).powi(2)).sum();
+        self.diagonal_f64() as f32
+    }
+
+    /// [`Bounds::diagonal`] in f64.
+    pub fn diagonal_f64(&self) -> f64 {
+        let d: f64 = (0..3)
+            .map(|i| (self.max[i] as f64 - self.min[i] as f64).powi(2))
+            .sum();
         d.sqrt()
     }
 
-    /// Centre point.
+    /// Centre point (halves first, so it cannot overflow).
     pub fn center(&self) -> Vec3 {
-        [0, 1, 2].map(|i| 0.5 * (self.min[i] + self.max[i]))
+        [0, 1, 2].map(|i| 0.5 * self.min[i] + 0.5 * self.max[i])
+    }
+
+    /// Largest absolute coordinate of the box.
+    pub fn magnitude(&self) -> f32 {
+        self.min
+            .iter()
+            .chain(&self.max)
+            .fold(0.0f32, |m, c| m.max(c.abs()))
     }
 }
 
@@ -184,9 +201,17 @@ pub enum SceneError {
     BadCamera(String),
     /// A scene name that is neither built in nor a file path with a known extension.
     #[error(
-        "unknown scene `{0}`: expected `cornell`, `procedural:N` or a path to a .obj/.objl file"
+        "unknown scene `{0}`: expected `cornell`, `procedural:N`, `icosphere:N` or a path to a .obj/.objl file"
     )]
     UnknownScene(String),
+    /// The scene scale (`--scene-scale`) is unusable or makes a coordinate overflow.
+    #[error("scene scale {}: {message}", show_number(*scale))]
+    Scale {
+        /// The scale factor as given.
+        scale: f64,
+        /// What is wrong.
+        message: String,
+    },
     /// A procedural scene request is invalid.
     #[error("bad procedural scene `{spec}`: {message}")]
     Procedural {
@@ -360,6 +385,60 @@ impl Scene {
         self.material_ids.push(material);
     }
 
+    /// Scales the scene about the origin by `s`: vertices, the camera's eye and the point
+    /// lights' positions are multiplied by `s` (in f64, rounded once to f32); directions,
+    /// normals, the image-plane window, materials and light colours are unchanged, so every
+    /// camera ray keeps its direction and a scale-invariant renderer draws the same image.
+    /// (Point lights keep their intensity: under a `1/d²` falloff they look `1/s²` as
+    /// bright.) Errors if `s` is not a positive finite number or a coordinate overflows
+    /// f32; a warning is recorded when non-zero coordinates become subnormal or zero.
+    pub fn scale(&mut self, s: f64) -> Result<(), SceneError> {
+        if !(s.is_finite() && s > 0.0) {
+            return Err(SceneError::Scale {
+                scale: s,
+                message: "the scale must be a positive finite number".into(),
+            });
+        }
+        let mut underflow = 0usize;
+        let mut scale3 = |v: &mut Vec3, what: &str| -> Result<(), SceneError> {
+            for c in v.iter_mut() {
+                let x = (*c as f64 * s) as f32;
+                if !x.is_finite() {
+                    return Err(SceneError::Scale {
+                        scale: s,
+                        message: format!(
+                            "{what} coordinate {c} becomes {} (beyond the largest f32, {:e})",
+                            show_number(*c as f64 * s),
+                            f32::MAX
+                        ),
+                    });
+                }
+                if *c != 0.0 && !x.is_normal() {
+                    underflow += 1;
+                }
+                *c = x;
+            }
+            Ok(())
+        };
+        for t in &mut self.triangles {
+            for v in t.iter_mut() {
+                scale3(v, "a vertex")?;
+            }
+        }
+        scale3(&mut self.view.eye, "the camera eye")?;
+        for l in &mut self.point_lights {
+            scale3(&mut l.position, "a point light")?;
+        }
+        if underflow > 0 {
+            self.warnings.push(format!(
+                "scaling the scene by {} makes {underflow} non-zero coordinate(s) subnormal or zero (below {:e}): precision is lost",
+                show_number(s),
+                f32::MIN_POSITIVE
+            ));
+        }
+        Ok(())
+    }
+
     /// An empty scene with a given name and camera.
     pub fn new(name: impl Into<String>, view: View) -> Scene {
         Scene {
@@ -376,10 +455,22 @@ impl Scene {
     }
 }
 
+/// `x` as written by a person: plain for moderate magnitudes, else in `1e20` notation.
+fn show_number(x: f64) -> String {
+    if x != 0.0 && x.is_finite() && !(1e-4..1e6).contains(&x.abs()) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
+}
+
 /// Unit geometric normal of a triangle (zero for a degenerate triangle).
+/// The edges are rescaled by powers of two before the cross product ([`rescale_pow2`]), so
+/// triangles of any size get the same normal (a plain f32 cross product overflows for
+/// edges longer than about 1e19 and underflows for edges shorter than about 1e-19).
 pub fn geometric_normal(t: &[Vec3; 3]) -> Vec3 {
-    let e1 = sub(t[1], t[0]);
-    let e2 = sub(t[2], t[0]);
+    let e1 = rescale_pow2(sub(t[1], t[0]));
+    let e2 = rescale_pow2(sub(t[2], t[0]));
     normalize_or_zero(cross(e1, e2))
 }
 
@@ -395,6 +486,19 @@ pub(crate) fn cross(a: Vec3, b: Vec3) -> Vec3 {
     ]
 }
 
+/// `v` times the power of two that brings its largest absolute component into `[1, 2)`:
+/// exact, so directions computed from the result (cross products, normalisation) are the
+/// same as from `v` wherever those did not overflow or underflow, and are safe from both
+/// at every scale. Zero and non-finite vectors are returned unchanged.
+pub fn rescale_pow2(v: Vec3) -> Vec3 {
+    let m = v.iter().fold(0.0f32, |m, c| m.max(c.abs()));
+    if m == 0.0 || !m.is_finite() {
+        return v;
+    }
+    let k = f64::powi(2.0, -(m.log2().floor() as i32));
+    v.map(|c| (c as f64 * k) as f32)
+}
+
 pub(crate) fn normalize_or_zero(v: Vec3) -> Vec3 {
     // Compute in f64 so tiny (1e-6-scale) triangles do not underflow to a zero length.
     let l = (v.iter().map(|&c| (c as f64) * (c as f64)).sum::<f64>()).sqrt();
@@ -405,59 +509,87 @@ pub(crate) fn normalize_or_zero(v: Vec3) -> Vec3 {
     }
 }
 
-/// Where to take the camera and lights from when loading a scene file.
+/// Where to take the camera and lights from when loading a scene file, and how to scale it.
 #[derive(Clone, Debug, Default)]
 pub struct LoadOptions {
     /// Explicit `.view` file; otherwise one is looked for beside the scene file.
     pub view: Option<PathBuf>,
     /// Explicit `.light` file; otherwise one is looked for beside the scene file.
     pub light: Option<PathBuf>,
+    /// Scale factor applied to the whole scene after the camera and lights are in place
+    /// (see [`Scene::scale`]); `None` leaves it as loaded.
+    pub scale: Option<f64>,
 }
 
-/// Loads a scene by name: `cornell` (embedded), `procedural:N` (about N triangles), or a path
-/// to an `.obj` or `.objl` file. For files, the camera comes from `opts.view`, else a `.view`
-/// file with the same stem, else the only `.view` file in the same directory, else a camera
-/// framing the scene's bounds; lights likewise from `.light` files.
+/// Where a scene's camera came from, for error messages.
+enum ViewSource {
+    BuiltIn,
+    File(PathBuf),
+    Framing,
+}
+
+/// Loads a scene by name: `cornell` (embedded), `procedural:N` (about N triangles),
+/// `icosphere:N` (a closed sphere mesh, `N` subdivisions), or a path to an `.obj` or `.objl`
+/// file. For files, the camera comes from `opts.view`, else a `.view` file with the same
+/// stem, else the only `.view` file in the same directory, else a camera framing the scene's
+/// bounds; lights likewise from `.light` files. `opts.scale` then scales the scene, and the
+/// result is validated once, with camera errors naming the `.view` file they came from.
 pub fn load_scene(spec: &str, opts: &LoadOptions) -> Result<Scene, SceneError> {
+    let count = |prefix: &str, what: &str| -> Result<Option<u64>, SceneError> {
+        match spec.strip_prefix(prefix) {
+            Some(n) => n
+                .trim()
+                .parse()
+                .map(Some)
+                .map_err(|_| SceneError::Procedural {
+                    spec: spec.into(),
+                    message: format!("expected {what} after `{prefix}`"),
+                }),
+            None => Ok(None),
+        }
+    };
+    let mut is_file = false;
     let mut scene = if spec == "cornell" {
         cornell_box()
-    } else if let Some(n) = spec.strip_prefix("procedural:") {
-        let n: u64 = n.trim().parse().map_err(|_| SceneError::Procedural {
-            spec: spec.into(),
-            message: "expected a triangle count after `procedural:`".into(),
-        })?;
+    } else if let Some(n) = count("procedural:", "a triangle count")? {
         procedural(n)?
+    } else if let Some(n) = count("icosphere:", "a subdivision count")? {
+        icosphere(n)?
     } else {
+        is_file = true;
         let path = Path::new(spec);
         match path.extension().and_then(|e| e.to_str()) {
-            Some(e) if e.eq_ignore_ascii_case("obj") => load_obj(path)?,
-            Some(e) if e.eq_ignore_ascii_case("objl") => load_objl(path)?,
-            _ if spec == "procedural" => {
+            Some(e) if e.eq_ignore_ascii_case("obj") => obj::read_obj(path)?,
+            Some(e) if e.eq_ignore_ascii_case("objl") => obj::read_objl(path)?,
+            _ if spec == "procedural" || spec == "icosphere" => {
                 return Err(SceneError::Procedural {
                     spec: spec.into(),
-                    message: "expected `procedural:N`".into(),
+                    message: format!("expected `{spec}:N`"),
                 })
             }
             _ => return Err(SceneError::UnknownScene(spec.into())),
         }
     };
     let file = Path::new(spec);
-    let is_file = !(spec == "cornell" || spec.starts_with("procedural:"));
     let view_path = opts
         .view
         .clone()
         .or_else(|| is_file.then(|| companion(file, "view")).flatten());
-    match view_path {
-        Some(p) => scene.view = parse_view(&p)?,
+    let view_source = match view_path {
+        Some(p) => {
+            scene.view = parse_view(&p)?;
+            ViewSource::File(p)
+        }
         None if is_file => {
             scene.view = View::framing(&scene.bounds());
             scene.warnings.push(format!(
                 "no .view file found for {}; using a camera framing the scene",
                 file.display()
             ));
+            ViewSource::Framing
         }
-        None => {}
-    }
+        None => ViewSource::BuiltIn,
+    };
     let light_path = opts
         .light
         .clone()
@@ -467,6 +599,24 @@ pub fn load_scene(spec: &str, opts: &LoadOptions) -> Result<Scene, SceneError> {
             position: parse_light(&p)?,
             color: [1.0; 3],
         }];
+    }
+    if let Some(s) = opts.scale {
+        scene.scale(s)?;
+    }
+    // The camera is checked here, where its origin is known, before the rest.
+    if let Err(e) = scene.view.camera() {
+        let scaled = match opts.scale {
+            Some(s) => format!(" (after scaling the scene by {})", show_number(s)),
+            None => String::new(),
+        };
+        return Err(SceneError::BadCamera(match view_source {
+            ViewSource::File(p) => format!("{}: {e}{scaled}", p.display()),
+            ViewSource::Framing => format!(
+                "{}: the camera framing the scene's bounds is unusable ({e}){scaled}; give a .view file with --view",
+                file.display()
+            ),
+            ViewSource::BuiltIn => format!("scene `{spec}`: built-in camera: {e}{scaled}"),
+        }));
     }
     scene.validate()?;
     Ok(scene)

@@ -267,7 +267,18 @@ fn convert_material(m: &tobj::Material) -> Material {
 /// materials already in the scene. Unknown material names map to `u32::MAX` (resolved to
 /// the grey default by [`Scene::validate`]).
 fn append_obj(scene: &mut Scene, path: &Path) -> Result<(), SceneError> {
-    let text = read(path)?;
+    append_obj_with(scene, path, &|p| std::fs::read_to_string(p))
+}
+
+/// Reads a file's text for the OBJ loader (the file system, or memory when fuzzing).
+pub type ReadText<'a> = &'a dyn Fn(&Path) -> std::io::Result<String>;
+
+/// [`append_obj`] reading files (the OBJ and its MTL libraries) through `read_text`.
+fn append_obj_with(scene: &mut Scene, path: &Path, read_text: ReadText) -> Result<(), SceneError> {
+    let text = read_text(path).map_err(|source| SceneError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
     check_obj(path, &text)?;
     let text = if text.contains('\t') {
         text.replace('\t', " ")
@@ -286,7 +297,7 @@ fn append_obj(scene: &mut Scene, path: &Path) -> Result<(), SceneError> {
     };
     let result = tobj::load_obj_buf(&mut Cursor::new(text.as_bytes()), &opts, |mtl: &Path| {
         let full: PathBuf = dir.join(mtl);
-        let mtl_text = match std::fs::read_to_string(&full) {
+        let mtl_text = match read_text(&full) {
             Ok(t) => t,
             Err(e) => {
                 warnings.borrow_mut().push(format!(
@@ -377,31 +388,54 @@ fn file_name(path: &Path) -> String {
 /// Loads an OBJ file (and its MTL libraries). The camera is a framing default; see
 /// [`super::load_scene`] for `.view`/`.light` lookup.
 pub fn load_obj(path: &Path) -> Result<Scene, SceneError> {
-    let mut scene = Scene::new(
+    load_obj_with(path, &|p| std::fs::read_to_string(p))
+}
+
+/// [`load_obj`] reading the OBJ and MTL files through `read_text`.
+pub fn load_obj_with(path: &Path, read_text: ReadText) -> Result<Scene, SceneError> {
+    let mut scene = read_obj_with(path, read_text)?;
+    scene.view = View::framing(&scene.bounds());
+    scene.validate()?;
+    Ok(scene)
+}
+
+/// A scene with a placeholder camera, before anything is validated.
+fn unframed(path: &Path) -> Scene {
+    Scene::new(
         file_name(path),
         View::framing(&super::Bounds {
             min: [0.0; 3],
             max: [1.0; 3],
         }),
-    );
-    append_obj(&mut scene, path)?;
-    scene.view = View::framing(&scene.bounds());
-    scene.validate()?;
+    )
+}
+
+/// [`load_obj`] without the framing camera and validation (the caller sets the camera first).
+pub(crate) fn read_obj(path: &Path) -> Result<Scene, SceneError> {
+    read_obj_with(path, &|p| std::fs::read_to_string(p))
+}
+
+/// [`read_obj`] reading the OBJ and MTL files through `read_text`.
+fn read_obj_with(path: &Path, read_text: ReadText) -> Result<Scene, SceneError> {
+    let mut scene = unframed(path);
+    append_obj_with(&mut scene, path, read_text)?;
     Ok(scene)
 }
 
 /// Loads a simtrax `.objl` list: one OBJ file name per line, relative to the list file;
 /// material ids of later files are offset by the materials loaded before them.
 pub fn load_objl(path: &Path) -> Result<Scene, SceneError> {
+    let mut scene = read_objl(path)?;
+    scene.view = View::framing(&scene.bounds());
+    scene.validate()?;
+    Ok(scene)
+}
+
+/// [`load_objl`] without the framing camera and validation.
+pub(crate) fn read_objl(path: &Path) -> Result<Scene, SceneError> {
     let text = read(path)?;
     let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
-    let mut scene = Scene::new(
-        file_name(path),
-        View::framing(&super::Bounds {
-            min: [0.0; 3],
-            max: [1.0; 3],
-        }),
-    );
+    let mut scene = unframed(path);
     let mut files = 0;
     for (i, line) in text.lines().enumerate() {
         let name = line.trim();
@@ -434,7 +468,5 @@ pub fn load_objl(path: &Path) -> Result<Scene, SceneError> {
     if files == 0 {
         return Err(SceneError::Empty(scene.name));
     }
-    scene.view = View::framing(&scene.bounds());
-    scene.validate()?;
     Ok(scene)
 }

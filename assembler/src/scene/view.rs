@@ -8,7 +8,7 @@ use std::path::Path;
 
 use trax_runtime::abi::Camera;
 
-use super::{cross, normalize_or_zero, Bounds, SceneError, Vec3};
+use super::{cross, normalize_or_zero, rescale_pow2, Bounds, SceneError, Vec3};
 
 /// A camera as written in a `.view` file.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -35,11 +35,20 @@ pub struct View {
 
 impl View {
     /// A camera on the +z side of `b` looking down -z with +y up, framing the whole box.
+    ///
+    /// Computed in f64, so it is finite for every box of finite f32 coordinates whose eye
+    /// position (2.5 half-diagonals above the centre) is itself a finite f32. A box of zero
+    /// size is framed as if it were a tiny fraction (2^-20) of its distance from the origin
+    /// across, so the framing is relative at every scale (the smallest positive f32 for
+    /// a box at the origin).
     pub fn framing(b: &Bounds) -> View {
         let c = b.center();
-        let r = (0.5 * b.diagonal()).max(1e-6);
+        let mut r = 0.5 * b.diagonal_f64();
+        if r == 0.0 {
+            r = (b.magnitude() as f64 * f64::powi(2.0, -20)).max(f32::from_bits(1) as f64);
+        }
         View {
-            eye: [c[0], c[1], c[2] + 2.5 * r],
+            eye: [c[0], c[1], (c[2] as f64 + 2.5 * r) as f32],
             gaze: [0.0, 0.0, -1.0],
             up: [0.0, 1.0, 0.0],
             aperture: 0.0,
@@ -79,7 +88,9 @@ impl View {
                 "camera gaze direction is zero".into(),
             ));
         }
-        let u = normalize_or_zero(cross(self.gaze, self.up));
+        // Gaze and up may be of any finite size: rescaled first (exactly, by powers of two),
+        // since an f32 cross product of vectors longer than about 1e19 overflows.
+        let u = normalize_or_zero(cross(rescale_pow2(self.gaze), rescale_pow2(self.up)));
         if u == [0.0; 3] {
             return Err(SceneError::BadCamera(
                 "camera up vector is zero or parallel to the gaze direction".into(),
@@ -113,6 +124,11 @@ fn read_numbers(path: &Path, want: usize, what: &str) -> Result<Vec<f32>, SceneE
         path: path.to_path_buf(),
         source,
     })?;
+    numbers(path, &text, want, what)
+}
+
+/// The numbers of a `.view`/`.light` text (`path` names it in errors).
+fn numbers(path: &Path, text: &str, want: usize, what: &str) -> Result<Vec<f32>, SceneError> {
     let mut nums = Vec::with_capacity(want);
     let mut last_line = 1;
     for (i, line) in text.lines().enumerate() {
@@ -150,13 +166,26 @@ fn read_numbers(path: &Path, want: usize, what: &str) -> Result<Vec<f32>, SceneE
     Ok(nums)
 }
 
+/// What a `.view` file holds, for errors.
+const VIEW_WHAT: &str = ".view (eye, gaze, up, aperture, left, right, bottom, top, distance)";
+
 /// Parses a simtrax `.view` file.
 pub fn parse_view(path: &Path) -> Result<View, SceneError> {
-    let n = read_numbers(
-        path,
-        15,
-        ".view (eye, gaze, up, aperture, left, right, bottom, top, distance)",
-    )?;
+    view_from(path, read_numbers(path, 15, VIEW_WHAT)?)
+}
+
+/// Parses the text of a simtrax `.view` file (`path` names it in errors).
+pub fn parse_view_str(path: &Path, text: &str) -> Result<View, SceneError> {
+    view_from(path, numbers(path, text, 15, VIEW_WHAT)?)
+}
+
+/// Parses the text of a simtrax `.light` file (`path` names it in errors).
+pub fn parse_light_str(path: &Path, text: &str) -> Result<Vec3, SceneError> {
+    let n = numbers(path, text, 3, ".light (position)")?;
+    Ok([n[0], n[1], n[2]])
+}
+
+fn view_from(path: &Path, n: Vec<f32>) -> Result<View, SceneError> {
     let view = View {
         eye: [n[0], n[1], n[2]],
         gaze: [n[3], n[4], n[5]],

@@ -19,12 +19,11 @@ use gdbstub::target::ext::breakpoints::{
 use gdbstub::target::{Target, TargetError, TargetResult};
 
 use super::arch::{MipsRegs, TraxMips, BADVADDR, CAUSE, F0, FCSR, FIR, PC};
-use crate::decode::Inst;
 use crate::exec::Stop;
 use crate::machine::{Machine, Outcome};
 use crate::memory::MemFaultKind;
 use crate::profile::collect::BlockTable;
-use crate::profile::sched::{Driven, Executor, Scheduler};
+use crate::sched::{Driven, Executor, Scheduler};
 use crate::thread::{Fault, RunState, Shared, Thread};
 
 /// Instructions run between checks for a GDB interrupt (Ctrl-C).
@@ -93,7 +92,9 @@ impl<'a> DebugTarget<'a> {
                 }
             }
             Outcome::Deadlock { .. } => MultiThreadStopReason::Terminated(Signal::SIGABRT),
-            Outcome::InstructionLimit => MultiThreadStopReason::Terminated(Signal::SIGXCPU),
+            Outcome::InstructionLimit | Outcome::CycleLimit => {
+                MultiThreadStopReason::Terminated(Signal::SIGXCPU)
+            }
         }
     }
 
@@ -124,7 +125,7 @@ impl<'a> DebugTarget<'a> {
             || !self.breakpoints.contains(&t.pc.wrapping_add(4))
             || !t
                 .current_inst(&self.m.shared)
-                .is_some_and(|x| is_compact_cti(&x))
+                .is_some_and(|x| x.is_compact())
         {
             return None;
         }
@@ -184,38 +185,6 @@ impl<'a> DebugTarget<'a> {
             Driven::Paused { .. } => None,
         }
     }
-}
-
-/// Compact (no delay slot) branches and jumps, which GDB's MIPS next-pc logic misses.
-fn is_compact_cti(i: &Inst) -> bool {
-    use Inst::*;
-    matches!(
-        i,
-        Bc { .. }
-            | Balc { .. }
-            | Beqc { .. }
-            | Bnec { .. }
-            | Bltc { .. }
-            | Bgec { .. }
-            | Bltuc { .. }
-            | Bgeuc { .. }
-            | Bovc { .. }
-            | Bnvc { .. }
-            | Beqzc { .. }
-            | Bnezc { .. }
-            | Blezc { .. }
-            | Bgezc { .. }
-            | Bgtzc { .. }
-            | Bltzc { .. }
-            | Blezalc { .. }
-            | Bgezalc { .. }
-            | Bgtzalc { .. }
-            | Bltzalc { .. }
-            | Beqzalc { .. }
-            | Bnezalc { .. }
-            | Jic { .. }
-            | Jialc { .. }
-    )
 }
 
 fn tid_of(idx: usize) -> Tid {

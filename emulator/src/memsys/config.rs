@@ -117,17 +117,16 @@ impl MemSysConfig {
     /// Parses a TOML document with optional `[l1]`, `[l2]`, `[dram]` tables (`[dram]` may name a
     /// `preset`).
     pub fn from_toml_str(text: &str) -> Result<Self, MemSysError> {
-        let mut table: toml::Table =
-            toml::from_str(text).map_err(|e| MemSysError::Toml(e.to_string()))?;
+        let mut table: toml::Table = toml::from_str(text).map_err(|e| toml_err(text, e))?;
         let mut out = MemSysConfig::default();
         if let Some(v) = table.remove("l1") {
-            out.l1 = L1Config::deserialize(v).map_err(|e| field_err("l1", e))?;
+            out.l1 = crate::tomlerr::deserialize(v, Some(text), &["l1"]).map_err(field_err)?;
         }
         if let Some(v) = table.remove("l2") {
-            out.l2 = L2Config::deserialize(v).map_err(|e| field_err("l2", e))?;
+            out.l2 = crate::tomlerr::deserialize(v, Some(text), &["l2"]).map_err(field_err)?;
         }
         if let Some(v) = table.remove("dram") {
-            out.dram = load_with_preset(v, DramConfig::preset, "dram")?;
+            out.dram = load_with_preset(v, DramConfig::preset, "dram", Some((text, &["dram"])))?;
         }
         if let Some(k) = table.keys().next() {
             return Err(MemSysError::Config(format!(
@@ -203,15 +202,36 @@ pub(crate) fn check_cache(
     Ok(())
 }
 
-fn field_err(table: &str, e: toml::de::Error) -> MemSysError {
-    MemSysError::Config(format!("[{table}]: {}", e.message()))
+/// A TOML syntax error with its line and column.
+pub(crate) fn toml_err(text: &str, e: toml::de::Error) -> MemSysError {
+    MemSysError::Toml(match e.span() {
+        Some(s) => {
+            let (l, c) = crate::tomlerr::line_col(text, s.start);
+            format!("line {l}, column {c}: {}", e.message().trim_end())
+        }
+        None => e.message().trim_end().to_string(),
+    })
+}
+
+/// A field error: the field's path, its line and column when known, and serde's message.
+fn field_err(e: crate::tomlerr::FieldError) -> MemSysError {
+    MemSysError::Config(match e.at {
+        Some((l, c)) => format!("line {l}, column {c}: {}", e.message()),
+        None => e.message(),
+    })
 }
 
 /// Deserializes `value` (a TOML table) into `T`. The base is the preset named by a
 /// `preset = "NAME"` key (from `lookup`), or `T::default()` without one; the table's other keys
 /// are merged over the serialized base (recursively for sub-tables) and the result is
 /// deserialized, so partial tables work and unknown keys are still rejected by name.
-pub fn load_with_preset<T, F>(value: toml::Value, lookup: F, table: &str) -> Result<T, MemSysError>
+/// `source` is the document text and the table's key path in it, for error positions.
+pub fn load_with_preset<T, F>(
+    value: toml::Value,
+    lookup: F,
+    table: &str,
+    source: Option<(&str, &[&str])>,
+) -> Result<T, MemSysError>
 where
     T: DeserializeOwned + Serialize + Default,
     F: Fn(&str) -> Option<T>,
@@ -233,7 +253,8 @@ where
     let mut merged =
         toml::Value::try_from(&base).map_err(|e| MemSysError::Config(format!("[{table}]: {e}")))?;
     merge(&mut merged, toml::Value::Table(user));
-    T::deserialize(merged).map_err(|e| field_err(table, e))
+    let (text, prefix) = source.unzip();
+    crate::tomlerr::deserialize(merged, text, prefix.unwrap_or(&[table])).map_err(field_err)
 }
 
 fn merge(base: &mut toml::Value, over: toml::Value) {

@@ -484,8 +484,9 @@ impl DramConfig {
 
     /// Parses a `[dram]`-style TOML document (the table's keys at top level; `preset` allowed).
     pub fn from_toml_str(text: &str) -> Result<DramConfig, MemSysError> {
-        let v: toml::Value = toml::from_str(text).map_err(|e| MemSysError::Toml(e.to_string()))?;
-        let cfg: DramConfig = super::config::load_with_preset(v, DramConfig::preset, "dram")?;
+        let v: toml::Value = toml::from_str(text).map_err(|e| super::config::toml_err(text, e))?;
+        let cfg: DramConfig =
+            super::config::load_with_preset(v, DramConfig::preset, "dram", Some((text, &[])))?;
         cfg.validate()?;
         Ok(cfg)
     }

@@ -40,7 +40,10 @@ impl fmt::Display for MsaInst {
             Form::Fill => write!(f, "{name}.{sfx} $w{wd}, {}", Gpr(ws)),
             Form::Mem => write!(f, "{name}.{sfx} $w{wd}, {imm}({})", Gpr(ws)),
             // LLVM prints the branch offset relative to the branch itself.
-            Form::Branch => write!(f, "{name}.{sfx} $w{wt}, {}", imm + 4),
+            Form::Branch => {
+                let off = self.branch_offset().unwrap_or_default();
+                write!(f, "{name}.{sfx} $w{wt}, {off}")
+            }
         }
     }
 }

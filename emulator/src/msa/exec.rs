@@ -17,9 +17,8 @@
 //!   low bits of the payload (`0x7F80_0000 | cause` for words) and its exceptions are not
 //!   recorded; the other lanes are normal. The Unimplemented (E) cause is never raised.
 
-use super::float::{self, Env, Fmt, MinMax, Round};
-use super::float_fast::{vector_fast, FastOp};
 use super::{Df, Form, MsaInst, MsaOp};
+use crate::softfloat::{self as float, vector_fast, Env, FastOp, Fmt, MinMax, Round};
 use crate::RegFile;
 use MsaOp::*;
 
@@ -563,18 +562,18 @@ fn float_op(inst: &MsaInst, csr: u32, d: u128, s: u128, t: u128) -> (u128, u32) 
             g(e, lane(s, df, i), lane(t, df, i))
         })
     };
-    let cmp = |e: &mut Env, signaling: bool, pred: &dyn Fn(Option<std::cmp::Ordering>) -> bool| {
+    // `cond` in the encoding of scalar `cmp.cond.fmt` (unordered 1, equal 2, less 4,
+    // negate 16); the signalling forms are `Fs*`.
+    let cmp = |e: &mut Env, signaling: bool, cond: u8| {
         lanes_nx(df, trap, e, &mut |e, i| {
-            let o = float::compare(e, f, l(s, i), l(t, i), signaling);
-            if pred(o) {
+            let rel = float::compare(e, f, l(s, i), l(t, i), signaling);
+            if float::cond_holds(rel, cond) {
                 u64::MAX
             } else {
                 0
             }
         })
     };
-    use std::cmp::Ordering::{Equal, Greater, Less};
-    let un = |o: Option<std::cmp::Ordering>| o.is_none();
     let r = match inst.op {
         Fadd => bin(e, &|e, a, b| float::add(e, f, a, b)),
         Fsub => bin(e, &|e, a, b| float::sub(e, f, a, b)),
@@ -594,19 +593,17 @@ fn float_op(inst: &MsaInst, csr: u32, d: u128, s: u128, t: u128) -> (u128, u32) 
             let n = df.bits();
             bin(e, &|e, a, b| float::exp2(e, f, a, sx(b, n)))
         }
-        Fcaf | Fsaf => cmp(e, inst.op == Fsaf, &|_| false),
-        Fcun | Fsun => cmp(e, inst.op == Fsun, &un),
-        Fceq | Fseq => cmp(e, inst.op == Fseq, &|o| o == Some(Equal)),
-        Fcueq | Fsueq => cmp(e, inst.op == Fsueq, &|o| un(o) || o == Some(Equal)),
-        Fclt | Fslt => cmp(e, inst.op == Fslt, &|o| o == Some(Less)),
-        Fcult | Fsult => cmp(e, inst.op == Fsult, &|o| un(o) || o == Some(Less)),
-        Fcle | Fsle => cmp(e, inst.op == Fsle, &|o| matches!(o, Some(Less | Equal))),
-        Fcule | Fsule => cmp(e, inst.op == Fsule, &|o| {
-            un(o) || matches!(o, Some(Less | Equal))
-        }),
-        Fcor | Fsor => cmp(e, inst.op == Fsor, &|o| !un(o)),
-        Fcune | Fsune => cmp(e, inst.op == Fsune, &|o| o != Some(Equal)),
-        Fcne | Fsne => cmp(e, inst.op == Fsne, &|o| matches!(o, Some(Less | Greater))),
+        Fcaf | Fsaf => cmp(e, inst.op == Fsaf, 0),
+        Fcun | Fsun => cmp(e, inst.op == Fsun, 1),
+        Fceq | Fseq => cmp(e, inst.op == Fseq, 2),
+        Fcueq | Fsueq => cmp(e, inst.op == Fsueq, 3),
+        Fclt | Fslt => cmp(e, inst.op == Fslt, 4),
+        Fcult | Fsult => cmp(e, inst.op == Fsult, 5),
+        Fcle | Fsle => cmp(e, inst.op == Fsle, 6),
+        Fcule | Fsule => cmp(e, inst.op == Fsule, 7),
+        Fcor | Fsor => cmp(e, inst.op == Fsor, 17),
+        Fcune | Fsune => cmp(e, inst.op == Fsune, 18),
+        Fcne | Fsne => cmp(e, inst.op == Fsne, 19),
         Fclass => build(df, |i| float::class(f, l(s, i))),
         FtruncS | FtruncU => fb(e, &mut |e, i| {
             float::to_int(e, f, l(s, i), Round::Zero, inst.op == FtruncS, df.bits())

@@ -6,13 +6,12 @@
 //! `MsaInst` implements `Display` in LLVM's syntax (`fadd.w $w0, $w1, $w2`).
 //!
 //! Choices where the architecture leaves behaviour open (UNPREDICTABLE or
-//! implementation-defined) are documented in [`exec`] and [`float`].
+//! implementation-defined) are documented in [`exec`] and, for floating point, in
+//! [`crate::softfloat`] (shared with the scalar FPU).
 
 pub mod decode;
 pub mod disasm;
 pub mod exec;
-pub mod float;
-mod float_fast;
 mod int_fast;
 mod ops;
 
@@ -52,5 +51,11 @@ impl MsaInst {
     /// True for the MSA branches (`bz.v`, `bnz.v`, `bz.df`, `bnz.df`), which have a delay slot.
     pub fn is_branch(&self) -> bool {
         self.op.form() == Form::Branch
+    }
+
+    /// A branch's target offset in bytes from the branch itself (see
+    /// [`crate::Inst::branch_offset`]).
+    pub fn branch_offset(&self) -> Option<i32> {
+        self.is_branch().then(|| self.imm.wrapping_add(4))
     }
 }

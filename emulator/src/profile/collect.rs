@@ -10,12 +10,12 @@
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
 
-use crate::decode::Inst;
+use crate::decode::{Cti, Inst};
 use crate::exec::Stop;
 use crate::program::Program;
 use crate::thread::{CallFrame, Shared, Thread};
 
-use super::sched::Executor;
+use crate::sched::Executor;
 
 /// What a unit of cost is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -139,50 +139,12 @@ enum End {
 }
 
 fn ends_block(i: &Inst) -> End {
-    use Inst::*;
-    match i {
-        Beq { .. }
-        | Bne { .. }
-        | Blez { .. }
-        | Bgtz { .. }
-        | Bltz { .. }
-        | Bgez { .. }
-        | Bal { .. }
-        | J { .. }
-        | Jal { .. }
-        | Jalr { .. }
-        | Bc1eqz { .. }
-        | Bc1nez { .. } => End::AfterSlot,
-        // MSA branches have a delay slot; other MSA instructions fall through, so
-        // including the next word is right either way.
-        Msa(_) => End::AfterSlot,
-        Bc { .. }
-        | Balc { .. }
-        | Beqc { .. }
-        | Bnec { .. }
-        | Bltc { .. }
-        | Bgec { .. }
-        | Bltuc { .. }
-        | Bgeuc { .. }
-        | Bovc { .. }
-        | Bnvc { .. }
-        | Beqzc { .. }
-        | Bnezc { .. }
-        | Blezc { .. }
-        | Bgezc { .. }
-        | Bgtzc { .. }
-        | Bltzc { .. }
-        | Blezalc { .. }
-        | Bgezalc { .. }
-        | Bgtzalc { .. }
-        | Bltzalc { .. }
-        | Beqzalc { .. }
-        | Bnezalc { .. }
-        | Jic { .. }
-        | Jialc { .. } => End::Here,
+    match i.cti() {
+        Cti::DelaySlot => End::AfterSlot,
+        Cti::CompactBranch | Cti::CompactJump => End::Here,
         // TRaX operations may block, halt or redirect the thread; traps may fault.
-        Trax { .. } | Reserved(_) => End::Here,
-        _ => End::No,
+        Cti::None if matches!(i, Inst::Trax { .. } | Inst::Reserved(_)) => End::Here,
+        Cti::None => End::No,
     }
 }
 

@@ -76,7 +76,12 @@ impl Profile {
                 .clone();
             let own = resolve(pc);
             if let Some(f) = own.last() {
-                let key = (f.file.clone().unwrap_or_else(|| "??".into()), f.line);
+                // Code without debug information is grouped by its function symbol.
+                let file = f
+                    .file
+                    .clone()
+                    .unwrap_or_else(|| format!("{NO_DEBUG_INFO} {}", f.name));
+                let key = (file, f.line);
                 add(lines.entry(key).or_insert([0; KINDS]), &costs);
             }
             let mut stack = prefix;
@@ -165,10 +170,12 @@ impl Profile {
         }
     }
 
-    /// Unit name of the weight.
+    /// Unit name of the weight: `thread-cycles` in timing mode (each hardware thread's
+    /// cycles, summed over the threads: N live threads for C cycles weigh N x C), else
+    /// `instructions`.
     pub fn unit(&self) -> &'static str {
         if self.cycles {
-            "cycles"
+            "thread-cycles"
         } else {
             "instructions"
         }
@@ -185,7 +192,11 @@ impl Profile {
     /// mode, the cost breakdown. Nodes under `min_percent` inclusive are left out.
     pub fn render_tree(&self, min_percent: f64) -> String {
         let mut s = String::new();
-        let _ = writeln!(s, "# {} {} in total", self.total(), self.unit());
+        let _ = write!(s, "# {} {} in total", self.total(), self.unit());
+        if self.cycles {
+            let _ = write!(s, " (cycles summed over the hardware threads)");
+        }
+        let _ = writeln!(s);
         self.render_node(&mut s, 0, 0, min_percent);
         s
     }
@@ -303,6 +314,17 @@ impl Profile {
             let sum: u64 = lines.iter().map(|x| x.1).sum();
             let _ = writeln!(s, "{file}  ({:.2}% of {})", self.percent(sum), self.unit());
             for (line, w) in lines {
+                if line == 0 {
+                    // DWARF line 0: instructions the compiler ties to no source line
+                    // (spills, merged blocks, jump tables), or code without line info.
+                    let what = if file.starts_with(NO_DEBUG_INFO) {
+                        "(no line information)"
+                    } else {
+                        "(line 0: code the compiler ties to no source line)"
+                    };
+                    let _ = writeln!(s, "{w:>12} {:>6.2}%     - | {what}", self.percent(w));
+                    continue;
+                }
                 let text = dbg
                     .and_then(|d| d.source_line(file, line))
                     .unwrap_or_default();
@@ -318,6 +340,9 @@ impl Profile {
         s
     }
 }
+
+/// How [`Profile::annotate`] names code without debug information (then its symbol).
+pub const NO_DEBUG_INFO: &str = "(no debug information)";
 
 fn add(a: &mut Costs, b: &Costs) {
     for (x, y) in a.iter_mut().zip(b) {

@@ -36,6 +36,17 @@ pub enum ConfigError {
     /// A value out of range.
     #[error("chip config: {0}")]
     Invalid(String),
+    /// Neither a preset name nor a file that exists.
+    #[error(
+        "chip config `{spec}` is neither a preset ({}) nor a file: {err}",
+        CHIP_PRESETS.join(", ")
+    )]
+    Unknown {
+        /// The name as given.
+        spec: String,
+        /// Why it could not be read as a file.
+        err: std::io::Error,
+    },
     /// Reading the file failed.
     #[error("chip config {path}: {err}")]
     Io {
@@ -341,9 +352,18 @@ impl ChipConfig {
         if let Some(c) = ChipConfig::preset(spec) {
             return Ok(c);
         }
-        let text = std::fs::read_to_string(spec).map_err(|err| ConfigError::Io {
-            path: spec.to_string(),
-            err,
+        let text = std::fs::read_to_string(spec).map_err(|err| {
+            if err.kind() == std::io::ErrorKind::NotFound {
+                ConfigError::Unknown {
+                    spec: spec.to_string(),
+                    err,
+                }
+            } else {
+                ConfigError::Io {
+                    path: spec.to_string(),
+                    err,
+                }
+            }
         })?;
         ChipConfig::from_toml_str(&text, spec)
     }
@@ -354,7 +374,16 @@ impl ChipConfig {
             origin: origin.to_string(),
             msg,
         };
-        let mut user: toml::Table = toml::from_str(text).map_err(|e| perr(e.to_string()))?;
+        let mut user: toml::Table = toml::from_str(text).map_err(|e| ConfigError::Parse {
+            origin: match e.span() {
+                Some(s) => {
+                    let (l, c) = crate::tomlerr::line_col(text, s.start);
+                    format!("{origin}:{l}:{c}")
+                }
+                None => origin.to_string(),
+            },
+            msg: e.message().trim_end().to_string(),
+        })?;
         let base = match user.remove("preset") {
             None => ChipConfig::default(),
             Some(toml::Value::String(n)) => ChipConfig::preset(&n).ok_or_else(|| {
@@ -395,7 +424,15 @@ impl ChipConfig {
         }
         merge(&mut base_val, toml::Value::Table(user));
         let cfg: ChipConfig =
-            ChipConfig::deserialize(base_val).map_err(|e| perr(e.message().to_string()))?;
+            crate::tomlerr::deserialize(base_val, Some(text), &[]).map_err(|e| {
+                ConfigError::Parse {
+                    origin: match e.at {
+                        Some((l, c)) => format!("{origin}:{l}:{c}"),
+                        None => origin.to_string(),
+                    },
+                    msg: e.message(),
+                }
+            })?;
         cfg.validate()?;
         Ok(cfg)
     }
@@ -481,6 +518,93 @@ impl ChipConfig {
     /// The config as TOML.
     pub fn to_toml(&self) -> String {
         toml::to_string(self).unwrap_or_default()
+    }
+
+    /// Sets one field by its dotted path (`tms`, `memory.l2.capacity_bytes`,
+    /// `units.fp_add.count`, `memory.dram.detailed.timing.tRCD`) to `value`, as a line of the
+    /// config file would (`memory.dram.preset = "hbm2"` replaces the DRAM with that preset).
+    /// The path is checked against the config's schema: an unknown field, a value of the wrong
+    /// type or out of range is an error naming the path; `self` is unchanged then.
+    pub fn set_field(&mut self, path: &str, value: toml::Value) -> Result<(), ConfigError> {
+        let cfg = self.with_field(path, value)?;
+        cfg.validate()?;
+        *self = cfg;
+        Ok(())
+    }
+
+    /// [`ChipConfig::set_field`] on a copy, without the range checks of
+    /// [`ChipConfig::validate`] (for setting several fields that must agree).
+    pub fn with_field(&self, path: &str, value: toml::Value) -> Result<ChipConfig, ConfigError> {
+        let err = |msg: String| ConfigError::Invalid(format!("{path}: {msg}"));
+        let keys: Vec<&str> = path.split('.').collect();
+        if keys.iter().any(|k| k.is_empty()) {
+            return Err(err(
+                "not a field path (expected names separated by dots)".into()
+            ));
+        }
+        let mut root = toml::Value::try_from(self).map_err(|e| err(e.to_string()))?;
+        if path == "memory.dram.preset" {
+            let name = value.as_str().unwrap_or_default();
+            let d = DramConfig::preset(name).ok_or_else(|| {
+                err(format!(
+                    "unknown DRAM preset {value} (expected one of {})",
+                    memsys::DRAM_PRESETS.join(", ")
+                ))
+            })?;
+            let dv = toml::Value::try_from(&d).map_err(|e| err(e.to_string()))?;
+            if let Some(m) = root.get_mut("memory").and_then(|m| m.as_table_mut()) {
+                m.insert("dram".into(), dv);
+            }
+        } else {
+            let (last, parents) = keys.split_last().expect("split gives one key at least");
+            let mut table = root.as_table_mut().expect("a config serializes to a table");
+            let mut walked = String::new();
+            for k in parents {
+                if !walked.is_empty() {
+                    walked.push('.');
+                }
+                walked.push_str(k);
+                // A missing table is created: deserializing rejects it by name if the schema
+                // has no such field (and `validate` rejects unknown unit classes).
+                let slot = table
+                    .entry(k.to_string())
+                    .or_insert_with(|| toml::Value::Table(toml::Table::new()));
+                table = match slot {
+                    toml::Value::Table(t) => t,
+                    other => {
+                        return Err(err(format!(
+                            "`{walked}` is a {}, not a table",
+                            other.type_str()
+                        )))
+                    }
+                };
+            }
+            if let Some(toml::Value::Table(_)) = table.get(*last) {
+                if !value.is_table() {
+                    return Err(err(format!(
+                        "is a table of fields; set one of them (`{path}.NAME`)"
+                    )));
+                }
+            }
+            table.insert(last.to_string(), value);
+        }
+        ChipConfig::deserialize(root).map_err(|e| err(e.message().to_string()))
+    }
+
+    /// Applies `path = value` overrides as [`ChipConfig::set_field`] does, then checks ranges
+    /// once (so fields that must agree, like the L1 and L2 line sizes, can be set together).
+    /// A DRAM preset goes first, so the other overrides refine it whatever their order.
+    /// `self` is unchanged on error.
+    pub fn apply_overrides(&mut self, sets: &[(String, toml::Value)]) -> Result<(), ConfigError> {
+        let is_preset = |p: &str| p == "memory.dram.preset";
+        let mut cfg = self.clone();
+        let ordered = sets.iter().filter(|(p, _)| is_preset(p));
+        for (path, value) in ordered.chain(sets.iter().filter(|(p, _)| !is_preset(p))) {
+            cfg = cfg.with_field(path, value.clone())?;
+        }
+        cfg.validate()?;
+        *self = cfg;
+        Ok(())
     }
 }
 

@@ -85,6 +85,11 @@ fn store(val: u8, base: u8, off: i32, size: u8) -> OpInfo {
     }
 }
 
+/// A branch or jump reading `src`, writing its link register if it has one.
+fn branch(inst: &Inst, src: &[u8]) -> OpInfo {
+    info(UnitClass::Branch, src, inst.link_reg().unwrap_or(0))
+}
+
 const fn f(n: u8) -> u8 {
     FPR + (n & 31)
 }
@@ -156,35 +161,39 @@ pub fn classify(inst: &Inst) -> OpInfo {
         | Tlt { rs, rt, .. }
         | Tltu { rs, rt, .. } => info(U::IntAdd, &[rs, rt], 0),
         Rdhwr { rt, .. } => info(U::RegFile, &[], rt),
-        Beq { rs, rt, .. } | Bne { rs, rt, .. } => info(U::Branch, &[rs, rt], 0),
-        Blez { rs, .. } | Bgtz { rs, .. } | Bltz { rs, .. } | Bgez { rs, .. } => {
-            info(U::Branch, &[rs], 0)
-        }
-        Bal { .. } | Jal { .. } => info(U::Branch, &[], 31),
-        J { .. } | Bc { .. } => info(U::Branch, &[], 0),
-        Balc { .. } => info(U::Branch, &[], 31),
-        Jalr { rd, rs, .. } => info(U::Branch, &[rs], rd),
-        Bc1eqz { ft, .. } | Bc1nez { ft, .. } => info(U::Branch, &[f(ft)], 0),
-        Beqc { rs, rt, .. }
+        // Branches and jumps: the registers they test; the link register they write is
+        // the instruction's own fact (`Inst::link_reg`).
+        Bal { .. } | J { .. } | Jal { .. } | Bc { .. } | Balc { .. } => branch(inst, &[]),
+        Beq { rs, rt, .. }
+        | Bne { rs, rt, .. }
+        | Beqc { rs, rt, .. }
         | Bnec { rs, rt, .. }
         | Bltc { rs, rt, .. }
         | Bgec { rs, rt, .. }
         | Bltuc { rs, rt, .. }
         | Bgeuc { rs, rt, .. }
         | Bovc { rs, rt, .. }
-        | Bnvc { rs, rt, .. } => info(U::Branch, &[rs, rt], 0),
-        Beqzc { rs, .. } | Bnezc { rs, .. } => info(U::Branch, &[rs], 0),
-        Blezc { rt, .. } | Bgezc { rt, .. } | Bgtzc { rt, .. } | Bltzc { rt, .. } => {
-            info(U::Branch, &[rt], 0)
-        }
-        Blezalc { rt, .. }
+        | Bnvc { rs, rt, .. } => branch(inst, &[rs, rt]),
+        Blez { rs, .. }
+        | Bgtz { rs, .. }
+        | Bltz { rs, .. }
+        | Bgez { rs, .. }
+        | Beqzc { rs, .. }
+        | Bnezc { rs, .. }
+        | Jalr { rs, .. } => branch(inst, &[rs]),
+        Blezc { rt, .. }
+        | Bgezc { rt, .. }
+        | Bgtzc { rt, .. }
+        | Bltzc { rt, .. }
+        | Blezalc { rt, .. }
         | Bgezalc { rt, .. }
         | Bgtzalc { rt, .. }
         | Bltzalc { rt, .. }
         | Beqzalc { rt, .. }
-        | Bnezalc { rt, .. } => info(U::Branch, &[rt], 31),
-        Jic { rt, .. } => info(U::Branch, &[rt], 0),
-        Jialc { rt, .. } => info(U::Branch, &[rt], 31),
+        | Bnezalc { rt, .. }
+        | Jic { rt, .. }
+        | Jialc { rt, .. } => branch(inst, &[rt]),
+        Bc1eqz { ft, .. } | Bc1nez { ft, .. } => branch(inst, &[f(ft)]),
         AddS(x) | AddD(x) | SubS(x) | SubD(x) => info(U::FpAdd, &[f(x.fs), f(x.ft)], f(x.fd)),
         MulS(x) | MulD(x) => info(U::FpMul, &[f(x.fs), f(x.ft)], f(x.fd)),
         DivS(x) | DivD(x) => info(U::FpDiv, &[f(x.fs), f(x.ft)], f(x.fd)),

@@ -1,183 +1,44 @@
-//! IEEE 754 arithmetic for MSA lanes (half, single, double) in software.
-//!
-//! Every operation is computed exactly on unpacked integers and rounded once, under the
-//! rounding mode from MSACSR, with flush-to-zero and IEEE exception flags. (For round to
-//! nearest without flush-to-zero, add/sub/mul/div/sqrt/fma/compare/min/max first try the
-//! host's arithmetic (module `float_fast`), used only when its result is provably
-//! identical.)
-//!
-//! - NaN encoding is NaN-2008 (quiet bit = most significant fraction bit set). An invalid
-//!   operation with no NaN input gives the default NaN (`0x7FC00000`, `0x7FF8000000000000`,
-//!   `0x7E00`). A NaN input propagates, quieted: the first signaling NaN among the
-//!   operands in operand order (`ws`, `wt`; for fused multiply-add the accumulator `wd`
-//!   first, then `ws`, `wt`) wins, otherwise the first quiet NaN in the same order. Any
-//!   signaling NaN input raises Invalid; so does `inf * 0` in a fused multiply-add even
-//!   when the accumulator is a quiet NaN.
-//! - Tininess is detected after rounding; Underflow is raised when a tiny result is also
-//!   inexact, or (IEEE trapped underflow) when Underflow is enabled in MSACSR, except for
-//!   binary16 results and min/max.
-//! - With MSACSR.FS set, subnormal inputs are read as zero of the same sign, raising
-//!   Inexact (compares excepted), and subnormal results are replaced by zero of the same
-//!   sign, raising Underflow and Inexact.
-//! - `frcp` is correctly rounded `1/x`; `frsqrt` is `1/sqrt(x)` as two correctly rounded
-//!   steps (square root, then reciprocal). The architecture allows approximations here,
-//!   so unless the operation is invalid or divides by zero, or the reciprocal's operand
-//!   is infinite or its result a NaN, they raise exactly Inexact.
-//! - `ftq` saturation raises Overflow and Inexact; a NaN gives 0 and raises Invalid.
-//!
-//! These choices follow QEMU's MSA model, which the test suite uses as an oracle.
+//! The exact path of the soft-float core: operands are unpacked to integers, the
+//! operation is computed exactly (128-bit intermediates) and rounded once. Used whenever
+//! the host fast paths ([`super::fast`]) cannot vouch for their result.
 
 use std::cmp::Ordering;
 
-use super::float_fast::{try_fast, Op};
+use super::{
+    Env, Fmt, MinMax, Round, FLAG_I, FLAG_O, FLAG_U, FLAG_V, FLAG_Z, REL_EQ, REL_LT, REL_UN,
+};
 
-/// Inexact flag bit (as in MSACSR's Flags/Cause/Enables fields).
-pub const FLAG_I: u32 = 1;
-/// Underflow flag bit.
-pub const FLAG_U: u32 = 2;
-/// Overflow flag bit.
-pub const FLAG_O: u32 = 4;
-/// Divide-by-zero flag bit.
-pub const FLAG_Z: u32 = 8;
-/// Invalid-operation flag bit.
-pub const FLAG_V: u32 = 16;
-
-/// IEEE rounding mode (MSACSR.RM encoding order).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Round {
-    /// Round to nearest, ties to even (RM = 0).
-    Nearest,
-    /// Round toward zero (RM = 1).
-    Zero,
-    /// Round toward +infinity (RM = 2).
-    Up,
-    /// Round toward -infinity (RM = 3).
-    Down,
-}
-
-impl Round {
-    /// The mode selected by a 2-bit RM field.
-    pub fn from_rm(rm: u32) -> Round {
-        match rm & 3 {
-            0 => Round::Nearest,
-            1 => Round::Zero,
-            2 => Round::Up,
-            _ => Round::Down,
-        }
-    }
-}
-
-/// Floating-point format of a lane.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Fmt {
-    /// binary16.
-    H,
-    /// binary32.
-    S,
-    /// binary64.
-    D,
-}
-
-impl Fmt {
-    /// Precision in bits, including the hidden bit.
-    fn p(self) -> i32 {
-        match self {
-            Fmt::H => 11,
-            Fmt::S => 24,
-            Fmt::D => 53,
-        }
-    }
-
-    /// Exponent bias (also the maximum unbiased exponent).
-    fn bias(self) -> i32 {
-        match self {
-            Fmt::H => 15,
-            Fmt::S => 127,
-            Fmt::D => 1023,
-        }
-    }
-
-    /// Total width in bits.
-    pub fn width(self) -> u32 {
-        match self {
-            Fmt::H => 16,
-            Fmt::S => 32,
-            Fmt::D => 64,
-        }
-    }
-
-    fn frac_bits(self) -> u32 {
-        self.p() as u32 - 1
-    }
-
-    fn exp_mask(self) -> u64 {
-        (1u64 << (self.width() - 1 - self.frac_bits())) - 1
-    }
-
-    pub(crate) fn sign_bit(self) -> u64 {
-        1u64 << (self.width() - 1)
-    }
-
-    fn quiet_bit(self) -> u64 {
-        1u64 << (self.frac_bits() - 1)
-    }
-
-    /// The default quiet NaN.
-    pub fn default_nan(self) -> u64 {
-        (self.exp_mask() << self.frac_bits()) | self.quiet_bit()
-    }
-
-    fn inf(self, sign: bool) -> u64 {
-        (self.exp_mask() << self.frac_bits()) | if sign { self.sign_bit() } else { 0 }
-    }
-
-    fn zero(self, sign: bool) -> u64 {
-        if sign {
-            self.sign_bit()
-        } else {
-            0
-        }
-    }
-
-    fn max_finite(self, sign: bool) -> u64 {
-        self.inf(sign) - 1
-    }
-}
-
-/// Rounding environment of one instruction; `flags` accumulates raised exceptions.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Env {
-    /// Rounding mode.
-    pub mode: Round,
-    /// Flush subnormal inputs and outputs to zero (MSACSR.FS).
-    pub ftz: bool,
-    /// Underflow is enabled (trapping): exact tiny results then also raise Underflow, as
-    /// IEEE 754 specifies for trapped underflow.
-    pub trap_underflow: bool,
-    /// Raised exception flags (`FLAG_*` bits).
-    pub flags: u32,
-}
-
-impl Env {
-    /// Environment from an MSACSR value (RM bits 1..0, Underflow enable bit 8, FS bit 24),
-    /// no flags raised.
-    pub fn from_msacsr(csr: u32) -> Env {
-        Env {
-            mode: Round::from_rm(csr),
-            ftz: csr & (1 << 24) != 0,
-            trap_underflow: csr & (1 << 8) != 0,
-            flags: 0,
-        }
-    }
-}
-
-/// An unpacked operand. Finite values are `mant * 2^exp` with bit 62 of `mant` set.
+/// An unpacked operand.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Val {
     Nan { signaling: bool },
     Inf(bool),
     Zero(bool),
-    Fin { sign: bool, exp: i32, mant: u64 },
+    Fin(Fin),
+}
+
+/// A finite nonzero value `(-1)^sign * mant * 2^exp` with bit 62 of `mant` set.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Fin {
+    sign: bool,
+    exp: i32,
+    mant: u64,
+}
+
+impl Fin {
+    /// (sign, exponent, mantissa) with a 128-bit mantissa, for [`add_fin`].
+    fn wide(self) -> (bool, i32, u128) {
+        (self.sign, self.exp, self.mant as u128)
+    }
+
+    /// The exact product, as [`Fin::wide`].
+    fn times(self, o: Fin) -> (bool, i32, u128) {
+        (
+            self.sign ^ o.sign,
+            self.exp + o.exp,
+            self.mant as u128 * o.mant as u128,
+        )
+    }
 }
 
 /// Unpacks an operand; with flush-to-zero a subnormal reads as zero and raises Inexact.
@@ -210,11 +71,11 @@ fn unpack(env: &mut Env, f: Fmt, bits: u64) -> Val {
 
 fn normalized(sign: bool, exp: i32, mant: u64) -> Val {
     let s = mant.leading_zeros() as i32 - 1;
-    Val::Fin {
+    Val::Fin(Fin {
         sign,
         exp: exp - s,
         mant: mant << s,
-    }
+    })
 }
 
 /// Handles NaN operands: `Some(result)` if any operand is a NaN (see module docs).
@@ -335,7 +196,7 @@ fn pack_val(env: &mut Env, f: Fmt, v: Val) -> u64 {
         Val::Nan { .. } => f.default_nan(),
         Val::Inf(s) => f.inf(s),
         Val::Zero(s) => f.zero(s),
-        Val::Fin { sign, exp, mant } => round_pack(env, f, sign, exp, mant as u128),
+        Val::Fin(x) => round_pack(env, f, x.sign, x.exp, x.mant as u128),
     }
 }
 
@@ -366,17 +227,8 @@ fn add_fin(env: &mut Env, f: Fmt, a: (bool, i32, u128), b: (bool, i32, u128)) ->
     }
 }
 
-/// `a + b`.
 #[inline]
-pub fn add(env: &mut Env, f: Fmt, a: u64, b: u64) -> u64 {
-    if let Some(r) = try_fast(env, f, Op::Add, a, b, 0) {
-        return r;
-    }
-    add_exact(env, f, a, b)
-}
-
-#[inline(never)]
-fn add_exact(env: &mut Env, f: Fmt, a: u64, b: u64) -> u64 {
+pub(super) fn add_exact(env: &mut Env, f: Fmt, a: u64, b: u64) -> u64 {
     if let Some(n) = propagate_nan(env, f, &[a, b]) {
         return n;
     }
@@ -385,18 +237,7 @@ fn add_exact(env: &mut Env, f: Fmt, a: u64, b: u64) -> u64 {
         (Val::Inf(x), _) | (_, Val::Inf(x)) => f.inf(x),
         (Val::Zero(x), Val::Zero(y)) => f.zero(if x == y { x } else { env.mode == Round::Down }),
         (Val::Zero(_), v) | (v, Val::Zero(_)) => pack_val(env, f, v),
-        (
-            Val::Fin {
-                sign: s1,
-                exp: e1,
-                mant: m1,
-            },
-            Val::Fin {
-                sign: s2,
-                exp: e2,
-                mant: m2,
-            },
-        ) => add_fin(env, f, (s1, e1, m1 as u128), (s2, e2, m2 as u128)),
+        (Val::Fin(x), Val::Fin(y)) => add_fin(env, f, x.wide(), y.wide()),
         _ => f.default_nan(),
     }
 }
@@ -411,34 +252,16 @@ fn neg_unless_nan(f: Fmt, x: u64) -> u64 {
     }
 }
 
-/// `a - b`.
 #[inline]
-pub fn sub(env: &mut Env, f: Fmt, a: u64, b: u64) -> u64 {
-    if let Some(r) = try_fast(env, f, Op::Add, a, b ^ f.sign_bit(), 0) {
-        return r;
-    }
-    sub_exact(env, f, a, b)
-}
-
-#[inline(never)]
-fn sub_exact(env: &mut Env, f: Fmt, a: u64, b: u64) -> u64 {
+pub(super) fn sub_exact(env: &mut Env, f: Fmt, a: u64, b: u64) -> u64 {
     if let Some(n) = propagate_nan(env, f, &[a, b]) {
         return n;
     }
-    add(env, f, a, neg_unless_nan(f, b))
+    add_exact(env, f, a, neg_unless_nan(f, b))
 }
 
-/// `a * b`.
 #[inline]
-pub fn mul(env: &mut Env, f: Fmt, a: u64, b: u64) -> u64 {
-    if let Some(r) = try_fast(env, f, Op::Mul, a, b, 0) {
-        return r;
-    }
-    mul_exact(env, f, a, b)
-}
-
-#[inline(never)]
-fn mul_exact(env: &mut Env, f: Fmt, a: u64, b: u64) -> u64 {
+pub(super) fn mul_exact(env: &mut Env, f: Fmt, a: u64, b: u64) -> u64 {
     if let Some(n) = propagate_nan(env, f, &[a, b]) {
         return n;
     }
@@ -446,18 +269,10 @@ fn mul_exact(env: &mut Env, f: Fmt, a: u64, b: u64) -> u64 {
         (Val::Inf(_), Val::Zero(_)) | (Val::Zero(_), Val::Inf(_)) => invalid(env, f),
         (Val::Inf(x), v) | (v, Val::Inf(x)) => f.inf(x ^ sign_of(v)),
         (Val::Zero(x), v) | (v, Val::Zero(x)) => f.zero(x ^ sign_of(v)),
-        (
-            Val::Fin {
-                sign: s1,
-                exp: e1,
-                mant: m1,
-            },
-            Val::Fin {
-                sign: s2,
-                exp: e2,
-                mant: m2,
-            },
-        ) => round_pack(env, f, s1 ^ s2, e1 + e2, m1 as u128 * m2 as u128),
+        (Val::Fin(x), Val::Fin(y)) => {
+            let (sign, exp, mant) = x.times(y);
+            round_pack(env, f, sign, exp, mant)
+        }
         _ => f.default_nan(),
     }
 }
@@ -466,21 +281,12 @@ fn sign_of(v: Val) -> bool {
     match v {
         Val::Nan { .. } => false,
         Val::Inf(s) | Val::Zero(s) => s,
-        Val::Fin { sign, .. } => sign,
+        Val::Fin(x) => x.sign,
     }
 }
 
-/// `a / b`.
 #[inline]
-pub fn div(env: &mut Env, f: Fmt, a: u64, b: u64) -> u64 {
-    if let Some(r) = try_fast(env, f, Op::Div, a, b, 0) {
-        return r;
-    }
-    div_exact(env, f, a, b)
-}
-
-#[inline(never)]
-fn div_exact(env: &mut Env, f: Fmt, a: u64, b: u64) -> u64 {
+pub(super) fn div_exact(env: &mut Env, f: Fmt, a: u64, b: u64) -> u64 {
     if let Some(n) = propagate_nan(env, f, &[a, b]) {
         return n;
     }
@@ -493,49 +299,35 @@ fn div_exact(env: &mut Env, f: Fmt, a: u64, b: u64) -> u64 {
             env.flags |= FLAG_Z;
             f.inf(x ^ sign_of(v))
         }
-        (
-            Val::Fin {
-                sign: s1,
-                exp: e1,
-                mant: m1,
-            },
-            Val::Fin {
-                sign: s2,
-                exp: e2,
-                mant: m2,
-            },
-        ) => {
-            let n = (m1 as u128) << 64;
-            let q = n / m2 as u128;
-            let r = n % m2 as u128;
-            round_pack(env, f, s1 ^ s2, e1 - 64 - e2, q | (r != 0) as u128)
+        (Val::Fin(x), Val::Fin(y)) => {
+            let n = (x.mant as u128) << 64;
+            let q = n / y.mant as u128;
+            let r = n % y.mant as u128;
+            round_pack(
+                env,
+                f,
+                x.sign ^ y.sign,
+                x.exp - 64 - y.exp,
+                q | (r != 0) as u128,
+            )
         }
         _ => f.default_nan(),
     }
 }
 
-/// Square root.
 #[inline]
-pub fn sqrt(env: &mut Env, f: Fmt, a: u64) -> u64 {
-    if let Some(r) = try_fast(env, f, Op::Sqrt, a, 0, 0) {
-        return r;
-    }
-    sqrt_exact(env, f, a)
-}
-
-#[inline(never)]
-fn sqrt_exact(env: &mut Env, f: Fmt, a: u64) -> u64 {
+pub(super) fn sqrt_exact(env: &mut Env, f: Fmt, a: u64) -> u64 {
     if let Some(n) = propagate_nan(env, f, &[a]) {
         return n;
     }
     match unpack(env, f, a) {
         Val::Zero(s) => f.zero(s),
         Val::Inf(false) => f.inf(false),
-        Val::Fin {
+        Val::Fin(Fin {
             sign: false,
             exp,
             mant,
-        } => {
+        }) => {
             let (exp, mant) = if exp & 1 != 0 {
                 (exp - 1, (mant as u128) << 1)
             } else {
@@ -550,18 +342,8 @@ fn sqrt_exact(env: &mut Env, f: Fmt, a: u64) -> u64 {
     }
 }
 
-/// Fused `c + a*b` (or `c - a*b` when `negate` is set), rounded once.
 #[inline]
-pub fn fma(env: &mut Env, f: Fmt, a: u64, b: u64, c: u64, negate: bool) -> u64 {
-    let na = if negate { a ^ f.sign_bit() } else { a };
-    if let Some(r) = try_fast(env, f, Op::Fma, na, b, c) {
-        return r;
-    }
-    fma_exact(env, f, a, b, c, negate)
-}
-
-#[inline(never)]
-fn fma_exact(env: &mut Env, f: Fmt, a: u64, b: u64, c: u64, negate: bool) -> u64 {
+pub(super) fn fma_exact(env: &mut Env, f: Fmt, a: u64, b: u64, c: u64, negate: bool) -> u64 {
     let (va, vb, vc) = (unpack(env, f, a), unpack(env, f, b), unpack(env, f, c));
     let is_inf = |v: Val| matches!(v, Val::Inf(_));
     let is_zero = |v: Val| matches!(v, Val::Zero(_));
@@ -592,55 +374,23 @@ fn fma_exact(env: &mut Env, f: Fmt, a: u64, b: u64, c: u64, negate: bool) -> u64
             env.mode == Round::Down
         }),
         (true, v) => pack_val(env, f, v),
-        (false, Val::Zero(_)) => match (va, vb) {
-            (
-                Val::Fin {
-                    exp: e1, mant: m1, ..
-                },
-                Val::Fin {
-                    exp: e2, mant: m2, ..
-                },
-            ) => round_pack(env, f, psign, e1 + e2, m1 as u128 * m2 as u128),
+        (false, vc) => match (va, vb, vc) {
+            (Val::Fin(x), Val::Fin(y), Val::Zero(_)) => {
+                let (_, exp, mant) = x.times(y);
+                round_pack(env, f, psign, exp, mant)
+            }
+            (Val::Fin(x), Val::Fin(y), Val::Fin(z)) => {
+                let (_, exp, mant) = x.times(y);
+                add_fin(env, f, (psign, exp, mant), z.wide())
+            }
             _ => f.default_nan(),
         },
-        (false, Val::Fin { sign, exp, mant }) => match (va, vb) {
-            (
-                Val::Fin {
-                    exp: e1, mant: m1, ..
-                },
-                Val::Fin {
-                    exp: e2, mant: m2, ..
-                },
-            ) => add_fin(
-                env,
-                f,
-                (psign, e1 + e2, m1 as u128 * m2 as u128),
-                (sign, exp, mant as u128),
-            ),
-            _ => f.default_nan(),
-        },
-        _ => f.default_nan(),
     }
 }
 
-/// IEEE comparison; `None` when unordered. Signaling compares raise Invalid on any NaN,
-/// quiet compares only on signaling NaNs.
-///
-/// Compares never raise Inexact (not even when flushing subnormal inputs).
-pub fn compare(env: &mut Env, f: Fmt, a: u64, b: u64, signaling: bool) -> Option<Ordering> {
-    if !env.ftz && f != Fmt::H {
-        let (x, y) = if f == Fmt::S {
-            (
-                f32::from_bits(a as u32) as f64,
-                f32::from_bits(b as u32) as f64,
-            )
-        } else {
-            (f64::from_bits(a), f64::from_bits(b))
-        };
-        if !x.is_nan() && !y.is_nan() {
-            return x.partial_cmp(&y);
-        }
-    }
+/// [`super::compare`] on unpacked operands.
+#[inline]
+pub(super) fn compare_exact(env: &mut Env, f: Fmt, a: u64, b: u64, signaling: bool) -> u8 {
     let saved = env.flags;
     let va = unpack(env, f, a);
     let vb = unpack(env, f, b);
@@ -653,9 +403,13 @@ pub fn compare(env: &mut Env, f: Fmt, a: u64, b: u64, signaling: bool) -> Option
         if signaling || snan {
             env.flags |= FLAG_V;
         }
-        return None;
+        return REL_UN;
     }
-    Some(total_key(va).cmp(&total_key(vb)))
+    match total_key(va).cmp(&total_key(vb)) {
+        Ordering::Less => REL_LT,
+        Ordering::Equal => REL_EQ,
+        Ordering::Greater => 0,
+    }
 }
 
 /// A key ordering non-NaN values numerically (both zeros equal).
@@ -663,7 +417,7 @@ fn total_key(v: Val) -> (i32, i64, i64) {
     match v {
         Val::Zero(_) | Val::Nan { .. } => (0, 0, 0),
         Val::Inf(s) => (if s { -2 } else { 2 }, 0, 0),
-        Val::Fin { sign, exp, mant } => {
+        Val::Fin(Fin { sign, exp, mant }) => {
             let k = (exp as i64, mant as i64);
             if sign {
                 (-1, -k.0, -k.1)
@@ -674,49 +428,17 @@ fn total_key(v: Val) -> (i32, i64, i64) {
     }
 }
 
-/// Which operand a min/max picks.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum MinMax {
-    /// `fmax`.
-    Max,
-    /// `fmin`.
-    Min,
-    /// `fmax_a` (larger magnitude).
-    MaxA,
-    /// `fmin_a` (smaller magnitude).
-    MinA,
-}
-
-/// `fmax`/`fmin`/`fmax_a`/`fmin_a`: a quiet NaN loses against a number; signaling NaNs
-/// raise Invalid and propagate; `max(-0, +0) = +0`, `min(-0, +0) = -0`; for the magnitude
-/// forms equal magnitudes fall back to the plain form.
-pub fn min_max(env: &mut Env, f: Fmt, a: u64, b: u64, kind: MinMax) -> u64 {
+/// [`super::min_max`] on unpacked operands (NaN operands, flush to zero, binary16).
+#[inline]
+pub(super) fn min_max_exact(env: &mut Env, f: Fmt, a: u64, b: u64, kind: MinMax) -> u64 {
     // Picking an operand never underflows, even when it is subnormal.
     let u = env.flags & FLAG_U;
-    let r = min_max_inner(env, f, a, b, kind);
+    let r = min_max_unpacked(env, f, a, b, kind);
     env.flags = (env.flags & !FLAG_U) | u;
     r
 }
 
-fn min_max_inner(env: &mut Env, f: Fmt, a: u64, b: u64, kind: MinMax) -> u64 {
-    if !env.ftz && f != Fmt::H && matches!(kind, MinMax::Max | MinMax::Min) {
-        let (x, y) = if f == Fmt::S {
-            (
-                f32::from_bits(a as u32) as f64,
-                f32::from_bits(b as u32) as f64,
-            )
-        } else {
-            (f64::from_bits(a), f64::from_bits(b))
-        };
-        if !x.is_nan() && !y.is_nan() {
-            let pick_a = if kind == MinMax::Max {
-                x > y || (x == y && !x.is_sign_negative())
-            } else {
-                x < y || (x == y && x.is_sign_negative())
-            };
-            return if pick_a { a } else { b };
-        }
-    }
+fn min_max_unpacked(env: &mut Env, f: Fmt, a: u64, b: u64, kind: MinMax) -> u64 {
     let va = unpack(env, f, a);
     let vb = unpack(env, f, b);
     let snan = |v: Val| matches!(v, Val::Nan { signaling: true });
@@ -734,11 +456,7 @@ fn min_max_inner(env: &mut Env, f: Fmt, a: u64, b: u64, kind: MinMax) -> u64 {
     let abs = |v: Val| match v {
         Val::Inf(_) => total_key(Val::Inf(false)),
         Val::Zero(_) => (0, 0, 0),
-        Val::Fin { exp, mant, .. } => total_key(Val::Fin {
-            sign: false,
-            exp,
-            mant,
-        }),
+        Val::Fin(x) => total_key(Val::Fin(Fin { sign: false, ..x })),
         Val::Nan { .. } => (0, 0, 0),
     };
     // For equal values, order -0 below +0.
@@ -757,41 +475,16 @@ fn min_max_inner(env: &mut Env, f: Fmt, a: u64, b: u64, kind: MinMax) -> u64 {
     pack_val(env, f, if pick_a { va } else { vb })
 }
 
-/// `fclass` bit mask: 0 sNaN, 1 qNaN, 2..5 negative inf/normal/subnormal/zero, 6..9 positive.
-pub fn class(f: Fmt, a: u64) -> u64 {
-    let mut env = Env {
-        mode: Round::Nearest,
-        ftz: false,
-        trap_underflow: false,
-        flags: 0,
-    };
-    let neg = a & f.sign_bit() != 0;
-    let base = |k: u32| {
-        if neg {
-            1u64 << (2 + k)
-        } else {
-            1u64 << (6 + k)
-        }
-    };
-    match unpack(&mut env, f, a) {
-        Val::Nan { signaling: true } => 1,
-        Val::Nan { signaling: false } => 2,
-        Val::Inf(_) => base(0),
-        Val::Zero(_) => base(3),
-        Val::Fin { .. } => {
-            if (a >> f.frac_bits()) & f.exp_mask() == 0 {
-                base(2)
-            } else {
-                base(1)
-            }
-        }
-    }
-}
-
-/// Converts to a `bits`-wide integer (signed or unsigned) rounding per `mode`.
-///
-/// NaN gives 0; out-of-range values saturate; both raise Invalid (and not Inexact).
-pub fn to_int(env: &mut Env, f: Fmt, a: u64, mode: Round, signed: bool, bits: u32) -> u64 {
+/// [`super::to_int`] on the unpacked operand.
+#[inline]
+pub(super) fn to_int_exact(
+    env: &mut Env,
+    f: Fmt,
+    a: u64,
+    mode: Round,
+    signed: bool,
+    bits: u32,
+) -> u64 {
     let v = unpack(env, f, a);
     val_to_int(env, v, mode, signed, bits, FLAG_V)
 }
@@ -819,7 +512,7 @@ fn val_to_int(env: &mut Env, v: Val, mode: Round, signed: bool, bits: u32, sat_f
         }
         Val::Inf(s) => sat(env, if s { lo } else { hi }),
         Val::Zero(_) => 0,
-        Val::Fin { sign, exp, mant } => {
+        Val::Fin(Fin { sign, exp, mant }) => {
             if exp > 64 {
                 return sat(env, if sign { lo } else { hi });
             }
@@ -836,18 +529,20 @@ fn val_to_int(env: &mut Env, v: Val, mode: Round, signed: bool, bits: u32, sat_f
     }
 }
 
-/// Converts an integer to format `f`, rounding per the environment.
-pub fn from_int(env: &mut Env, f: Fmt, v: i128) -> u64 {
+/// [`super::from_int`] by rounding the integer's bits.
+#[inline]
+pub(super) fn from_int_exact(env: &mut Env, f: Fmt, v: i128) -> u64 {
     round_pack(env, f, v < 0, 0, v.unsigned_abs())
 }
 
-/// Rounds to an integral value in the same format (`frint`), raising Inexact.
-pub fn rint(env: &mut Env, f: Fmt, a: u64) -> u64 {
+/// [`super::rint`] on the unpacked operand.
+#[inline]
+pub(super) fn rint_exact(env: &mut Env, f: Fmt, a: u64) -> u64 {
     if let Some(n) = propagate_nan(env, f, &[a]) {
         return n;
     }
     match unpack(env, f, a) {
-        Val::Fin { sign, exp, mant } if exp < 0 => {
+        Val::Fin(Fin { sign, exp, mant }) if exp < 0 => {
             let (k, inexact) = round_shift(mant as u128, -exp, sign, env.mode);
             if inexact {
                 env.flags |= FLAG_I;
@@ -874,9 +569,9 @@ pub fn log2(env: &mut Env, f: Fmt, a: u64) -> u64 {
             f.inf(true)
         }
         Val::Inf(false) => f.inf(false),
-        Val::Fin {
+        Val::Fin(Fin {
             sign: false, exp, ..
-        } => from_int(env, f, (exp + 62) as i128),
+        }) => super::from_int(env, f, (exp + 62) as i128),
         _ => invalid(env, f),
     }
 }
@@ -887,7 +582,7 @@ pub fn exp2(env: &mut Env, f: Fmt, a: u64, n: i64) -> u64 {
         return r;
     }
     match unpack(env, f, a) {
-        Val::Fin { sign, exp, mant } => {
+        Val::Fin(Fin { sign, exp, mant }) => {
             let e = (exp as i64).saturating_add(n).clamp(-100_000, 100_000) as i32;
             round_pack(env, f, sign, e, mant as u128)
         }
@@ -895,9 +590,9 @@ pub fn exp2(env: &mut Env, f: Fmt, a: u64, n: i64) -> u64 {
     }
 }
 
-/// Converts between formats (`fexupl/r` widen exactly, `fexdo` narrows with rounding).
-/// NaNs keep their sign and the top of their payload and are quieted.
-pub fn convert(env: &mut Env, from: Fmt, to: Fmt, a: u64) -> u64 {
+/// [`super::convert`] on the unpacked operand.
+#[inline]
+pub(super) fn convert_exact(env: &mut Env, from: Fmt, to: Fmt, a: u64) -> u64 {
     match unpack(env, from, a) {
         Val::Nan { signaling } => {
             if signaling {
@@ -926,7 +621,7 @@ pub fn rcp(env: &mut Env, f: Fmt, a: u64) -> u64 {
 /// `frsqrt`: `1 / sqrt(a)` as two correctly rounded steps.
 pub fn rsqrt(env: &mut Env, f: Fmt, a: u64) -> u64 {
     let mut e = Env { flags: 0, ..*env };
-    let s = sqrt(&mut e, f, a);
+    let s = super::sqrt(&mut e, f, a);
     let r = reciprocal(&mut e, f, s);
     env.flags |= e.flags;
     r
@@ -935,7 +630,7 @@ pub fn rsqrt(env: &mut Env, f: Fmt, a: u64) -> u64 {
 /// `1 / a` with the approximate-reciprocal flag rule; `env.flags` must start empty.
 fn reciprocal(env: &mut Env, f: Fmt, a: u64) -> u64 {
     let one = (f.bias() as u64) << f.frac_bits();
-    let r = div(env, f, one, a);
+    let r = super::div(env, f, one, a);
     let a_inf = a & !f.sign_bit() == f.inf(false);
     let r_qnan = (r >> f.frac_bits()) & f.exp_mask() == f.exp_mask() && r & f.quiet_bit() != 0;
     if !a_inf && !r_qnan && env.flags & (FLAG_V | FLAG_Z) == 0 {
@@ -953,74 +648,12 @@ pub fn from_fixed(env: &mut Env, f: Fmt, q: i64, frac: i32) -> u64 {
 /// per the environment; NaN gives 0 (Invalid), out-of-range saturates (Overflow, Inexact).
 pub fn to_fixed(env: &mut Env, f: Fmt, a: u64, frac: i32, bits: u32) -> u64 {
     let v = match unpack(env, f, a) {
-        Val::Fin { sign, exp, mant } => Val::Fin {
-            sign,
-            exp: exp + frac,
-            mant,
-        },
+        Val::Fin(x) => Val::Fin(Fin {
+            exp: x.exp + frac,
+            ..x
+        }),
         v => v,
     };
     let mode = env.mode;
     val_to_int(env, v, mode, true, bits, FLAG_O | FLAG_I)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn env() -> Env {
-        Env {
-            mode: Round::Nearest,
-            ftz: false,
-            trap_underflow: false,
-            flags: 0,
-        }
-    }
-
-    #[test]
-    fn add_matches_host() {
-        let mut e = env();
-        let r = add(
-            &mut e,
-            Fmt::S,
-            1.5f32.to_bits() as u64,
-            2.25f32.to_bits() as u64,
-        );
-        assert_eq!(f32::from_bits(r as u32), 3.75);
-        assert_eq!(e.flags, 0);
-        let r = add(&mut e, Fmt::D, 0.1f64.to_bits(), 0.2f64.to_bits());
-        assert_eq!(f64::from_bits(r), 0.1 + 0.2);
-        assert_eq!(e.flags, FLAG_I);
-    }
-
-    #[test]
-    fn directed_rounding() {
-        let mut e = Env {
-            mode: Round::Down,
-            ..env()
-        };
-        let r = div(&mut e, Fmt::S, 1f32.to_bits() as u64, 3f32.to_bits() as u64);
-        // 1/3 rounds up to nearest (0x3EAAAAAB), so rounding down is one ulp lower.
-        assert_eq!(r as u32, (1f32 / 3.0).to_bits() - 1);
-        e.mode = Round::Up;
-        let r = div(&mut e, Fmt::S, 1f32.to_bits() as u64, 3f32.to_bits() as u64);
-        assert_eq!(r as u32, (1f32 / 3.0).to_bits());
-    }
-
-    #[test]
-    fn half_conversion() {
-        let mut e = env();
-        assert_eq!(
-            convert(&mut e, Fmt::S, Fmt::H, 1.0f32.to_bits() as u64),
-            0x3C00
-        );
-        assert_eq!(
-            convert(&mut e, Fmt::H, Fmt::S, 0x3C00) as u32,
-            1.0f32.to_bits()
-        );
-        assert_eq!(
-            convert(&mut e, Fmt::S, Fmt::H, 65520f32.to_bits() as u64),
-            0x7C00
-        );
-    }
 }

@@ -1,0 +1,679 @@
+//! `trax plot RESULTS --x PARAM --y METRIC [--by PARAM]`: charts of a sweep's
+//! `results.csv` as PNG and SVG — lines, grouped bars, or the energy per frame stacked by
+//! component — with labelled axes (units from [`crate::cli::sweep::metrics`]), a legend and a
+//! title.
+//!
+//! Text is drawn with DejaVu Sans, embedded in the binary (crate `dejavu`), through plotters'
+//! `ab_glyph` backend, so no system font library or font file is needed.
+//!
+//! Rows whose status is not `ok` are left out. Points that differ only in `rep` are averaged;
+//! if another parameter varies among the rows of one (x, by) pair the chart would mix
+//! different experiments, so that is an error naming the parameter (choose it with `--by`,
+//! or fix it with `--where PARAM=VALUE`).
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::sync::Once;
+
+use clap::Args;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+use plotters::style::FontStyle;
+
+use super::sweep::metrics::{self, Metric, METRICS};
+use super::sweep::spec::{default_plot_name, PlotKind, PlotSpec};
+
+/// Arguments of `trax plot`.
+#[derive(Args, Debug)]
+pub struct PlotArgs {
+    /// A sweep's results directory or its `results.csv`.
+    pub results: PathBuf,
+    /// Parameter on the x axis.
+    #[arg(long)]
+    pub x: String,
+    /// Metric on the y axis (a column of results.csv, e.g. fps, cycles, energy_j).
+    #[arg(long, required_unless_present = "kind")]
+    pub y: Option<String>,
+    /// Parameter whose values get a line (or bar) each.
+    #[arg(long)]
+    pub by: Option<String>,
+    /// Chart kind (`energy`: energy per frame stacked by component).
+    #[arg(long, value_enum)]
+    pub kind: Option<PlotKind>,
+    /// Only rows where PARAM has this value (repeatable).
+    #[arg(long = "where", value_name = "PARAM=VALUE")]
+    pub filter: Vec<String>,
+    /// Title (default: METRIC vs PARAM).
+    #[arg(long)]
+    pub title: Option<String>,
+    /// Output path without extension (`.png` and `.svg` are written); default:
+    /// `plots/Y_vs_X[_by_BY]` in the results directory.
+    #[arg(short = 'o', long)]
+    pub out: Option<PathBuf>,
+}
+
+/// Runs `trax plot`.
+pub fn run(a: PlotArgs) -> ExitCode {
+    match plot_cmd(&a) {
+        Ok((png, svg)) => {
+            eprintln!("wrote {} and {}", png.display(), svg.display());
+            ExitCode::SUCCESS
+        }
+        Err(e) => super::run::fail(e),
+    }
+}
+
+fn plot_cmd(a: &PlotArgs) -> Result<(PathBuf, PathBuf), String> {
+    let (csv, dir) = if a.results.is_dir() {
+        (a.results.join("results.csv"), a.results.clone())
+    } else {
+        let dir = a
+            .results
+            .parent()
+            .filter(|p| !p.as_os_str().is_empty())
+            .map_or_else(|| PathBuf::from("."), Path::to_path_buf);
+        (a.results.clone(), dir)
+    };
+    let kind = a.kind.unwrap_or(PlotKind::Line);
+    let y = match (&a.y, kind) {
+        (Some(y), _) => y.clone(),
+        (None, PlotKind::Energy) => "energy_j".into(),
+        (None, _) => return Err("--y METRIC is needed (unless --kind energy)".into()),
+    };
+    let mut filter = Vec::new();
+    for f in &a.filter {
+        let (k, v) = f
+            .split_once('=')
+            .ok_or_else(|| format!("--where {f:?}: expected PARAM=VALUE"))?;
+        filter.push((k.trim().to_string(), v.trim().to_string()));
+    }
+    let name = default_plot_name(&a.x, &y, a.by.as_deref());
+    let spec = PlotSpec {
+        name: name.clone(),
+        x: a.x.clone(),
+        y,
+        by: a.by.clone(),
+        kind,
+        title: a.title.clone(),
+        filter,
+        loc: None,
+    };
+    let out = match &a.out {
+        Some(o) => {
+            let s = o.display().to_string();
+            let s = s
+                .strip_suffix(".png")
+                .or_else(|| s.strip_suffix(".svg"))
+                .unwrap_or(&s);
+            PathBuf::from(s)
+        }
+        None => dir.join("plots").join(&name),
+    };
+    let table = Table::load(&csv)?;
+    draw(&table, &spec, &out)
+}
+
+/// A results table: header and rows of text cells.
+pub struct Table {
+    /// Column names.
+    pub header: Vec<String>,
+    /// Rows.
+    pub rows: Vec<Vec<String>>,
+}
+
+/// Columns of results.csv that are neither parameters nor metrics.
+pub const FIXED_COLUMNS: &[&str] = &["id", "status", "wall_seconds", "error"];
+
+impl Table {
+    /// Reads a CSV file with a header.
+    pub fn load(path: &Path) -> Result<Table, String> {
+        let mut r = csv::Reader::from_path(path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let header = r
+            .headers()
+            .map_err(|e| format!("{}: {e}", path.display()))?
+            .iter()
+            .map(str::to_string)
+            .collect();
+        let mut rows = Vec::new();
+        for rec in r.records() {
+            let rec = rec.map_err(|e| format!("{}: {e}", path.display()))?;
+            rows.push(rec.iter().map(str::to_string).collect());
+        }
+        Ok(Table { header, rows })
+    }
+
+    fn col(&self, name: &str) -> Option<usize> {
+        self.header.iter().position(|h| h == name)
+    }
+
+    /// Parameter columns (everything but the fixed columns and metrics).
+    fn params(&self) -> Vec<&str> {
+        self.header
+            .iter()
+            .map(String::as_str)
+            .filter(|h| !FIXED_COLUMNS.contains(h) && metrics::metric(h).is_none())
+            .collect()
+    }
+}
+
+/// Axis label of a parameter.
+pub fn param_label(name: &str) -> String {
+    let known = [
+        ("tms", "Thread multiprocessors (TMs)"),
+        ("threads", "Threads per TM"),
+        ("threads_per_tm", "Threads per TM"),
+        ("l2s", "L2 caches"),
+        ("tms_per_l2", "TMs per L2"),
+        ("width", "Image width (pixels)"),
+        ("height", "Image height (pixels)"),
+        ("spp", "Samples per pixel"),
+        ("depth", "Maximum path depth"),
+        ("clock_ghz", "Core clock (GHz)"),
+        ("opt_level", "Optimisation level"),
+    ];
+    if let Some((_, l)) = known.iter().find(|(k, _)| *k == name) {
+        return l.to_string();
+    }
+    let units = [
+        ("_bytes", "bytes"),
+        ("_ghz", "GHz"),
+        ("_mhz", "MHz"),
+        ("latency", "cycles"),
+        ("_mm2", "mm²"),
+        ("_nj", "nJ"),
+    ];
+    match units.iter().find(|(suffix, _)| name.ends_with(suffix)) {
+        Some((_, u)) => format!("{name} ({u})"),
+        None => name.to_string(),
+    }
+}
+
+/// Okabe–Ito colours (distinguishable with colour-vision deficiencies), then greys.
+const COLOURS: &[RGBColor] = &[
+    RGBColor(0, 114, 178),
+    RGBColor(213, 94, 0),
+    RGBColor(0, 158, 115),
+    RGBColor(204, 121, 167),
+    RGBColor(230, 159, 0),
+    RGBColor(86, 180, 233),
+    RGBColor(240, 228, 66),
+    RGBColor(0, 0, 0),
+    RGBColor(120, 120, 120),
+];
+
+fn colour(i: usize) -> RGBColor {
+    COLOURS[i % COLOURS.len()]
+}
+
+/// Chart size in pixels.
+const SIZE: (u32, u32) = (960, 600);
+
+fn register_font() {
+    static ONCE: Once = Once::new();
+    ONCE.call_once(|| {
+        // The embedded font parses (checked by the plot tests); an error would only mean
+        // text is missing, which drawing then reports.
+        let _ = plotters::style::register_font(
+            "sans-serif",
+            FontStyle::Normal,
+            dejavu::sans::regular(),
+        );
+    });
+}
+
+/// Values in display order: numerically when all are numbers, else as first seen.
+fn ordered(values: impl Iterator<Item = String>) -> Vec<String> {
+    let mut seen: Vec<String> = Vec::new();
+    for v in values {
+        if !seen.contains(&v) {
+            seen.push(v);
+        }
+    }
+    if seen.iter().all(|v| v.parse::<f64>().is_ok()) {
+        seen.sort_by(|a, b| {
+            let (a, b) = (
+                a.parse::<f64>().unwrap_or(0.0),
+                b.parse::<f64>().unwrap_or(0.0),
+            );
+            a.total_cmp(&b)
+        });
+    }
+    seen
+}
+
+/// The data of a chart: categories (x values), series (by values), and for each metric
+/// column a value per (series, category).
+struct Data {
+    xs: Vec<String>,
+    numeric_x: bool,
+    series: Vec<String>,
+    /// `values[m][s][x]` for metric column `m`.
+    values: Vec<Vec<Vec<Option<f64>>>>,
+}
+
+fn gather(t: &Table, spec: &PlotSpec, ycols: &[&str]) -> Result<Data, String> {
+    let params = t.params();
+    let need_param = |name: &str| -> Result<usize, String> {
+        match t.col(name) {
+            Some(c) if params.contains(&name) => Ok(c),
+            _ => Err(format!(
+                "no parameter `{name}` in the table (parameters: {})",
+                params.join(", ")
+            )),
+        }
+    };
+    let xc = need_param(&spec.x)?;
+    let bc = match &spec.by {
+        Some(b) => Some(need_param(b)?),
+        None => None,
+    };
+    let mut ycs = Vec::new();
+    for y in ycols {
+        match t.col(y) {
+            Some(c) if metrics::metric(y).is_some() => ycs.push(c),
+            _ => {
+                let have: Vec<&str> = METRICS
+                    .iter()
+                    .map(|m| m.column)
+                    .filter(|m| t.col(m).is_some())
+                    .collect();
+                return Err(format!(
+                    "no metric `{y}` in the table (metrics: {})",
+                    have.join(", ")
+                ));
+            }
+        }
+    }
+    let mut filters = Vec::new();
+    for (k, v) in &spec.filter {
+        filters.push((need_param(k)?, v.as_str()));
+    }
+    let status = t.col("status");
+    let rows: Vec<&Vec<String>> = t
+        .rows
+        .iter()
+        .filter(|r| status.is_none_or(|s| r.get(s).map(String::as_str) == Some("ok")))
+        .filter(|r| {
+            filters
+                .iter()
+                .all(|(c, v)| r.get(*c).map(String::as_str) == Some(*v))
+        })
+        .collect();
+    if rows.is_empty() {
+        return Err("no finished points (status ok) match".into());
+    }
+    // Another parameter varying within one (x, by) pair would mix experiments in one mark.
+    let group = |r: &Vec<String>| (r[xc].clone(), bc.map(|b| r[b].clone()));
+    for p in &params {
+        if *p == spec.x || Some(*p) == spec.by.as_deref() || *p == "rep" {
+            continue;
+        }
+        let c = t.col(p).unwrap_or(0);
+        let mut seen: std::collections::HashMap<_, &str> = std::collections::HashMap::new();
+        for r in &rows {
+            let v = r[c].as_str();
+            if let Some(prev) = seen.insert(group(r), v).filter(|prev| *prev != v) {
+                return Err(format!(
+                    "parameter `{p}` also varies ({prev}, {v}) for the same {}: choose it with --by {p}, or one value with --where {p}=VALUE",
+                    spec.x
+                ));
+            }
+        }
+    }
+    let xs = ordered(rows.iter().map(|r| r[xc].clone()));
+    let numeric_x = xs.iter().all(|v| v.parse::<f64>().is_ok());
+    let series = match bc {
+        Some(b) => ordered(rows.iter().map(|r| r[b].clone())),
+        None => vec![String::new()],
+    };
+    let mut values = Vec::new();
+    for &yc in &ycs {
+        let mut per_series = Vec::new();
+        for s in &series {
+            let mut per_x = Vec::new();
+            for x in &xs {
+                let vals: Vec<f64> = rows
+                    .iter()
+                    .filter(|r| &r[xc] == x && bc.is_none_or(|b| &r[b] == s))
+                    .filter_map(|r| r[yc].parse::<f64>().ok())
+                    .collect();
+                per_x.push(if vals.is_empty() {
+                    None
+                } else {
+                    Some(vals.iter().sum::<f64>() / vals.len() as f64)
+                });
+            }
+            per_series.push(per_x);
+        }
+        values.push(per_series);
+    }
+    Ok(Data {
+        xs,
+        numeric_x,
+        series,
+        values,
+    })
+}
+
+/// Draws a chart to `OUT.png` and `OUT.svg`.
+pub fn draw(t: &Table, spec: &PlotSpec, out: &Path) -> Result<(PathBuf, PathBuf), String> {
+    register_font();
+    let parts: Vec<&Metric> = METRICS.iter().filter(|m| m.energy_part).collect();
+    let ycols: Vec<&str> = match spec.kind {
+        PlotKind::Energy => parts.iter().map(|m| m.column).collect(),
+        _ => vec![spec.y.as_str()],
+    };
+    let mut data = gather(t, spec, &ycols)?;
+    let mut xlabel = param_label(&spec.x);
+    if let (PlotKind::Energy, Some(b)) = (spec.kind, &spec.by) {
+        // One stacked bar per (x, by) pair, labelled with both.
+        let mut xs = Vec::new();
+        let mut values = vec![vec![Vec::new()]; data.values.len()];
+        for (x, xv) in data.xs.iter().enumerate() {
+            for (s, sv) in data.series.iter().enumerate() {
+                xs.push(format!("{xv} / {sv}"));
+                for (m, per_series) in data.values.iter().enumerate() {
+                    values[m][0].push(per_series[s][x]);
+                }
+            }
+        }
+        data = Data {
+            xs,
+            numeric_x: false,
+            series: vec![String::new()],
+            values,
+        };
+        xlabel = format!("{xlabel} / {b}");
+    }
+    let ymetric = metrics::metric(if spec.kind == PlotKind::Energy {
+        "energy_j"
+    } else {
+        &spec.y
+    })
+    .ok_or_else(|| format!("no metric `{}`", spec.y))?;
+    let ylabel = metrics::axis_label(ymetric);
+    let title = spec.title.clone().unwrap_or_else(|| {
+        let mut t = format!("{} vs {}", ymetric.label, spec.x);
+        if let Some(b) = &spec.by {
+            t.push_str(&format!(" by {b}"));
+        }
+        t
+    });
+    let labels = Labels {
+        title,
+        x: xlabel,
+        y: ylabel,
+        by: spec.by.clone().filter(|_| spec.kind != PlotKind::Energy),
+        parts: parts.iter().map(|m| m.label).collect(),
+    };
+    if let Some(dir) = out.parent().filter(|p| !p.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    }
+    // Appended, not `with_extension`: names may contain dots (`memory.l2.capacity_bytes`).
+    let with_ext = |ext: &str| {
+        let mut s = out.as_os_str().to_owned();
+        s.push(ext);
+        PathBuf::from(s)
+    };
+    let png = with_ext(".png");
+    let svg = with_ext(".svg");
+    let mut rgb = vec![0u8; (SIZE.0 * SIZE.1 * 3) as usize];
+    {
+        let root = BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area();
+        render(&root, spec.kind, &data, &labels)?;
+        root.present().map_err(|e| e.to_string())?;
+    }
+    super::native::write_png(&png, SIZE.0, SIZE.1, &rgb).map_err(|e| e.to_string())?;
+    let mut text = String::new();
+    {
+        let root = SVGBackend::with_string(&mut text, SIZE).into_drawing_area();
+        render(&root, spec.kind, &data, &labels)?;
+        root.present().map_err(|e| e.to_string())?;
+    }
+    std::fs::write(&svg, text).map_err(|e| format!("{}: {e}", svg.display()))?;
+    Ok((png, svg))
+}
+
+struct Labels {
+    title: String,
+    x: String,
+    y: String,
+    by: Option<String>,
+    parts: Vec<&'static str>,
+}
+
+/// Compact tick labels: plain below 10^5, else scientific.
+fn tick(v: f64) -> String {
+    let a = v.abs();
+    if a == 0.0 {
+        "0".into()
+    } else if !(1e-3..1e5).contains(&a) {
+        format!("{v:.2e}")
+    } else {
+        let s = format!("{v:.4}");
+        let s = s.trim_end_matches('0').trim_end_matches('.');
+        s.to_string()
+    }
+}
+
+fn y_range(data: &Data, stacked: bool) -> std::ops::Range<f64> {
+    let mut lo: f64 = 0.0;
+    let mut hi: f64 = 0.0;
+    if stacked {
+        for s in 0..data.series.len() {
+            for x in 0..data.xs.len() {
+                let sum: f64 = data.values.iter().filter_map(|m| m[s][x]).sum();
+                hi = hi.max(sum);
+            }
+        }
+    } else {
+        for v in data.values.iter().flatten().flatten().flatten() {
+            lo = lo.min(*v);
+            hi = hi.max(*v);
+        }
+    }
+    if hi <= lo {
+        hi = lo + 1.0;
+    }
+    let pad = (hi - lo) * 0.08;
+    (if lo < 0.0 { lo - pad } else { 0.0 })..(hi + pad)
+}
+
+/// A legend entry: text, colour, and whether its mark is a line (else a box).
+type Entry = (String, RGBColor, bool);
+
+fn render<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    kind: PlotKind,
+    data: &Data,
+    l: &Labels,
+) -> Result<(), String> {
+    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    root.fill(&WHITE).map_err(e)?;
+    let categorical = kind != PlotKind::Line || !data.numeric_x;
+    let n = data.xs.len();
+    let xr = if categorical {
+        -0.5..(n as f64 - 0.5)
+    } else {
+        let xv: Vec<f64> = data.xs.iter().filter_map(|x| x.parse().ok()).collect();
+        let (lo, hi) = xv
+            .iter()
+            .fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(*v), b.max(*v)));
+        let pad = if hi > lo { (hi - lo) * 0.05 } else { 0.5 };
+        (lo - pad)..(hi + pad)
+    };
+    let yr = y_range(data, kind == PlotKind::Energy);
+    let mut entries: Vec<Entry> = Vec::new();
+    match (kind, &l.by) {
+        (PlotKind::Energy, _) => {
+            for (m, part) in l.parts.iter().enumerate() {
+                entries.push((part.to_string(), colour(m), false));
+            }
+            entries.reverse(); // top of the stack first, as drawn
+        }
+        (_, Some(b)) => {
+            for (s, name) in data.series.iter().enumerate() {
+                entries.push((format!("{b} = {name}"), colour(s), kind == PlotKind::Line));
+            }
+        }
+        (_, None) => {}
+    }
+    // The legend goes right of the plot, where it hides no data.
+    let legend_width = match entries.iter().map(|(t, _, _)| t.chars().count()).max() {
+        Some(chars) => (chars as u32 * 9 + 60).clamp(120, 420),
+        None => 0,
+    };
+    let (plot_area, legend_area) = root.split_horizontally(SIZE.0 - legend_width);
+    let title_size = 26.0f64.min(1.9 * SIZE.0 as f64 / l.title.chars().count().max(1) as f64);
+    let (title_area, plot_area) = plot_area.split_vertically(50);
+    title_area
+        .draw(&Text::new(
+            l.title.clone(),
+            (85, 14),
+            ("sans-serif", title_size).into_font(),
+        ))
+        .map_err(e)?;
+    let mut chart = ChartBuilder::on(&plot_area)
+        .margin(18)
+        .margin_top(4)
+        .x_label_area_size(55)
+        .y_label_area_size(85)
+        .build_cartesian_2d(xr.clone(), yr)
+        .map_err(e)?;
+    let integral_x = data
+        .xs
+        .iter()
+        .all(|x| x.parse::<f64>().is_ok_and(|v| v.fract() == 0.0));
+    let xs = data.xs.clone();
+    let cat_fmt = move |v: &f64| {
+        let i = v.round();
+        if (v - i).abs() < 1e-6 && i >= 0.0 && (i as usize) < xs.len() {
+            xs[i as usize].clone()
+        } else {
+            String::new()
+        }
+    };
+    let num_fmt = |v: &f64| tick(*v);
+    // Integer parameters (TMs, sizes) get integer ticks only.
+    let int_fmt = |v: &f64| {
+        if v.fract() == 0.0 {
+            tick(*v)
+        } else {
+            String::new()
+        }
+    };
+    let mut mesh = chart.configure_mesh();
+    mesh.x_desc(&l.x)
+        .y_desc(&l.y)
+        .axis_desc_style(("sans-serif", 18))
+        .label_style(("sans-serif", 15))
+        .light_line_style(TRANSPARENT)
+        .y_label_formatter(&num_fmt);
+    if categorical {
+        mesh.x_labels(n.max(1))
+            .x_label_formatter(&cat_fmt)
+            .disable_x_mesh();
+    } else if integral_x {
+        let span = (xr.end - xr.start).floor() as usize + 1;
+        mesh.x_labels(span.clamp(2, 12)).x_label_formatter(&int_fmt);
+    } else {
+        mesh.x_label_formatter(&num_fmt);
+    }
+    mesh.draw().map_err(e)?;
+    let groups = data.series.len();
+    let slot = 0.8 / groups as f64;
+    let width = slot * if groups > 1 { 0.85 } else { 1.0 };
+    let bar_x = |s: usize, x: usize| x as f64 - 0.4 + s as f64 * slot;
+    match kind {
+        PlotKind::Line => {
+            for s in 0..groups {
+                let c = colour(s);
+                let pts: Vec<(f64, f64)> = data.values[0][s]
+                    .iter()
+                    .enumerate()
+                    .filter_map(|(i, v)| {
+                        let x = if categorical {
+                            i as f64
+                        } else {
+                            data.xs[i].parse().ok()?
+                        };
+                        Some((x, (*v)?))
+                    })
+                    .collect();
+                chart
+                    .draw_series(LineSeries::new(pts.clone(), c.stroke_width(2)))
+                    .map_err(e)?;
+                chart
+                    .draw_series(pts.iter().map(|p| Circle::new(*p, 4, c.filled())))
+                    .map_err(e)?;
+            }
+        }
+        PlotKind::Bar => {
+            for s in 0..groups {
+                let c = colour(s);
+                let bars = data.values[0][s].iter().enumerate().filter_map(|(x, v)| {
+                    let x0 = bar_x(s, x);
+                    Some(Rectangle::new([(x0, 0.0), (x0 + width, (*v)?)], c.filled()))
+                });
+                chart.draw_series(bars).map_err(e)?;
+            }
+        }
+        PlotKind::Energy => {
+            // One stack per (series, category); components bottom to top in table order.
+            let mut base = vec![vec![0.0f64; n]; groups];
+            for m in 0..l.parts.len() {
+                let c = colour(m);
+                let mut rects = Vec::new();
+                for (s, row) in base.iter_mut().enumerate() {
+                    for (x, b) in row.iter_mut().enumerate() {
+                        let v = data.values[m][s][x].unwrap_or(0.0);
+                        let x0 = bar_x(s, x);
+                        rects.push(Rectangle::new([(x0, *b), (x0 + width, *b + v)], c.filled()));
+                        *b += v;
+                    }
+                }
+                chart.draw_series(rects).map_err(e)?;
+            }
+        }
+    }
+    let font =
+        TextStyle::from(("sans-serif", 15).into_font()).pos(Pos::new(HPos::Left, VPos::Center));
+    for (i, (text, c, line)) in entries.iter().enumerate() {
+        let y = 70 + 26 * i as i32;
+        if *line {
+            legend_area
+                .draw(&PathElement::new(vec![(6, y), (30, y)], c.stroke_width(3)))
+                .map_err(e)?;
+        } else {
+            legend_area
+                .draw(&Rectangle::new([(10, y - 7), (24, y + 7)], c.filled()))
+                .map_err(e)?;
+        }
+        legend_area
+            .draw(&Text::new(text.clone(), (38, y), font.clone()))
+            .map_err(e)?;
+    }
+    Ok(())
+}
+
+/// Draws the plots of a sweep's plan into `DIR/plots/`; returns the files written, and the
+/// errors of plots that could not be drawn.
+pub fn draw_plan_plots(dir: &Path, plots: &[PlotSpec]) -> (Vec<PathBuf>, Vec<String>) {
+    let mut files = Vec::new();
+    let mut errors = Vec::new();
+    if plots.is_empty() {
+        return (files, errors);
+    }
+    let table = match Table::load(&dir.join("results.csv")) {
+        Ok(t) => t,
+        Err(e) => return (files, vec![e]),
+    };
+    for p in plots {
+        match draw(&table, p, &dir.join("plots").join(&p.name)) {
+            Ok((png, svg)) => files.extend([png, svg]),
+            Err(e) => errors.push(format!("plot {}: {e}", p.name)),
+        }
+    }
+    (files, errors)
+}

@@ -1,0 +1,968 @@
+//! `trax sweep` on this machine, `trax run --set`, and `trax plot`: sweep-file errors name
+//! the field and line; a local sweep's table matches independent `trax run`s; failed points
+//! are recorded without stopping the sweep; a killed sweep resumes without running a
+//! finished point twice or losing one; charts have their title, labels and legend.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// A fresh scratch directory.
+fn scratch(name: &str) -> PathBuf {
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("sweep-{name}"));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn trax(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_trax"))
+        .args(args)
+        .current_dir(root())
+        .stdin(Stdio::null())
+        .output()
+        .expect("run trax")
+}
+
+fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+fn gradient() -> String {
+    root().join("examples/gradient.rs").display().to_string()
+}
+
+/// Writes a sweep file; returns its path.
+fn sweep_file(dir: &Path, body: &str) -> PathBuf {
+    let f = dir.join("sweep.toml");
+    std::fs::write(&f, body).unwrap();
+    f
+}
+
+/// A parsed CSV: header and rows.
+fn read_csv(path: &Path) -> (Vec<String>, Vec<BTreeMap<String, String>>) {
+    let mut r = csv::Reader::from_path(path).unwrap();
+    let header: Vec<String> = r.headers().unwrap().iter().map(str::to_string).collect();
+    let rows = r
+        .records()
+        .map(|rec| {
+            let rec = rec.unwrap();
+            assert_eq!(rec.len(), header.len(), "ragged row in {}", path.display());
+            header
+                .iter()
+                .cloned()
+                .zip(rec.iter().map(str::to_string))
+                .collect()
+        })
+        .collect();
+    (header, rows)
+}
+
+fn sha256sum(path: &Path) -> String {
+    let out = Command::new("sha256sum").arg(path).output().unwrap();
+    text(&out.stdout)
+        .split_whitespace()
+        .next()
+        .unwrap()
+        .to_string()
+}
+
+/// Runs the sweep file `body` in `dir` (results in `dir/results`): the process output, the
+/// results directory and the rows of its `results.csv`.
+fn sweep_rows(dir: &Path, body: &str) -> (Output, PathBuf, Vec<BTreeMap<String, String>>) {
+    let f = sweep_file(dir, body);
+    let out_dir = dir.join("results");
+    let out = trax(&[
+        "sweep",
+        f.to_str().unwrap(),
+        "-o",
+        out_dir.to_str().unwrap(),
+    ]);
+    let (_, rows) = read_csv(&out_dir.join("results.csv"));
+    (out, out_dir, rows)
+}
+
+#[test]
+fn bad_sweep_files_name_the_field_and_line() {
+    let dir = scratch("errors");
+    let k = gradient();
+    // (file body, expected "file:line" position, expected field, expected text)
+    let cases: &[(String, &str, &str, &str)] = &[
+        (
+            format!("kernel = {k:?}\nwidht = 4\n"),
+            ":2:",
+            "`widht`",
+            "unknown parameter",
+        ),
+        (
+            format!("kernel = {k:?}\n[axes]\nmemory.l2.capcity_bytes = [1, 2]\n"),
+            ":3:",
+            "`memory.l2.capcity_bytes`",
+            "unknown field `capcity_bytes`",
+        ),
+        (
+            format!("kernel = {k:?}\n\n[axes]\ntms = []\n"),
+            ":4:",
+            "`tms`",
+            "empty axis",
+        ),
+        (
+            format!("kernel = {k:?}\n[axes]\nwidth = [8, \"wide\"]\n"),
+            ":3:",
+            "`width`",
+            "type mismatch",
+        ),
+        (
+            format!("kernel = {k:?}\n[axes]\ntms = [1, \"two\"]\n"),
+            ":3:",
+            "`tms`",
+            "invalid type: string \"two\"",
+        ),
+        (
+            format!("kernel = {k:?}\n[axes]\ntms = [1,\n  0]\n"),
+            ":4:",
+            "`tms`",
+            "tms = 0 must be in 1..=4096",
+        ),
+        (
+            format!("kernel = {k:?}\n[axes]\ntms = 4\n"),
+            ":3:",
+            "`tms`",
+            "an axis is a list of values",
+        ),
+        (
+            format!("kernel = {k:?}\nmode = \"fast\"\n"),
+            ":2:",
+            "`mode`",
+            "not one of timing, functional",
+        ),
+        (
+            format!("kernel = {k:?}\ntms = 2\n[axes]\ntms = [1, 2]\n"),
+            ":4:",
+            "`tms`",
+            "given twice (also at line 2)",
+        ),
+        (
+            format!("kernel = {k:?}\n[slurm]\npartiton = \"x\"\n"),
+            ":3:",
+            "`slurm.partiton`",
+            "unknown field",
+        ),
+        (
+            format!("kernel = {k:?}\n[axes]\ntms = [1]\n[[plot]]\nx = \"tms\"\ny = \"fsp\"\n"),
+            ":4:",
+            "`plot[0].y`",
+            "not a metric",
+        ),
+        (
+            format!("kernel = {k:?}\n[axes\ntms = [1]\n"),
+            ":2:",
+            "",
+            "invalid table header",
+        ),
+        (
+            "kernel = \"no-such-kernel.rs\"\n".to_string(),
+            ":1:",
+            "`kernel`",
+            "no such file",
+        ),
+    ];
+    for (body, pos, field, want) in cases {
+        let f = sweep_file(&dir, body);
+        let out = trax(&["sweep", f.to_str().unwrap(), "--dry-run"]);
+        let err = text(&out.stderr);
+        assert!(!out.status.success(), "accepted:\n{body}");
+        let at = format!("{}{pos}", f.display());
+        assert!(
+            err.contains(&at) && err.contains(field) && err.contains(want),
+            "for\n{body}\nexpected {at} {field} {want:?}, got:\n{err}"
+        );
+        assert!(!err.contains("panicked"), "{err}");
+    }
+}
+
+#[test]
+fn run_set_overrides_config_fields_by_path() {
+    let dir = scratch("set");
+    let file = dir.join("chip.toml");
+    std::fs::write(
+        &file,
+        "preset = \"tiny\"\ntms = 2\n[memory.l2]\ncapacity_bytes = 65536\nassociativity = 2\n",
+    )
+    .unwrap();
+    let run = |extra: &[&str], json: &Path| {
+        let mut args = vec![
+            "run",
+            "examples/gradient.rs",
+            "--width",
+            "12",
+            "--height",
+            "12",
+            "--stats-json",
+            json.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        let out = trax(&args);
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        std::fs::read_to_string(json).unwrap()
+    };
+    let from_file = run(&["--config", file.to_str().unwrap()], &dir.join("a.json"));
+    let from_set = run(
+        &[
+            "--set",
+            "tms=2",
+            "--set",
+            "memory.l2.capacity_bytes=65536",
+            "--set",
+            "memory.l2.associativity=2",
+        ],
+        &dir.join("b.json"),
+    );
+    assert_eq!(from_file.replace("\"custom\"", "\"tiny\""), from_set);
+    let out = trax(&["run", "examples/gradient.rs", "--set", "memory.l2.nope=1"]);
+    assert!(!out.status.success());
+    let err = text(&out.stderr);
+    assert!(
+        err.contains("memory.l2.nope") && err.contains("unknown field `nope`"),
+        "{err}"
+    );
+}
+
+/// The documented point id: SHA-256 of `trax-sweep-point/1\n` + sorted `name=value\n`
+/// lines, first 16 hex digits (computed here with sha256sum).
+fn documented_id(dir: &Path, params: &[(&str, &str)]) -> String {
+    let mut sorted = params.to_vec();
+    sorted.sort();
+    let mut s = String::from("trax-sweep-point/1\n");
+    for (k, v) in sorted {
+        s.push_str(&format!("{k}={v}\n"));
+    }
+    let f = dir.join("canonical.txt");
+    std::fs::write(&f, s).unwrap();
+    sha256sum(&f)[..16].to_string()
+}
+
+#[test]
+fn local_sweep_matches_independent_runs() {
+    let dir = scratch("local");
+    let k = gradient();
+    let f = sweep_file(
+        &dir,
+        &format!(
+            r#"
+name = "small"
+kernel = {k:?}
+width = 12
+height = 8
+
+[axes]
+mode = ["functional", "timing"]
+tms = [1, 2]
+
+[[plot]]
+x = "tms"
+y = "cycles"
+where = {{ mode = "timing" }}
+"#
+        ),
+    );
+    let out_dir = dir.join("results");
+    let out = trax(&[
+        "sweep",
+        f.to_str().unwrap(),
+        "-o",
+        out_dir.to_str().unwrap(),
+        "-j",
+        "2",
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let (header, rows) = read_csv(&out_dir.join("results.csv"));
+    assert_eq!(
+        &header[..5],
+        ["id", "status", "mode", "tms", "kernel"],
+        "{header:?}"
+    );
+    assert!(header.contains(&"cycles".to_string()) && header.contains(&"energy_j".to_string()));
+    assert_eq!(header.last().unwrap(), "error");
+    assert_eq!(rows.len(), 4);
+    let order: Vec<(&str, &str)> = rows
+        .iter()
+        .map(|r| (r["mode"].as_str(), r["tms"].as_str()))
+        .collect();
+    assert_eq!(
+        order,
+        [
+            ("functional", "1"),
+            ("functional", "2"),
+            ("timing", "1"),
+            ("timing", "2")
+        ]
+    );
+    for r in &rows {
+        assert_eq!(r["status"], "ok", "{r:?}");
+        // The documented id.
+        let id = documented_id(
+            &dir,
+            &[
+                ("config", "\"tiny\""),
+                ("depth", "4"),
+                ("height", "8"),
+                ("kernel", &format!("{k:?}")),
+                ("mode", &format!("{:?}", r["mode"])),
+                ("opt_level", "2"),
+                ("scene", "\"cornell\""),
+                ("seed", "1"),
+                ("spp", "1"),
+                ("tms", &r["tms"]),
+                ("width", "12"),
+            ],
+        );
+        assert_eq!(r["id"], id, "{r:?}");
+        // Against an independent `trax run` of the same point.
+        let json = dir.join(format!("oracle-{}.json", r["id"]));
+        let mut args = vec![
+            "run",
+            "examples/gradient.rs",
+            "--width",
+            "12",
+            "--height",
+            "8",
+            "--tms",
+            &r["tms"],
+            "--stats-json",
+            json.to_str().unwrap(),
+        ];
+        if r["mode"] == "functional" {
+            args.push("--functional");
+        }
+        let o = trax(&args);
+        assert!(o.status.success(), "{}", text(&o.stderr));
+        let stats: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+        assert_eq!(
+            r["instructions"],
+            stats["instructions"].to_string(),
+            "{r:?}"
+        );
+        if r["mode"] == "timing" {
+            assert_eq!(r["cycles"], stats["cycles"].to_string());
+            let e: f64 = r["energy_j"].parse().unwrap();
+            assert_eq!(e, stats["timing"]["energy"]["total"].as_f64().unwrap());
+            let dram: f64 = r["energy_dram_j"].parse().unwrap();
+            assert_eq!(dram, stats["timing"]["energy"]["dram"].as_f64().unwrap());
+        } else {
+            assert_eq!(r["cycles"], "", "functional runs have no cycles");
+        }
+        // The point's record: full stats, exact config, version, kernel hashes.
+        let rec: serde_json::Value = serde_json::from_str(
+            &std::fs::read_to_string(out_dir.join("points").join(format!("{}.json", r["id"])))
+                .unwrap(),
+        )
+        .unwrap();
+        // The same document but for the inputs: the point ran the sweep's prebuilt ELF.
+        let without_inputs = |v: &serde_json::Value| {
+            let mut v = v.clone();
+            v.as_object_mut().unwrap().remove("inputs");
+            v
+        };
+        assert_eq!(without_inputs(&rec["stats"]), without_inputs(&stats));
+        assert_eq!(rec["stats"]["inputs"]["kernel"], rec["command"][2]);
+        assert_eq!(rec["stats"]["inputs"]["opt_level"], serde_json::Value::Null);
+        assert_eq!(rec["config"]["tms"].to_string(), r["tms"]);
+        assert_eq!(rec["config"]["name"], "tiny");
+        assert_eq!(rec["trax"]["version"], env!("CARGO_PKG_VERSION"));
+        assert_eq!(
+            rec["kernel"]["source_sha256"],
+            sha256sum(&root().join("examples/gradient.rs"))
+        );
+        let elf = rec["command"][2].as_str().unwrap();
+        assert_eq!(rec["kernel"]["elf_sha256"], sha256sum(Path::new(elf)));
+    }
+    // Dry runs list the same ids.
+    let dry = trax(&["sweep", f.to_str().unwrap(), "--dry-run"]);
+    let ids: BTreeSet<String> = text(&dry.stdout)
+        .lines()
+        .map(|l| l.split_whitespace().next().unwrap().to_string())
+        .collect();
+    let csv_ids: BTreeSet<String> = rows.iter().map(|r| r["id"].clone()).collect();
+    assert_eq!(ids, csv_ids);
+    // The sweep file's plot.
+    let png = std::fs::read(out_dir.join("plots/cycles_vs_tms.png")).unwrap();
+    assert_eq!(&png[1..4], b"PNG");
+    let svg = std::fs::read_to_string(out_dir.join("plots/cycles_vs_tms.svg")).unwrap();
+    assert!(svg.contains("Run time (cycles)"), "{svg}");
+}
+
+#[test]
+fn a_failed_point_is_recorded_and_the_sweep_goes_on() {
+    let dir = scratch("failed");
+    let k = gradient();
+    let (out, out_dir, rows) = sweep_rows(
+        &dir,
+        &format!(
+            "kernel = {k:?}\nwidth = 8\nheight = 8\nmode = \"functional\"\n[axes]\nmax_instructions = [50, 1000000]\ntms = [1, 2]\n"
+        ),
+    );
+    assert!(
+        !out.status.success(),
+        "a sweep with failed points exits non-zero"
+    );
+    assert!(
+        text(&out.stderr).contains("2 point(s) failed"),
+        "{}",
+        text(&out.stderr)
+    );
+    assert_eq!(rows.len(), 4);
+    for r in &rows {
+        if r["max_instructions"] == "50" {
+            assert_eq!(r["status"], "failed");
+            assert!(r["error"].contains("instruction limit"), "{r:?}");
+            assert_eq!(r["instructions"], "");
+            let rec: serde_json::Value = serde_json::from_str(
+                &std::fs::read_to_string(out_dir.join(format!("points/{}.json", r["id"]))).unwrap(),
+            )
+            .unwrap();
+            assert!(rec["stderr"]
+                .as_str()
+                .unwrap()
+                .contains("instruction limit"));
+        } else {
+            assert_eq!(r["status"], "ok", "{r:?}");
+        }
+    }
+    // Failed points keep their record on a re-run, unless asked to retry.
+    let f = dir.join("sweep.toml");
+    let again = trax(&[
+        "sweep",
+        f.to_str().unwrap(),
+        "-o",
+        out_dir.to_str().unwrap(),
+    ]);
+    let err = text(&again.stderr);
+    assert!(err.contains("4 of 4 points already done"), "{err}");
+    let retry = trax(&[
+        "sweep",
+        f.to_str().unwrap(),
+        "-o",
+        out_dir.to_str().unwrap(),
+        "--retry-failed",
+    ]);
+    let err = text(&retry.stderr);
+    assert!(err.contains("running the other 2"), "{err}");
+}
+
+/// Ids and statuses of the finished points, with their files' contents.
+fn finished(dir: &Path) -> BTreeMap<String, String> {
+    let mut m = BTreeMap::new();
+    for e in std::fs::read_dir(dir.join("points")).unwrap() {
+        let p = e.unwrap().path();
+        let name = p.file_name().unwrap().to_string_lossy().into_owned();
+        if let Some(id) = name.strip_suffix(".json").filter(|n| !n.starts_with('.')) {
+            m.insert(id.to_string(), std::fs::read_to_string(&p).unwrap());
+        }
+    }
+    m
+}
+
+/// `trax run` processes a sweep process started (found by the environment variable).
+fn children_of(pid: u32) -> usize {
+    let want = format!("TRAX_SWEEP_PARENT={pid}");
+    std::fs::read_dir("/proc")
+        .unwrap()
+        .filter_map(|e| std::fs::read(e.ok()?.path().join("environ")).ok())
+        .filter(|env| env.split(|b| *b == 0).any(|v| v == want.as_bytes()))
+        .count()
+}
+
+#[test]
+fn a_killed_sweep_resumes_without_repeating_or_losing_points() {
+    let dir = scratch("resume");
+    let k = gradient();
+    // 60 points: 15 widths x 2 TM counts x 2 modes.
+    let f = sweep_file(
+        &dir,
+        &format!(
+            "name = \"resume\"\nkernel = {k:?}\nheight = 24\n[axes]\nmode = [\"functional\", \"timing\"]\ntms = [1, 2]\nwidth = [{}]\n",
+            (0..15).map(|i| (16 + 2 * i).to_string()).collect::<Vec<_>>().join(", ")
+        ),
+    );
+    let out_dir = dir.join("results");
+    let args = [
+        "sweep",
+        f.to_str().unwrap(),
+        "-o",
+        out_dir.to_str().unwrap(),
+        "-j",
+        "2",
+    ];
+    let mut child = Command::new(env!("CARGO_BIN_EXE_trax"))
+        .args(args)
+        .current_dir(root())
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let pid = child.id();
+    let start = Instant::now();
+    loop {
+        let n = std::fs::read_dir(out_dir.join("points")).map_or(0, |d| d.count());
+        if n >= 8 {
+            break;
+        }
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "the sweep ended before it could be killed"
+        );
+        assert!(start.elapsed() < Duration::from_secs(120), "no progress");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    child.kill().unwrap(); // SIGKILL: no chance to clean up
+    child.wait().unwrap();
+    // Its running points end by themselves (they watch their parent).
+    let t = Instant::now();
+    while children_of(pid) > 0 {
+        assert!(
+            t.elapsed() < Duration::from_secs(10),
+            "orphaned points still run"
+        );
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    let before = finished(&out_dir);
+    assert!(
+        before.len() >= 8 && before.len() < 60,
+        "killed mid-way: {} done",
+        before.len()
+    );
+    for (id, json) in &before {
+        let v: serde_json::Value =
+            serde_json::from_str(json).unwrap_or_else(|e| panic!("half-written result {id}: {e}"));
+        assert_eq!(v["status"], "ok");
+    }
+    let out = Command::new(env!("CARGO_BIN_EXE_trax"))
+        .args(args)
+        .current_dir(root())
+        .stdin(Stdio::null())
+        .output()
+        .unwrap();
+    let err = text(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(
+        err.contains(&format!("{} of 60 points already done", before.len())),
+        "{err}"
+    );
+    let after = finished(&out_dir);
+    assert_eq!(after.len(), 60, "no point lost");
+    for (id, json) in &before {
+        assert_eq!(&after[id], json, "point {id} was run again");
+    }
+    // The audit trail: every point finished exactly once.
+    let log = std::fs::read_to_string(out_dir.join("events.log")).unwrap();
+    let mut done: BTreeMap<&str, usize> = BTreeMap::new();
+    for l in log.lines() {
+        let w: Vec<&str> = l.split_whitespace().collect();
+        if w.get(1) == Some(&"done") {
+            *done.entry(w[2]).or_default() += 1;
+        }
+    }
+    assert_eq!(done.len(), 60);
+    assert!(done.values().all(|&n| n == 1), "{done:?}");
+    // A third run has nothing to do.
+    let out = trax(&args);
+    assert!(text(&out.stderr).contains("60 of 60 points already done"));
+    assert_eq!(
+        std::fs::read_to_string(out_dir.join("events.log")).unwrap(),
+        log
+    );
+
+    // The table: a header and 60 rows of equal length; every metric cell is a number or empty.
+    let (header, rows) = read_csv(&out_dir.join("results.csv"));
+    assert_eq!(rows.len(), 60);
+    for r in &rows {
+        assert_eq!(r["status"], "ok");
+        for h in &header {
+            if ["instructions", "cycles", "fps", "energy_j", "wall_seconds"].contains(&h.as_str())
+                && !r[h].is_empty()
+            {
+                r[h].parse::<f64>()
+                    .unwrap_or_else(|_| panic!("{h} = {:?} is not a number", r[h]));
+            }
+        }
+    }
+    // pandas, where it is installed, loads it as is.
+    if Command::new("python3")
+        .args(["-c", "import pandas"])
+        .stderr(Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success())
+    {
+        let csv = out_dir.join("results.csv");
+        let o = Command::new("python3")
+            .args([
+                "-c",
+                "import sys, pandas; d = pandas.read_csv(sys.argv[1]); \
+                 assert d.shape[0] == 60, d.shape; \
+                 assert d['cycles'].dtype.kind == 'f', d['cycles'].dtype; \
+                 assert d['tms'].dtype.kind == 'i'; \
+                 assert (d['status'] == 'ok').all(); print('ok')",
+                csv.to_str().unwrap(),
+            ])
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", text(&o.stderr));
+    }
+}
+
+#[test]
+fn plots_have_title_labels_and_legend() {
+    let dir = scratch("plot");
+    let k = gradient();
+    let f = sweep_file(
+        &dir,
+        &format!("kernel = {k:?}\nwidth = 8\nheight = 8\n[axes]\nspp = [1, 2]\ntms = [1, 2, 4]\n"),
+    );
+    let out_dir = dir.join("results");
+    let out = trax(&[
+        "sweep",
+        f.to_str().unwrap(),
+        "-o",
+        out_dir.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let res = out_dir.to_str().unwrap();
+    let chart = dir.join("fps");
+    let out = trax(&[
+        "plot",
+        res,
+        "--x",
+        "tms",
+        "--y",
+        "fps",
+        "--by",
+        "spp",
+        "-o",
+        chart.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let svg = std::fs::read_to_string(dir.join("fps.svg")).unwrap();
+    for want in [
+        "Frame rate vs tms by spp",
+        "Frame rate (frames/s)",
+        "Thread multiprocessors (TMs)",
+        "spp = 1",
+        "spp = 2",
+    ] {
+        assert!(svg.contains(want), "no {want:?} in the SVG");
+    }
+    // The PNG decodes, has the chart's size and is drawn in more than two colours.
+    let dec = png::Decoder::new(std::fs::File::open(dir.join("fps.png")).unwrap());
+    let mut reader = dec.read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    assert_eq!((info.width, info.height), (960, 600));
+    let colours: BTreeSet<&[u8]> = buf[..info.buffer_size()].chunks(3).collect();
+    assert!(colours.len() > 10, "{} colours", colours.len());
+
+    // Energy stacked by component, and bars.
+    let out = trax(&[
+        "plot", res, "--x", "tms", "--kind", "energy", "--where", "spp=1",
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let svg = std::fs::read_to_string(out_dir.join("plots/energy_j_vs_tms.svg")).unwrap();
+    for want in [
+        "Energy per frame (J)",
+        "DRAM",
+        "Register files",
+        "Execution units",
+    ] {
+        assert!(svg.contains(want), "no {want:?} in the energy chart");
+    }
+    let out = trax(&[
+        "plot", res, "--x", "spp", "--y", "cycles", "--kind", "bar", "--by", "tms",
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert!(out_dir.join("plots/cycles_vs_spp_by_tms.png").is_file());
+
+    // A parameter that varies but is neither x nor by would mix experiments.
+    let out = trax(&["plot", res, "--x", "tms", "--y", "fps"]);
+    assert!(!out.status.success());
+    assert!(
+        text(&out.stderr).contains("parameter `spp` also varies"),
+        "{}",
+        text(&out.stderr)
+    );
+    let out = trax(&["plot", res, "--x", "tms", "--y", "fsp", "--where", "spp=1"]);
+    assert!(!out.status.success());
+    assert!(
+        text(&out.stderr).contains("no metric `fsp`"),
+        "{}",
+        text(&out.stderr)
+    );
+    let out = trax(&["plot", res, "--x", "tmz", "--y", "fps"]);
+    assert!(
+        text(&out.stderr).contains("no parameter `tmz`"),
+        "{}",
+        text(&out.stderr)
+    );
+}
+
+#[test]
+fn a_point_ends_when_its_sweep_is_gone() {
+    // A point's `trax run` (TRAX_SWEEP_PARENT = its parent's pid) of a kernel that never
+    // ends; its parent, a shell standing in for the sweep, is killed with SIGKILL.
+    let dir = scratch("orphan");
+    let k = dir.join("forever.rs");
+    std::fs::write(
+        &k,
+        "fn trax_main() {\n    loop {\n        trax::atomic_inc(1);\n    }\n}\n",
+    )
+    .unwrap();
+    let script = format!(
+        "TRAX_SWEEP_PARENT=$$ '{}' run '{}' --functional >/dev/null 2>&1 & echo $!; wait",
+        env!("CARGO_BIN_EXE_trax"),
+        k.display()
+    );
+    let mut sh = Command::new("sh")
+        .args(["-c", &script])
+        .stdout(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut line = String::new();
+    std::io::BufRead::read_line(
+        &mut std::io::BufReader::new(sh.stdout.take().unwrap()),
+        &mut line,
+    )
+    .unwrap();
+    let point: u32 = line.trim().parse().unwrap();
+    let alive = |pid: u32| {
+        Path::new(&format!("/proc/{pid}")).exists() && {
+            // A zombie has ended (its new parent reaps it).
+            let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).unwrap_or_default();
+            !stat.contains(") Z ")
+        }
+    };
+    std::thread::sleep(Duration::from_millis(500));
+    assert!(alive(point), "the point should still be running");
+    sh.kill().unwrap();
+    sh.wait().unwrap();
+    let t = Instant::now();
+    while alive(point) {
+        if t.elapsed() > Duration::from_secs(10) {
+            let _ = Command::new("kill")
+                .args(["-9", &point.to_string()])
+                .status();
+            panic!("the point outlived its sweep by 10 s");
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+}
+
+#[test]
+fn the_example_experiments_are_valid_sweeps() {
+    let mut n = 0;
+    for e in std::fs::read_dir(root().join("experiments")).unwrap() {
+        let p = e.unwrap().path();
+        if p.extension().is_some_and(|x| x == "toml") {
+            let out = trax(&["sweep", p.to_str().unwrap(), "--dry-run"]);
+            assert!(
+                out.status.success(),
+                "{}: {}",
+                p.display(),
+                text(&out.stderr)
+            );
+            assert!(!out.stdout.is_empty());
+            n += 1;
+        }
+    }
+    assert!(n > 0);
+}
+
+#[test]
+fn a_changed_kernel_is_reported_and_rerun_on_request() {
+    let dir = scratch("stale");
+    let k = dir.join("gradient.rs");
+    let src = std::fs::read_to_string(root().join("examples/gradient.rs")).unwrap();
+    std::fs::write(&k, &src).unwrap();
+    let f = sweep_file(
+        &dir,
+        "kernel = \"gradient.rs\"\nwidth = 8\nheight = 8\nmode = \"functional\"\n[axes]\ntms = [1, 2]\n",
+    );
+    let out_dir = dir.join("results");
+    let args = [
+        "sweep",
+        f.to_str().unwrap(),
+        "-o",
+        out_dir.to_str().unwrap(),
+    ];
+    assert!(trax(&args).status.success());
+    let first = finished(&out_dir);
+    // Edit the kernel: the finished points ran the old build.
+    assert!(src.contains("0.25"));
+    std::fs::write(&k, src.replace("0.25", "0.75")).unwrap();
+    let out = trax(&args);
+    let err = text(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(
+        err.contains("warning: 2 finished point(s) ran a different build"),
+        "{err}"
+    );
+    assert_eq!(finished(&out_dir), first, "kept unless asked");
+    let mut rerun = args.to_vec();
+    rerun.push("--rerun-stale");
+    let out = trax(&rerun);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let second = finished(&out_dir);
+    for (id, json) in &second {
+        assert_ne!(&first[id], json);
+        let v: serde_json::Value = serde_json::from_str(json).unwrap();
+        assert_eq!(v["kernel"]["source_sha256"], sha256sum(&k));
+    }
+}
+
+#[test]
+fn cases_cross_the_grid_and_repetitions_repeat() {
+    let dir = scratch("cases");
+    let k = gradient();
+    let body = |reps: u32| {
+        format!(
+            r#"kernel = {k:?}
+width = 8
+height = 8
+mode = "functional"
+repetitions = {reps}
+
+[axes]
+tms = [1, 2]
+
+[[cases]]
+threads = 4
+
+[[cases]]
+threads = 8
+width = 16
+
+[[cases]]
+threads = 4
+"#
+        )
+    };
+    let f = sweep_file(&dir, &body(2));
+    let out_dir = dir.join("results");
+    let out = trax(&[
+        "sweep",
+        f.to_str().unwrap(),
+        "-o",
+        out_dir.to_str().unwrap(),
+    ]);
+    let err = text(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(
+        err.contains("note: 4 point(s) repeat another's parameters"),
+        "{err}"
+    );
+    let (header, rows) = read_csv(&out_dir.join("results.csv"));
+    assert_eq!(
+        &header[2..6],
+        ["tms", "threads", "width", "kernel"],
+        "{header:?}"
+    );
+    assert!(header.contains(&"rep".to_string()));
+    let got: Vec<(&str, &str, &str, &str)> = rows
+        .iter()
+        .map(|r| {
+            (
+                r["threads"].as_str(),
+                r["width"].as_str(),
+                r["tms"].as_str(),
+                r["rep"].as_str(),
+            )
+        })
+        .collect();
+    assert_eq!(
+        got,
+        [
+            ("4", "8", "1", "0"),
+            ("4", "8", "1", "1"),
+            ("4", "8", "2", "0"),
+            ("4", "8", "2", "1"),
+            ("8", "16", "1", "0"),
+            ("8", "16", "1", "1"),
+            ("8", "16", "2", "0"),
+            ("8", "16", "2", "1"),
+        ]
+    );
+    for pair in rows.chunks(2) {
+        assert_ne!(pair[0]["id"], pair[1]["id"]);
+        assert_eq!(
+            pair[0]["instructions"], pair[1]["instructions"],
+            "deterministic"
+        );
+    }
+    // Threads per TM reached the chip: 8 threads x 2 TMs print 16 hello lines... here, the
+    // recorded config says so.
+    let rec: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(out_dir.join(format!("points/{}.json", rows[6]["id"]))).unwrap(),
+    )
+    .unwrap();
+    assert_eq!(rec["config"]["threads_per_tm"], 8);
+    assert_eq!(rec["config"]["tms"], 2);
+    // A repetition index of 0 is not hashed: without repetitions the ids are the rep-0 ids.
+    let f1 = sweep_file(&dir, &body(1));
+    let dry = trax(&["sweep", f1.to_str().unwrap(), "--dry-run"]);
+    let ids: Vec<String> = text(&dry.stdout)
+        .lines()
+        .map(|l| l.split_whitespace().next().unwrap().to_string())
+        .collect();
+    let rep0: Vec<String> = rows
+        .iter()
+        .filter(|r| r["rep"] == "0")
+        .map(|r| r["id"].clone())
+        .collect();
+    assert_eq!(ids, rep0);
+    // Plots average repetitions.
+    let out = trax(&[
+        "plot",
+        out_dir.to_str().unwrap(),
+        "--x",
+        "tms",
+        "--y",
+        "instructions",
+        "--by",
+        "threads",
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+}
+
+/// `scene = "icosphere:N"` is a built-in scene (sweep plans took it for a file name and
+/// refused it), and `max_cycles` is a knob: timing points stop at that cycle.
+#[test]
+fn icosphere_scenes_and_cycle_limits_are_sweep_parameters() {
+    let dir = scratch("icosphere");
+    let k = gradient();
+    let (out, _, rows) = sweep_rows(
+        &dir,
+        &format!(
+            "kernel = {k:?}\nwidth = 8\nheight = 8\nscene = \"icosphere:1\"\n[axes]\nmax_cycles = [100, 100000000]\n"
+        ),
+    );
+    assert!(!out.status.success(), "the 100-cycle point fails");
+    assert_eq!(rows.len(), 2, "{}", text(&out.stderr));
+    for r in &rows {
+        assert_eq!(r["scene"], "icosphere:1");
+        if r["max_cycles"] == "100" {
+            assert_eq!(r["status"], "failed", "{r:?}");
+            assert!(
+                r["error"].contains("cycle limit reached after 100 cycles"),
+                "{r:?}"
+            );
+        } else {
+            assert_eq!(r["status"], "ok", "{r:?}");
+            assert!(r["cycles"].parse::<u64>().unwrap() > 100);
+        }
+    }
+}

@@ -16,8 +16,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use trax_assembler::link::{link, Input, LinkOptions};
-use trax_compiler::{compile_file, CompileOptions, Emit, Prelude};
+use ::trax::pipeline::build_executable;
 use trax_emulator::timing::{ChipConfig, DEFAULT_CHIP};
 use trax_emulator::{run, Mode, RunRequest};
 
@@ -294,26 +293,13 @@ fn compare(what: &str, stdout: &str, exp: &[String], inp: &Inputs) -> Vec<String
 /// Compiles, links and runs `kernel` on the functional emulator (one thread); returns
 /// its output and the instructions of each profile region.
 fn emulate(kernel: &Path, opt: u8) -> (String, Vec<u64>) {
-    let copts = CompileOptions {
-        opt_level: opt,
-        emit: Emit::Obj,
-        prelude: Some(Prelude::runtime()),
-    };
-    let obj = compile_file(kernel, &copts).unwrap_or_else(|e| panic!("-O{opt}: {e}"));
-    let linked = link(
-        &[Input {
-            name: "libm_kernel.rs".into(),
-            bytes: obj.bytes,
-        }],
-        &LinkOptions::default(),
-    )
-    .unwrap_or_else(|e| panic!("link: {e}"));
+    let elf = build_executable(kernel, opt).unwrap_or_else(|e| panic!("-O{opt}: {e}"));
     let mut chip = ChipConfig::preset(DEFAULT_CHIP).unwrap();
     chip.tms = 1;
     chip.threads_per_tm = 1;
     let mut out = Vec::new();
     let result = run(
-        RunRequest::new("libm_kernel.elf", &linked.elf, &chip, Mode::Functional),
+        RunRequest::new("libm_kernel.elf", &elf, &chip, Mode::Functional),
         &mut out,
     )
     .unwrap_or_else(|e| panic!("-O{opt}: {e}"));

@@ -145,6 +145,84 @@ impl<T> Option<T> {
             _ => None,
         }
     }
+
+    /// `Some(f(v))` for `Some(v)`.
+    pub fn map<U, F: FnOnce(T) -> U>(self, f: F) -> Option<U> {
+        match self {
+            Some(v) => Some(f(v)),
+            None => None,
+        }
+    }
+
+    /// `f(v)` for `Some(v)`, else `default`.
+    pub fn map_or<U, F: FnOnce(T) -> U>(self, default: U, f: F) -> U {
+        match self {
+            Some(v) => f(v),
+            None => default,
+        }
+    }
+
+    /// `f(v)` for `Some(v)`, else `default()`.
+    pub fn map_or_else<U, D: FnOnce() -> U, F: FnOnce(T) -> U>(self, default: D, f: F) -> U {
+        match self {
+            Some(v) => f(v),
+            None => default(),
+        }
+    }
+
+    /// `f(v)` for `Some(v)`, else `None`.
+    pub fn and_then<U, F: FnOnce(T) -> Option<U>>(self, f: F) -> Option<U> {
+        match self {
+            Some(v) => f(v),
+            None => None,
+        }
+    }
+
+    /// `self` if it is `Some`, else `f()`.
+    pub fn or_else<F: FnOnce() -> Option<T>>(self, f: F) -> Option<T> {
+        match self {
+            Some(v) => Some(v),
+            None => f(),
+        }
+    }
+
+    /// The value, or `f()` for `None`.
+    pub fn unwrap_or_else<F: FnOnce() -> T>(self, f: F) -> T {
+        match self {
+            Some(v) => v,
+            None => f(),
+        }
+    }
+
+    /// `Some(v)` if `predicate(&v)`, else `None`.
+    pub fn filter<P: FnOnce(&T) -> bool>(self, predicate: P) -> Option<T> {
+        match self {
+            Some(v) => {
+                if predicate(&v) {
+                    Some(v)
+                } else {
+                    None
+                }
+            }
+            None => None,
+        }
+    }
+
+    /// True for `Some(v)` with `f(v)`.
+    pub fn is_some_and<F: FnOnce(T) -> bool>(self, f: F) -> bool {
+        match self {
+            Some(v) => f(v),
+            None => false,
+        }
+    }
+
+    /// `Ok(v)` for `Some(v)`, `Err(err())` for `None`.
+    pub fn ok_or_else<E, F: FnOnce() -> E>(self, err: F) -> Result<T, E> {
+        match self {
+            Some(v) => Ok(v),
+            None => Err(err()),
+        }
+    }
 }
 
 impl<T: Copy> Option<&T> {
@@ -245,6 +323,46 @@ impl<T, E> Result<T, E> {
         match self {
             Ok(v) => v,
             Err(_) => default,
+        }
+    }
+
+    /// `Ok(f(v))` for `Ok(v)`.
+    pub fn map<U, F: FnOnce(T) -> U>(self, f: F) -> Result<U, E> {
+        match self {
+            Ok(v) => Ok(f(v)),
+            Err(e) => Err(e),
+        }
+    }
+
+    /// `Err(f(e))` for `Err(e)`.
+    pub fn map_err<G, F: FnOnce(E) -> G>(self, f: F) -> Result<T, G> {
+        match self {
+            Ok(v) => Ok(v),
+            Err(e) => Err(f(e)),
+        }
+    }
+
+    /// `f(v)` for `Ok(v)`.
+    pub fn and_then<U, F: FnOnce(T) -> Result<U, E>>(self, f: F) -> Result<U, E> {
+        match self {
+            Ok(v) => f(v),
+            Err(e) => Err(e),
+        }
+    }
+
+    /// The value, or `f(e)` for `Err(e)`.
+    pub fn unwrap_or_else<F: FnOnce(E) -> T>(self, f: F) -> T {
+        match self {
+            Ok(v) => v,
+            Err(e) => f(e),
+        }
+    }
+
+    /// True for `Ok(v)` with `f(v)`.
+    pub fn is_ok_and<F: FnOnce(T) -> bool>(self, f: F) -> bool {
+        match self {
+            Ok(v) => f(v),
+            Err(_) => false,
         }
     }
 

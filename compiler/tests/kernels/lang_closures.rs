@@ -1,7 +1,8 @@
 //! TRaX-Rust language suite, part 6: closures. Closures without captures, capturing by
 //! reference (shared and mutable) and by value (`move`), passed to generic functions with
 //! `Fn`/`FnMut`/`FnOnce` bounds (by value and by reference), stored in generic structs,
-//! called directly, nested, with typed and pattern parameters, inside generic functions.
+//! called directly, nested, with typed and pattern parameters, inside generic functions;
+//! the `Option`/`Result` combinators that take closures.
 //! Every call is static: each closure expression is its own type.
 
 fn apply<F: Fn(i32) -> i32>(f: F, x: i32) -> i32 {
@@ -132,4 +133,52 @@ fn trax_main() {
         None
     };
     println!("slice {:?} {:?}", first_even(&[1, 3, 4]), first_even(&[1]));
+    let base = 10;
+    let some = first_even(&[5, 8]);
+    let none = first_even(&[5]);
+    println!(
+        "option map {:?} {:?} map_or {} {} map_or_else {}",
+        some.map(|i| i as i32 + base),
+        none.map(|i| i + 1),
+        some.map_or(-1, |i| i as i32 * 3),
+        none.map_or(-1, |i| i as i32 * 3),
+        none.map_or_else(|| base * 2, |i| i as i32),
+    );
+    println!(
+        "and_then {:?} {:?} or_else {:?} unwrap_or_else {} filter {:?} {:?}",
+        some.and_then(|i| if i > 0 { Some(i * 100) } else { None }),
+        Some(0usize).and_then(|i| if i > 0 { Some(i * 100) } else { None }),
+        none.or_else(|| Some(77)),
+        none.unwrap_or_else(|| 42),
+        Some(4).filter(|x| *x % 2 == 0),
+        Some(5).filter(|x| *x % 2 == 0),
+    );
+    let mut calls = 0;
+    let lazy = Some(3).unwrap_or_else(|| {
+        calls += 1;
+        0
+    });
+    println!(
+        "lazy {} {} is_some_and {} {} ok_or_else {:?} {:?}",
+        lazy,
+        calls,
+        some.is_some_and(|i| i == 1),
+        none.is_some_and(|i| i == 1),
+        some.ok_or_else(|| "none"),
+        none.ok_or_else(|| base),
+    );
+    let ok: Result<i32, u8> = Ok(6);
+    let err: Result<i32, u8> = Err(2);
+    println!(
+        "result map {:?} {:?} map_err {:?} {:?} and_then {:?} unwrap_or_else {} {} is_ok_and {} {}",
+        ok.map(|v| v * k),
+        err.map(|v| v * k),
+        ok.map_err(|e| e as i32 + 1),
+        err.map_err(|e| e as i32 + 1),
+        ok.and_then(|v| if v > 5 { Err(9) } else { Ok(v) }),
+        ok.unwrap_or_else(|e| e as i32),
+        err.unwrap_or_else(|e| e as i32 * 100),
+        ok.is_ok_and(|v| v == 6),
+        err.is_ok_and(|v| v == 6),
+    );
 }

@@ -487,6 +487,11 @@ const PANICS: &str = r#"fn trax_main() {
     if case == 16 { debug_assert!(false, "debug assertions are off"); panic!("after {}", y); }
     if case == 17 { assert!(trax::scene::height() as usize
         == [1, 2].len()); }
+    if case == 19 { let a = [1u32, 2, 3]; let s: &[u32] = &a[1..]; println!("{}", s[(id + 2) as usize]); }
+    if case == 20 { let a = [1u32, 2, 3]; let e = 4 + id as usize; println!("{:?}", &a[..e]); }
+    if case == 21 { let a = [1u32, 2, 3]; let b = 2 + id as usize; println!("{:?}", &a[b..1]); }
+    if case == 22 { #[derive(Debug, PartialEq)] struct P { x: i32, t: (f32, char) } assert_eq!(P { x, t: (y, c) }, P { x: 0, t: (0.5, 'a') }, "p {:?}", Some(x)); }
+    if case == 23 { let r: Result<u8, (i32, bool)> = Err((x, true)); println!("{}", r.is_ok()); panic!("{:?} {:>6.2}", r, y); }
 }
 "#;
 
@@ -499,7 +504,7 @@ fn panic_messages_match_native() {
     let k = dir.join("panics.rs");
     std::fs::write(&k, PANICS).unwrap();
     let k = k.to_str().unwrap();
-    for case in 1..=17u32 {
+    for case in (1..=17u32).chain(19..=23) {
         let w = case.to_string();
         let args = [k, "--threads", "1", "--width", &w, "--height", "1"];
         let nat = native(&args);

@@ -132,7 +132,10 @@ fn check(s: Setup) {
         );
     }
     // Not vacuous: kernels print or draw something.
-    if s.kernel.ends_with("features.rs") || s.kernel.ends_with("memfill.rs") {
+    if s.kernel.ends_with("features.rs")
+        || s.kernel.ends_with("memfill.rs")
+        || s.kernel.contains("/lang_")
+    {
         assert!(e.stdout.lines().count() > 10, "{}", e.stdout);
     } else if s.kernel.ends_with("hello.rs") {
         let lines = e.stdout.lines().filter(|l| l.starts_with("hello")).count();
@@ -204,6 +207,31 @@ fn language_features() {
             opt_level,
             ..setup("compiler/tests/kernels/features.rs")
         });
+    }
+}
+
+/// The language suite (`compiler/tests/kernels/lang_*.rs`: enums and patterns, traits and
+/// generics, slices and iterators, format specs, float helpers, closures, libm methods) prints exactly what
+/// rustc's build prints, at -O0 and -O2.
+#[test]
+fn language_suite() {
+    for kernel in [
+        "compiler/tests/kernels/lang_enums.rs",
+        "compiler/tests/kernels/lang_traits.rs",
+        "compiler/tests/kernels/lang_slices.rs",
+        "compiler/tests/kernels/lang_format.rs",
+        "compiler/tests/kernels/lang_math.rs",
+        "compiler/tests/kernels/lang_closures.rs",
+        "compiler/tests/kernels/lang_libm.rs",
+    ] {
+        for opt_level in [0, 2] {
+            check(Setup {
+                tms: 1,
+                threads: 1,
+                opt_level,
+                ..setup(kernel)
+            });
+        }
     }
 }
 

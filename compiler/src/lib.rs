@@ -4,11 +4,14 @@
 //! - [`parse`]: `syn` parse of the kernel crate (from disk) and the prelude crate `trax`
 //!   (from memory), following `mod x;`/`#[path]` and evaluating `#[cfg]` for
 //!   `target_arch = "mips"`.
-//! - [`resolve`]: modules, `use`, structs, functions, consts/statics, impls (inherent and
-//!   `std::ops` operator traits) into a [`resolve::Program`]; rejects items outside the
-//!   subset with named diagnostics.
+//! - [`resolve`]: modules, `use`, structs, enums, traits, impls, functions, consts/statics,
+//!   type aliases (also items nested in bodies) into a [`resolve::Program`]; rejects items
+//!   outside the subset with named diagnostics.
 //! - [`typeck`]: types of every expression (literal inference variables default to
-//!   `i32`/`f64`), path/method/operator resolution, builtin macros.
+//!   `i32`/`f64`), path/method/trait/operator resolution, patterns, builtin macros; one
+//!   body per instance of a generic function (monomorphised before lowering). Rejects
+//!   everything the lowering cannot handle. [`builtins`] is the catalogue of builtin
+//!   methods shared with the lowering; [`ops`] the operators.
 //! - [`lower`]: LLVM IR via inkwell, on demand from `trax_main` (only reachable code is
 //!   emitted), with DWARF (subprograms, lexical blocks, 1-based line/column, typed
 //!   parameters and locals). TRaX instructions are `.word`s in inline asm.
@@ -21,11 +24,13 @@
 //! or [`CompileError::Internal`] (compiler bugs, exit code 101). Set
 //! `TRAX_COMPILER_TIMINGS=1` to print the time of each stage.
 
+pub mod builtins;
 pub mod consteval;
 pub mod diag;
 pub mod lexcheck;
 pub mod lower;
 pub mod memfns;
+pub mod ops;
 pub mod parse;
 pub mod pretty;
 pub mod resolve;
@@ -255,44 +260,42 @@ fn compile_parsed(
     let program =
         resolve::collect(sources, kernel, name, prelude).map_err(CompileError::Diagnostics)?;
     timer.lap("resolve");
-    // Type-check every function and global.
-    let mut errs = Vec::new();
-    let mut fn_bodies = Vec::new();
-    for f in 0..program.fns.len() {
-        match typeck::check_fn(&program, f) {
-            Ok(b) => fn_bodies.push(b),
-            Err(e) => {
-                errs.push(e);
-                fn_bodies.push(typeck::Body::default());
-            }
-        }
-    }
-    let mut global_bodies = Vec::new();
-    for g in 0..program.globals.len() {
-        match typeck::check_global(&program, g) {
-            Ok(b) => global_bodies.push(b),
-            Err(e) => {
-                errs.push(e);
-                global_bodies.push(typeck::Body::default());
-            }
-        }
+    // Type-check every function and global, then every generic instance they use.
+    let (checked, mut errs) = typeck::check_program(&program);
+    if let Some(e) = consteval::check_const_cycles(&program, &checked) {
+        errs.push(e);
+        return Err(CompileError::Diagnostics(errs));
     }
     // Literal ranges, const evaluation and rustc's deny-by-default arithmetic lints.
     // (An erroneous const named by an array length is reported once.)
-    for (f, b) in fn_bodies.iter().enumerate() {
-        if let Err(e) = consteval::check_fn(&program, &global_bodies, f, b) {
+    let mut items: Vec<(&typeck::Item, &typeck::Body)> = checked.bodies.iter().collect();
+    items.sort_by_key(|(i, _)| match i {
+        typeck::Item::Fn(f, s) => (0, *f, format!("{s:?}")),
+        typeck::Item::Global(g, s) => (1, *g, format!("{s:?}")),
+    });
+    for (item, body) in items {
+        let r = match item {
+            typeck::Item::Fn(f, _) => consteval::check_fn(&program, &checked, *f, body),
+            typeck::Item::Global(g, _) => consteval::check_global(&program, &checked, *g, body),
+        };
+        if let Err(e) = r {
             if !errs.contains(&e) {
                 errs.push(e);
             }
         }
     }
-    for g in 0..program.globals.len() {
-        if let Err(e) = consteval::check_global(&program, &global_bodies, g) {
-            if !errs.contains(&e) {
+    // Values of consts and statics (running `const fn` calls).
+    let consts = if errs.is_empty() {
+        match consteval::interp::evaluate_all(&program, &checked) {
+            Ok(c) => c,
+            Err(e) => {
                 errs.push(e);
+                Default::default()
             }
         }
-    }
+    } else {
+        Default::default()
+    };
     let root = program.modules[program.kernel_root].file;
     let main = match program.modules[program.kernel_root].values_get("trax_main") {
         Some(resolve::PathRes::Fn(f)) => Some(f),
@@ -307,7 +310,7 @@ fn compile_parsed(
         return Err(CompileError::Diagnostics(errs));
     };
     let mf = &program.fns[main];
-    if !mf.params.is_empty() || mf.ret != ty::Ty::Unit {
+    if !mf.params.is_empty() || mf.ret != ty::Ty::Unit || !mf.generics.is_empty() {
         errs.push(Diagnostic::new(
             sources,
             mf.file,
@@ -329,14 +332,13 @@ fn compile_parsed(
         tm.get_target_data(),
         &tm.get_triple(),
         &program,
-        &fn_bodies,
-        &global_bodies,
+        &checked,
+        &consts,
         opts.opt_level > 0,
         &empty,
     );
     let module = match lowerer.run(main) {
         Ok(m) => m,
-        Err(lower::LowerError::Diag(d)) => return Err(CompileError::Diagnostics(vec![d])),
         Err(lower::LowerError::Internal(s)) => return Err(CompileError::Internal(s)),
     };
     timer.lap("lower");

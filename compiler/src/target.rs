@@ -5,6 +5,7 @@ use inkwell::passes::PassBuilderOptions;
 use inkwell::targets::{
     CodeModel, FileType, InitializationConfig, RelocMode, Target, TargetMachine, TargetTriple,
 };
+use inkwell::values::{AnyValueEnum, BasicValue, CallableValue};
 use inkwell::OptimizationLevel;
 use std::sync::Once;
 
@@ -74,7 +75,67 @@ pub fn optimize(module: &Module<'_>, tm: &TargetMachine, opt: u8) -> Result<(), 
     let pipeline = format!("default<O{}>", opt.min(3));
     module
         .run_passes(&pipeline, tm, PassBuilderOptions::create())
-        .map_err(|e| e.to_string())
+        .map_err(|e| e.to_string())?;
+    mask_vector_fabs(module)
+}
+
+/// Rewrites every `llvm.fabs` on a vector as `bclri` (clear the sign bit; exact for every
+/// input, NaNs included). LLVM 14 selects `fmax_a.{w,d} x, x` for it, which keeps the
+/// sign (it returns the operand of larger magnitude), and the SLP vectorizer makes such
+/// calls out of scalar `abs()` (two `f64::abs` on the way to a pair of compares, for
+/// instance), so scalar code was miscompiled. Inline assembly, because LLVM 14's DAG
+/// combiner can loop forever on the equivalent `and` of a `<2 x i64>` bit cast.
+fn mask_vector_fabs(module: &Module<'_>) -> Result<(), String> {
+    let ctx = module.get_context();
+    let b = ctx.create_builder();
+    let mut next = module.get_first_function();
+    while let Some(f) = next {
+        next = f.get_next_function();
+        if !f.get_name().to_bytes().starts_with(b"llvm.fabs.v") {
+            continue;
+        }
+        let callee = f.as_global_value().as_pointer_value();
+        while let Some(u) = callee.get_first_use() {
+            let call = match u.get_user() {
+                AnyValueEnum::VectorValue(v) => v.as_instruction(),
+                AnyValueEnum::InstructionValue(i) => Some(i),
+                _ => None,
+            }
+            .ok_or("vector fabs used other than by a call")?;
+            let x = call
+                .get_operand(0)
+                .and_then(|o| o.value())
+                .ok_or("vector fabs without an operand")?
+                .into_vector_value();
+            let vt = x.get_type();
+            let asm = match vt.get_element_type().into_float_type().get_bit_width() {
+                64 => "bclri.d $0, $1, 63",
+                32 => "bclri.w $0, $1, 31",
+                w => return Err(format!("vector fabs on {w}-bit lanes")),
+            };
+            let ia = ctx.create_inline_asm(
+                vt.fn_type(&[vt.into()], false),
+                asm.into(),
+                "=f,f".into(),
+                false,
+                false,
+                None,
+                false,
+            );
+            let callable = CallableValue::try_from(ia).map_err(|_| "inline asm callable")?;
+            b.position_before(&call);
+            let r = b
+                .build_call(callable, &[x.into()], "")
+                .map_err(|e| e.to_string())?
+                .try_as_basic_value()
+                .basic()
+                .and_then(|v| v.as_instruction_value())
+                .ok_or("bclri call")?;
+            call.replace_all_uses_with(&r);
+            call.erase_from_basic_block();
+        }
+    }
+    Ok(())
 }
 
 /// Emits an object file or assembly text.

@@ -225,3 +225,55 @@ fn prologue_end_is_the_first_body_statement_at_o0() {
         assert!(ends.contains(&w), "no prologue_end at line {w}:\n{lines}");
     }
 }
+
+/// The language suite's kernels (enums, traits, generics, slices, format records) compile
+/// at -O0 and -O2 to objects with valid DWARF, no `$gp`-relative data and no libc calls.
+#[test]
+fn language_suite_objects_are_valid() {
+    let out = scratch("lang-suite");
+    for k in [
+        "lang_enums",
+        "lang_traits",
+        "lang_slices",
+        "lang_format",
+        "lang_math",
+        "lang_closures",
+        "lang_libm",
+    ] {
+        let path = crate_dir().join(format!("tests/kernels/{k}.rs"));
+        for opt in [0, 2] {
+            let obj = build_obj(&path, opt, &out);
+            verify_dwarf(&obj);
+            no_gprel(&obj);
+            only_trax_undefined(&obj);
+        }
+    }
+}
+
+/// With the prelude, Rust's float methods that `trax::libm` provides compile to calls of
+/// it, and one it lacks (`sinh`) is an error naming the method at its span.
+#[test]
+fn float_methods_outside_the_math_library_are_named() {
+    let dir = scratch("libm-methods");
+    let path = dir.join("sinh.rs");
+    std::fs::write(
+        &path,
+        "fn trax_main() {\n    let a = trax::global_read(0) as f32;\n    trax::global_write(1, (a.sin() + a.sinh()) as u32);\n}\n",
+    )
+    .unwrap();
+    let opts = trax_compiler::CompileOptions {
+        opt_level: 0,
+        emit: Emit::Obj,
+        prelude: Some(trax_compiler::Prelude::runtime()),
+    };
+    let err = match trax_compiler::compile_file(&path, &opts) {
+        Ok(_) => panic!("sinh is not in trax::libm"),
+        Err(e) => e.to_string(),
+    };
+    assert!(
+        err.contains("error[unsupported-float-method]: `f32::sinh` is not supported in TRaX-Rust: the prelude's math library has no `trax::libm::sinhf`"),
+        "{err}"
+    );
+    assert!(err.contains("sinh.rs:3:"), "{err}");
+    assert!(!err.contains("`f32::sin`"), "{err}");
+}

@@ -48,9 +48,8 @@ fn builtins_emit_trax_words_msa_and_absolute_relocations() {
             TraxOp::FMin,
             TraxOp::Stat,
             TraxOp::TriTest,
-            TraxOp::PrintStr,
-            TraxOp::PrintUint,
-            TraxOp::PrintF32,
+            // `println!` with arguments: one formatted print.
+            TraxOp::PrintFmt,
             TraxOp::Halt,
         ] {
             assert!(

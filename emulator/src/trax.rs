@@ -52,7 +52,8 @@ fn greg(index: u32) -> Result<usize, Fault> {
     }
 }
 
-/// Renders a formatted abort message from its argument record at `addr` (`len` bytes):
+/// Renders a formatted message (a panic's or a print's) from its argument record at
+/// `addr` (`len` bytes):
 /// template address and length, then 8-byte argument slots (see `abortmsg`).
 fn abort_record(mem: &crate::memory::Memory, local: &[u8], addr: u32, len: u32) -> String {
     let unreadable = || format!("<unreadable panic message record at {addr:#010x}>");
@@ -221,6 +222,10 @@ pub fn exec_trax<C: Chip>(
         PrintI64 => {
             let v = ((vt as u64) << 32 | vs as u64) as i64;
             let _ = write!(Out(chip.output()), "{v}");
+        }
+        PrintFmt => {
+            let text = abort_record(&chip.shared().mem, &t.local, vs, vt);
+            chip.output().extend_from_slice(text.as_bytes());
         }
         PrintU64 => {
             let v = (vt as u64) << 32 | vs as u64;

@@ -108,10 +108,12 @@ fn abort_with_message() {
 }
 
 /// A formatted message: an argument record (template, then 8-byte slots) rendered with
-/// Rust's `Display`/`Debug`; continuation lines stay in the message column.
+/// Rust's `Display`/`Debug`; continuation lines stay in the message column. Each argument
+/// in the template is `\0`, its kind (`u`/`i` with a size in bytes, `f`, `s`), a flags
+/// byte and its trait (`D` Display, `?` Debug).
 #[test]
 fn abort_with_formatted_message() {
-    let src = "#include \"trax.h\"\nstatic const char tpl[] = \"index out of bounds: the len is 4 but the index is \\0u\\n  left: \\0g\\n right: \\0S \\0\\0 \\0I\";\nstatic const char s[] = \"a\\\"b\";\nvoid check(unsigned i) {\n  volatile unsigned rec[10] = {(unsigned)tpl, sizeof tpl - 1, i, 0, 0x3f800000, 0, (unsigned)s, 3, 0xfffffffb, 0xffffffff};\n  if (i >= 4) trax_abort(0x101, (unsigned)rec, sizeof rec); // CRASH\n}\nvoid trax_main(void) { check(7); }\n";
+    let src = "#include \"trax.h\"\nstatic const char tpl[] = \"index out of bounds: the len is 4 but the index is \\0u\\004\\000D\\n  left: \\0f\\000?\\n right: \\0s\\000? \\0\\0 \\0i\\010\\000D\";\nstatic const char s[] = \"a\\\"b\";\nvoid check(unsigned i) {\n  volatile unsigned rec[10] = {(unsigned)tpl, sizeof tpl - 1, i, 0, 0x3f800000, 0, (unsigned)s, 3, 0xfffffffb, 0xffffffff};\n  if (i >= 4) trax_abort(0x101, (unsigned)rec, sizeof rec); // CRASH\n}\nvoid trax_main(void) { check(7); }\n";
     let (f, report, line) = crash("abortfmt", src, "-O1");
     assert!(
         matches!(

@@ -10,6 +10,8 @@
 //! - this file: thread ids, clock, `rand`/`seed_pixel`, global registers (atomics, barriers,
 //!   semaphores), `min`/`max`/`invsqrt`, `count_ray`, raw simulated-memory access;
 //! - [`math`]: `Vec3` (points, directions, linear RGB) with operators;
+//! - [`libm`]: `sinf`, `cos`, `atan2f`, `pow`, ... for f32 and f64 (C names), the same
+//!   bits on the machine and on the host;
 //! - [`scene`]: header fields, triangles, normals, texture coordinates, materials,
 //!   emitters, point lights, BVH nodes, framebuffer writes, pixels handed out to threads
 //!   from a chip-wide counter (`pixel_share`);
@@ -19,6 +21,8 @@
 //! - [`sampling`]: cosine-weighted hemisphere, disk, sphere and triangle sampling;
 //! - [`pipe`]: the fused box/triangle intersection pipelines;
 //! - `simd` (host file; compiler builtin on TRaX): `f32x4`, `i32x4`;
+//! - `lang` (TRaX only): `Option`, `Result`, `Ordering` — Rust's prelude types, which
+//!   the host takes from `core`;
 //! - [`layout`]: byte layouts of the scene data;
 //! - `host` (host only): the runner used by `trax native` and tests.
 
@@ -32,9 +36,18 @@ mod hw;
 #[cfg(not(target_arch = "mips"))]
 pub mod simd;
 
+/// Host only: `trax::libm` under the C names, so a host-built kernel's `x.sin()` runs it.
+#[cfg(not(target_arch = "mips"))]
+pub mod libm_host;
+
+/// `Option`, `Result` and `Ordering` on the machine (the host uses `core`'s).
+#[cfg(target_arch = "mips")]
+pub mod lang;
+
 pub mod bvh;
 pub mod camera;
 pub mod layout;
+pub mod libm;
 pub mod math;
 pub mod pipe;
 pub mod ray;

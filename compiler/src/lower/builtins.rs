@@ -1,8 +1,10 @@
-//! Lowering of builtin methods, builtin macros and TRaX instructions (inline asm).
+//! Lowering of the builtin catalogue (`crate::builtins`), builtin macros and TRaX
+//! instructions (inline asm).
 
-use super::{LResult, LowerError, Lowerer, V};
+use super::{internal, LResult, LowerError, Lowerer, V};
+use crate::builtins::Builtin;
 use crate::ty::{FloatTy, IntTy, SimdTy, Ty};
-use crate::typeck::{key, Builtin, FmtPiece, MacroCall, TraxArg};
+use crate::typeck::{key, MacroCall, TraxArg};
 use inkwell::types::{BasicMetadataTypeEnum, BasicType, BasicTypeEnum, VectorType};
 use inkwell::values::BasicValue;
 use inkwell::values::{
@@ -67,7 +69,7 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
     /// 2^(mantissa bits) trick so no `floorf`-style libcall is emitted.
     pub(super) fn float_unary(
         &mut self,
-        name: &str,
+        name: Builtin,
         v: BasicValueEnum<'ctx>,
         t: &Ty,
     ) -> LResult<BasicValueEnum<'ctx>> {
@@ -104,18 +106,18 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
         let trunc = copysign(self, tabs)?;
         let b = &self.b;
         let out = match name {
-            "trunc" => trunc,
-            "floor" => {
+            Builtin::FTrunc => trunc,
+            Builtin::FFloor => {
                 let gt = b.build_float_compare(FloatPredicate::OGT, trunc, x, "")?;
                 let m = b.build_float_sub(trunc, one, "")?;
                 b.build_select(gt, m, trunc, "")?.into_float_value()
             }
-            "ceil" => {
+            Builtin::FCeil => {
                 let lt = b.build_float_compare(FloatPredicate::OLT, trunc, x, "")?;
                 let p = b.build_float_add(trunc, one, "")?;
                 b.build_select(lt, p, trunc, "")?.into_float_value()
             }
-            "round" => {
+            Builtin::FRound => {
                 let frac = b.build_float_sub(fabs, tabs, "")?;
                 let half =
                     b.build_float_compare(FloatPredicate::OGE, frac, ft.const_float(0.5), "")?;
@@ -123,8 +125,8 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                 let m = b.build_select(half, up, tabs, "")?.into_float_value();
                 copysign(self, m)?
             }
-            "fract" => b.build_float_sub(x, trunc, "")?,
-            _ => return Err(LowerError::Internal(format!("float op {name}"))),
+            Builtin::FFract => b.build_float_sub(x, trunc, "")?,
+            _ => return Err(LowerError::Internal(format!("float op {name:?}"))),
         };
         // NaN and infinities pass through.
         let fin = self.b.build_float_compare(
@@ -133,7 +135,7 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
             ft.const_float(f64::INFINITY),
             "",
         )?;
-        let keep = if name == "fract" {
+        let keep = if name == Builtin::FFract {
             ft.const_float(f64::NAN)
         } else {
             x
@@ -142,176 +144,6 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
     }
 
     /// Lowers a builtin method or function; `vals[0]` is the receiver for methods.
-    pub(super) fn builtin(
-        &mut self,
-        b: Builtin,
-        vals: &[BasicValueEnum<'ctx>],
-        tys: &[Ty],
-        ret: &Ty,
-    ) -> LResult<V<'ctx>> {
-        let rt = self.llty(ret);
-        let v = match b {
-            Builtin::Float(name) => {
-                let t = &tys[0];
-                let sfx = Self::fsuffix(t);
-                let x = vals[0];
-                let ft = x.get_type();
-                match name {
-                    "sqrt" | "abs" => {
-                        let n = if name == "abs" { "fabs" } else { "sqrt" };
-                        self.intrinsic(&format!("llvm.{n}.{sfx}"), ft, &[x])?
-                    }
-                    "min" | "max" => self.float_minmax(
-                        name == "min",
-                        x.into_float_value(),
-                        vals[1].into_float_value(),
-                    )?,
-                    "copysign" => {
-                        self.intrinsic(&format!("llvm.copysign.{sfx}"), ft, &[x, vals[1]])?
-                    }
-                    "mul_add" => {
-                        // r6 `maddf.fmt fd, fs, ft`: fd = fd + fs * ft, one rounding. LLVM 14
-                        // does not select it for `llvm.fma`, which would call `fmaf`.
-                        let fty = ft.fn_type(&[ft.into(), ft.into(), ft.into()], false);
-                        let fmt = if sfx == "f64" { "d" } else { "s" };
-                        let ia = self.ctx.create_inline_asm(
-                            fty,
-                            format!("maddf.{fmt} $0, $1, $2"),
-                            "=f,f,f,0".into(),
-                            false,
-                            false,
-                            None,
-                            false,
-                        );
-                        let callable = CallableValue::try_from(ia)
-                            .map_err(|_| LowerError::Internal("inline asm callable".into()))?;
-                        let args: [BasicMetadataValueEnum; 3] =
-                            [x.into(), vals[1].into(), vals[2].into()];
-                        self.b
-                            .build_call(callable, &args, "")?
-                            .try_as_basic_value()
-                            .basic()
-                            .ok_or_else(|| LowerError::Internal("maddf".into()))?
-                    }
-                    "powi" => self.float_powi(x.into_float_value(), vals[1].into_int_value())?,
-                    "floor" | "ceil" | "round" | "trunc" | "fract" => {
-                        self.float_unary(name, x, t)?
-                    }
-                    "clamp" => {
-                        let xv = x.into_float_value();
-                        let lo = vals[1].into_float_value();
-                        let hi = vals[2].into_float_value();
-                        let lt = self
-                            .b
-                            .build_float_compare(FloatPredicate::OLT, xv, lo, "")?;
-                        let y = self.b.build_select(lt, lo, xv, "")?.into_float_value();
-                        let gt = self.b.build_float_compare(FloatPredicate::OGT, y, hi, "")?;
-                        self.b.build_select(gt, hi, y, "")?
-                    }
-                    "is_nan" => self
-                        .b
-                        .build_float_compare(
-                            FloatPredicate::UNO,
-                            x.into_float_value(),
-                            x.into_float_value(),
-                            "",
-                        )?
-                        .into(),
-                    "is_finite" | "is_infinite" => {
-                        let a = self
-                            .intrinsic(&format!("llvm.fabs.{sfx}"), ft, &[x])?
-                            .into_float_value();
-                        let inf = a.get_type().const_float(f64::INFINITY);
-                        let pred = if name == "is_finite" {
-                            FloatPredicate::OLT
-                        } else {
-                            FloatPredicate::OEQ
-                        };
-                        self.b.build_float_compare(pred, a, inf, "")?.into()
-                    }
-                    "is_sign_negative" | "is_sign_positive" => {
-                        let it = self.int_ty(if sfx == "f64" { 64 } else { 32 });
-                        let bits = self.b.build_bit_cast(x, it, "")?.into_int_value();
-                        let pred = if name == "is_sign_negative" {
-                            IntPredicate::SLT
-                        } else {
-                            IntPredicate::SGE
-                        };
-                        self.b
-                            .build_int_compare(pred, bits, it.const_zero(), "")?
-                            .into()
-                    }
-                    "to_bits" => self.b.build_bit_cast(x, rt, "")?,
-                    "signum" => {
-                        let one = x.into_float_value().get_type().const_float(1.0);
-                        let s =
-                            self.intrinsic(&format!("llvm.copysign.{sfx}"), ft, &[one.into(), x])?;
-                        let nan = self.b.build_float_compare(
-                            FloatPredicate::UNO,
-                            x.into_float_value(),
-                            x.into_float_value(),
-                            "",
-                        )?;
-                        self.b.build_select(nan, x, s, "")?
-                    }
-                    "recip" => {
-                        let one = x.into_float_value().get_type().const_float(1.0);
-                        self.b
-                            .build_float_div(one, x.into_float_value(), "")?
-                            .into()
-                    }
-                    "to_degrees" | "to_radians" => {
-                        let k = if name == "to_degrees" {
-                            180.0 / std::f64::consts::PI
-                        } else {
-                            std::f64::consts::PI / 180.0
-                        };
-                        let k = x.into_float_value().get_type().const_float(k);
-                        self.b.build_float_mul(x.into_float_value(), k, "")?.into()
-                    }
-                    _ => return Err(LowerError::Internal(format!("float builtin {name}"))),
-                }
-            }
-            Builtin::FromBits(_) => self.b.build_bit_cast(vals[0], rt, "")?,
-            Builtin::Int(name) => self.int_builtin(name, vals, &tys[0])?,
-            Builtin::Ptr(name) | Builtin::StdPtr(name) => {
-                let p = vals[0].into_pointer_value();
-                match name {
-                    "add" | "sub" | "offset" => {
-                        let mut i = vals[1].into_int_value();
-                        if name == "sub" {
-                            i = self.b.build_int_neg(i, "")?;
-                        }
-                        // SAFETY: pointer arithmetic on a raw pointer, as in the source program.
-                        unsafe { self.b.build_gep(p, &[i], "")? }.into()
-                    }
-                    "is_null" => self.b.build_is_null(p, "")?.into(),
-                    "read" => self.b.build_load(p, "")?,
-                    "read_volatile" => {
-                        let v = self.b.build_load(p, "")?;
-                        if let Some(i) = v.as_instruction_value() {
-                            i.set_volatile(true)
-                                .map_err(|e| LowerError::Internal(e.to_string()))?;
-                        }
-                        v
-                    }
-                    "write" | "write_volatile" => {
-                        let s = self.b.build_store(p, vals[1])?;
-                        if name == "write_volatile" {
-                            s.set_volatile(true)
-                                .map_err(|e| LowerError::Internal(e.to_string()))?;
-                        }
-                        return Ok(None);
-                    }
-                    _ => return Err(LowerError::Internal(format!("pointer builtin {name}"))),
-                }
-            }
-            Builtin::Simd(s, name) => self.simd_builtin(s, name, vals, rt)?,
-            Builtin::Len(n) => self.ctx.i32_type().const_int(n as u64, false).into(),
-        };
-        Ok(if ret.is_zst() { None } else { Some(v) })
-    }
-
     /// IEEE minNum/maxNum (Rust's `f32::min`/`max`) without a libm call.
     fn float_minmax(
         &mut self,
@@ -392,7 +224,7 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
 
     fn int_builtin(
         &mut self,
-        name: &str,
+        name: Builtin,
         vals: &[BasicValueEnum<'ctx>],
         t: &Ty,
     ) -> LResult<BasicValueEnum<'ctx>> {
@@ -413,7 +245,7 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
             Ok(s.b.build_select(cmp, a, c, "")?)
         };
         Ok(match name {
-            "min" => sel(
+            Builtin::IMin => sel(
                 self,
                 if signed {
                     IntPredicate::SLT
@@ -423,7 +255,7 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                 x,
                 vals[1].into_int_value(),
             )?,
-            "max" => sel(
+            Builtin::IMax => sel(
                 self,
                 if signed {
                     IntPredicate::SGT
@@ -433,7 +265,7 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                 x,
                 vals[1].into_int_value(),
             )?,
-            "clamp" => {
+            Builtin::IClamp => {
                 let lo = sel(
                     self,
                     if signed {
@@ -456,23 +288,23 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                     vals[2].into_int_value(),
                 )?
             }
-            "abs" => {
+            Builtin::IAbs => {
                 let neg = b.build_int_neg(x, "")?;
                 let isneg = b.build_int_compare(IntPredicate::SLT, x, lt.const_zero(), "")?;
                 b.build_select(isneg, neg, x, "")?
             }
-            "wrapping_add" => b.build_int_add(x, vals[1].into_int_value(), "")?.into(),
-            "wrapping_sub" => b.build_int_sub(x, vals[1].into_int_value(), "")?.into(),
-            "wrapping_mul" => b.build_int_mul(x, vals[1].into_int_value(), "")?.into(),
-            "wrapping_neg" => b.build_int_neg(x, "")?.into(),
-            "count_ones" | "leading_zeros" | "trailing_zeros" => {
+            Builtin::IWrappingAdd => b.build_int_add(x, vals[1].into_int_value(), "")?.into(),
+            Builtin::IWrappingSub => b.build_int_sub(x, vals[1].into_int_value(), "")?.into(),
+            Builtin::IWrappingMul => b.build_int_mul(x, vals[1].into_int_value(), "")?.into(),
+            Builtin::IWrappingNeg => b.build_int_neg(x, "")?.into(),
+            Builtin::ICountOnes | Builtin::ILeadingZeros | Builtin::ITrailingZeros => {
                 let n = match name {
-                    "count_ones" => format!("llvm.ctpop.i{bits}"),
-                    "leading_zeros" => format!("llvm.ctlz.i{bits}"),
+                    Builtin::ICountOnes => format!("llvm.ctpop.i{bits}"),
+                    Builtin::ILeadingZeros => format!("llvm.ctlz.i{bits}"),
                     _ => format!("llvm.cttz.i{bits}"),
                 };
                 let mut args = vec![x.into()];
-                if name != "count_ones" {
+                if name != Builtin::ICountOnes {
                     args.push(self.ctx.bool_type().const_zero().into());
                 }
                 let r = self.intrinsic(&n, lt.into(), &args)?.into_int_value();
@@ -480,7 +312,7 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                     .build_int_cast_sign_flag(r, self.ctx.i32_type(), false, "")?
                     .into()
             }
-            "is_power_of_two" => {
+            Builtin::IIsPowerOfTwo => {
                 let r = self
                     .intrinsic(&format!("llvm.ctpop.i{bits}"), lt.into(), &[x.into()])?
                     .into_int_value();
@@ -488,11 +320,11 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                     .build_int_compare(IntPredicate::EQ, r, lt.const_int(1, false), "")?
                     .into()
             }
-            "rotate_left" | "rotate_right" => {
+            Builtin::IRotateLeft | Builtin::IRotateRight => {
                 let amt =
                     self.b
                         .build_int_cast_sign_flag(vals[1].into_int_value(), lt, false, "")?;
-                let n = if name == "rotate_left" {
+                let n = if name == Builtin::IRotateLeft {
                     "fshl"
                 } else {
                     "fshr"
@@ -503,14 +335,14 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                     &[x.into(), x.into(), amt.into()],
                 )?
             }
-            "swap_bytes" => {
+            Builtin::ISwapBytes => {
                 if bits == 8 {
                     x.into()
                 } else {
                     self.intrinsic(&format!("llvm.bswap.i{bits}"), lt.into(), &[x.into()])?
                 }
             }
-            "pow" => {
+            Builtin::IPow => {
                 // Square-and-multiply loop, wrapping.
                 let base_slot = self.alloca(t, "pow.base")?;
                 let acc_slot = self.alloca(t, "pow.acc")?;
@@ -549,7 +381,7 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                 self.b.position_at_end(exit);
                 self.b.build_load(acc_slot, "")?
             }
-            _ => return Err(LowerError::Internal(format!("int builtin {name}"))),
+            _ => return self.int_builtin2(name, vals, t),
         })
     }
 
@@ -619,7 +451,7 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
     fn simd_builtin(
         &mut self,
         s: SimdTy,
-        name: &str,
+        name: Builtin,
         vals: &[BasicValueEnum<'ctx>],
         rt: BasicTypeEnum<'ctx>,
     ) -> LResult<BasicValueEnum<'ctx>> {
@@ -638,9 +470,9 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
         };
         let f = s == SimdTy::F32x4;
         Ok(match name {
-            "splat" => lanes(self, rt, &[vals[0]; 4])?,
-            "new" => lanes(self, rt, &vals[..4])?,
-            "get" => {
+            Builtin::SimdSplat => lanes(self, rt, &[vals[0]; 4])?,
+            Builtin::SimdNew => lanes(self, rt, &vals[..4])?,
+            Builtin::SimdGet => {
                 let idx = vals[1].into_int_value();
                 let ok = self.b.build_int_compare(
                     IntPredicate::ULT,
@@ -648,20 +480,21 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                     i32t.const_int(4, false),
                     "",
                 )?;
-                self.check_with(ok, |l| l.bounds_abort(4, idx))?;
+                let four = i32t.const_int(4, false);
+                self.check_with(ok, |l| l.bounds_abort(four, idx))?;
                 self.b
                     .build_extract_element(vals[0].into_vector_value(), idx, "")?
             }
-            "min" | "max" => self.simd_minmax(
-                name == "min",
+            Builtin::SimdMin | Builtin::SimdMax => self.simd_minmax(
+                name == Builtin::SimdMin,
                 vals[0].into_vector_value(),
                 vals[1].into_vector_value(),
             )?,
-            "sqrt" => self.intrinsic("llvm.sqrt.v4f32", rt, &[vals[0]])?,
+            Builtin::SimdSqrt => self.intrinsic("llvm.sqrt.v4f32", rt, &[vals[0]])?,
             // Not `llvm.fabs.v4f32`: LLVM 14 selects `fmax_a.w x, x` for it, which keeps
             // the sign. Clearing the sign bit is exact for every input, NaNs included.
-            "abs" => self.simd_sign_bit(vals[0].into_vector_value(), false)?,
-            "mul_add" => {
+            Builtin::SimdAbs => self.simd_sign_bit(vals[0].into_vector_value(), false)?,
+            Builtin::SimdMulAdd => {
                 // `fmadd.w wd, ws, wt`: wd = wd + ws * wt, one rounding. Not `llvm.fma.v4f32`:
                 // LLVM 14 selects `fmadd.w` for it with the addend and a factor swapped
                 // (computing a + b * c for a * b + c) whenever the operands are not
@@ -687,12 +520,16 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                     .basic()
                     .ok_or_else(|| LowerError::Internal("fmadd.w".into()))?
             }
-            "lt" | "le" | "gt" | "ge" | "eq" => {
+            Builtin::SimdLt
+            | Builtin::SimdLe
+            | Builtin::SimdGt
+            | Builtin::SimdGe
+            | Builtin::SimdEq => {
                 let pred = match name {
-                    "lt" => FloatPredicate::OLT,
-                    "le" => FloatPredicate::OLE,
-                    "gt" => FloatPredicate::OGT,
-                    "ge" => FloatPredicate::OGE,
+                    Builtin::SimdLt => FloatPredicate::OLT,
+                    Builtin::SimdLe => FloatPredicate::OLE,
+                    Builtin::SimdGt => FloatPredicate::OGT,
+                    Builtin::SimdGe => FloatPredicate::OGE,
                     _ => FloatPredicate::OEQ,
                 };
                 let m = self.b.build_float_compare(
@@ -703,7 +540,7 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                 )?;
                 self.b.build_int_s_extend(m, v4i, "")?.into()
             }
-            "select" => {
+            Builtin::SimdSelect => {
                 let mask = vals[0].into_vector_value();
                 let nz = self
                     .b
@@ -715,8 +552,10 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                     "",
                 )?
             }
-            "to_i32x4" => self.intrinsic("llvm.fptosi.sat.v4i32.v4f32", rt, &[vals[0]])?,
-            "to_f32x4" => self
+            Builtin::SimdToI32x4 => {
+                self.intrinsic("llvm.fptosi.sat.v4i32.v4f32", rt, &[vals[0]])?
+            }
+            Builtin::SimdToF32x4 => self
                 .b
                 .build_signed_int_to_float(
                     vals[0].into_vector_value(),
@@ -724,21 +563,21 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                     "",
                 )?
                 .into(),
-            "any" | "all" if !f => {
+            Builtin::SimdAny | Builtin::SimdAll if !f => {
                 let nz = self.b.build_int_compare(
                     IntPredicate::NE,
                     vals[0].into_vector_value(),
                     v4i.const_zero(),
                     "",
                 )?;
-                let n = if name == "any" {
+                let n = if name == Builtin::SimdAny {
                     "llvm.vector.reduce.or.v4i1"
                 } else {
                     "llvm.vector.reduce.and.v4i1"
                 };
                 self.intrinsic(n, self.ctx.bool_type().into(), &[nz.into()])?
             }
-            _ => return Err(LowerError::Internal(format!("simd builtin {name}"))),
+            _ => return Err(LowerError::Internal(format!("simd builtin {name:?}"))),
         })
     }
 
@@ -881,76 +720,678 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
         Ok(())
     }
 
-    fn print_str(&mut self, s: &str) -> LResult<()> {
-        if s.is_empty() {
-            return Ok(());
-        }
-        let i32t = self.ctx.i32_type();
-        let g = self.string_global(s);
-        let addr = g.as_pointer_value().const_to_int(i32t);
-        let len = i32t.const_int(s.len() as u64, false);
-        self.trax(instr(TraxOp::PrintStr), &[addr.into(), len.into()], &[])?;
-        Ok(())
+    /// Calls a function of the prelude's `libm` module.
+    fn libm_call(
+        &mut self,
+        name: &str,
+        args: &[BasicValueEnum<'ctx>],
+        t: &Ty,
+    ) -> LResult<BasicValueEnum<'ctx>> {
+        let f = self
+            .p
+            .libm_fn(name)
+            .ok_or_else(|| internal(format!("libm function {name} missing")))?;
+        let r = self.call_fn(f, &[], args.to_vec(), t)?;
+        r.ok_or_else(|| internal("libm call returned nothing"))
     }
 
-    fn print_value(&mut self, v: BasicValueEnum<'ctx>, t: &Ty) -> LResult<()> {
+    /// An `Option` value of type `t` (`Some(v)` or `None`).
+    fn option(&mut self, t: &Ty, v: Option<BasicValueEnum<'ctx>>) -> LResult<BasicValueEnum<'ctx>> {
+        let Ty::Adt(a, _) = t else {
+            return Err(internal("Option type"));
+        };
+        let name = if v.is_some() { "Some" } else { "None" };
+        let var = self.p.adts[*a]
+            .variant(name)
+            .ok_or_else(|| internal("Option variant"))?;
+        let fields: Vec<Option<BasicValueEnum>> = v.into_iter().map(Some).collect();
+        self.build_adt(t, var, &fields)
+    }
+
+    /// An `Ordering` value from `lt`/`gt` flags (equal otherwise).
+    fn ordering(
+        &mut self,
+        t: &Ty,
+        lt: IntValue<'ctx>,
+        gt: IntValue<'ctx>,
+    ) -> LResult<BasicValueEnum<'ctx>> {
+        let Ty::Adt(a, _) = t else {
+            return Err(internal("Ordering type"));
+        };
+        let var = |l: &Self, n: &str| -> LResult<IntValue<'ctx>> {
+            let v = l.p.adts[*a]
+                .variant(n)
+                .ok_or_else(|| internal("Ordering variant"))?;
+            Ok(l.tag_val(*a, v))
+        };
+        let (less, equal, greater) = (
+            var(self, "Less")?,
+            var(self, "Equal")?,
+            var(self, "Greater")?,
+        );
+        let g = self.b.build_select(gt, greater, equal, "")?;
+        Ok(self.b.build_select(lt, less.into(), g, "")?)
+    }
+
+    /// `Option<Ordering>` from flags and a "comparable" flag.
+    fn opt_ordering(
+        &mut self,
+        t: &Ty,
+        ok: IntValue<'ctx>,
+        lt: IntValue<'ctx>,
+        gt: IntValue<'ctx>,
+    ) -> LResult<BasicValueEnum<'ctx>> {
+        let Ty::Adt(_, args) = t else {
+            return Err(internal("Option<Ordering> type"));
+        };
+        let ot = args[0].clone();
+        let o = self.ordering(&ot, lt, gt)?;
+        let some = self.option(t, Some(o))?;
+        let none = self.option(t, None)?;
+        Ok(self.b.build_select(ok, some, none, "")?)
+    }
+
+    /// Lowers a builtin; for methods `vals[0]` is the receiver (for sequence builtins a
+    /// pointer to the array or the slice reference, with `tys[0]` the array or slice).
+    pub(super) fn builtin(
+        &mut self,
+        b: Builtin,
+        vals: &[BasicValueEnum<'ctx>],
+        tys: &[Ty],
+        ret: &Ty,
+    ) -> LResult<V<'ctx>> {
+        use Builtin as B;
+        let rt = self.llty(ret);
+        let v: BasicValueEnum<'ctx> = match b {
+            B::FSqrt
+            | B::FAbs
+            | B::FMin
+            | B::FMax
+            | B::FFloor
+            | B::FCeil
+            | B::FRound
+            | B::FTrunc
+            | B::FFract
+            | B::FClamp
+            | B::FPowi
+            | B::FMulAdd
+            | B::FIsNan
+            | B::FIsFinite
+            | B::FIsInfinite
+            | B::FIsSignNegative
+            | B::FIsSignPositive
+            | B::FToBits
+            | B::FSignum
+            | B::FRecip
+            | B::FCopysign
+            | B::FToDegrees
+            | B::FToRadians
+            | B::FRemEuclid
+            | B::FDivEuclid
+            | B::FPartialCmp
+            | B::FTotalCmp
+            | B::FLogBase
+            | B::FSinCos => self.float_builtin(b, vals, &tys[0], ret)?,
+            B::FFromBits => self.b.build_bit_cast(vals[0], rt, "")?,
+            B::Libm(..) => return Err(internal("libm builtins are calls")),
+            B::IMin
+            | B::IMax
+            | B::IAbs
+            | B::IClamp
+            | B::IWrappingAdd
+            | B::IWrappingSub
+            | B::IWrappingMul
+            | B::IWrappingNeg
+            | B::IPow
+            | B::ICountOnes
+            | B::ILeadingZeros
+            | B::ITrailingZeros
+            | B::IIsPowerOfTwo
+            | B::IRotateLeft
+            | B::IRotateRight
+            | B::ISwapBytes
+            | B::IRemEuclid
+            | B::IDivEuclid
+            | B::ISignum
+            | B::IAbsDiff
+            | B::IIsPositive
+            | B::IIsNegative => self.int_builtin(b, vals, &tys[0])?,
+            B::IPartialCmp | B::ICmp => {
+                let x = vals[0].into_int_value();
+                let y = self
+                    .b
+                    .build_load(vals[1].into_pointer_value(), "")?
+                    .into_int_value();
+                let signed = matches!(tys[0], Ty::Int(i) if i.signed());
+                let (pl, pg) = if signed {
+                    (IntPredicate::SLT, IntPredicate::SGT)
+                } else {
+                    (IntPredicate::ULT, IntPredicate::UGT)
+                };
+                let lt = self.b.build_int_compare(pl, x, y, "")?;
+                let gt = self.b.build_int_compare(pg, x, y, "")?;
+                if b == B::ICmp {
+                    self.ordering(ret, lt, gt)?
+                } else {
+                    let t = self.ctx.bool_type().const_int(1, false);
+                    self.opt_ordering(ret, t, lt, gt)?
+                }
+            }
+            B::PtrAdd | B::PtrSub | B::PtrOffset => {
+                let p = vals[0].into_pointer_value();
+                let mut i = vals[1].into_int_value();
+                if b == B::PtrSub {
+                    i = self.b.build_int_neg(i, "")?;
+                }
+                // SAFETY: pointer arithmetic on a raw pointer, as in the source program.
+                unsafe { self.b.build_gep(p, &[i], "")? }.into()
+            }
+            B::PtrIsNull => self
+                .b
+                .build_is_null(vals[0].into_pointer_value(), "")?
+                .into(),
+            B::PtrRead => self.b.build_load(vals[0].into_pointer_value(), "")?,
+            B::PtrReadVolatile => {
+                let v = self.b.build_load(vals[0].into_pointer_value(), "")?;
+                if let Some(i) = v.as_instruction_value() {
+                    i.set_volatile(true).map_err(|e| internal(e.to_string()))?;
+                }
+                v
+            }
+            B::PtrWrite | B::PtrWriteVolatile => {
+                let s = self.b.build_store(vals[0].into_pointer_value(), vals[1])?;
+                if b == B::PtrWriteVolatile {
+                    s.set_volatile(true).map_err(|e| internal(e.to_string()))?;
+                }
+                return Ok(None);
+            }
+            B::StdNull => rt.into_pointer_type().const_null().into(),
+            B::MemSwap => {
+                let (a, c) = (vals[0].into_pointer_value(), vals[1].into_pointer_value());
+                if !matches!(&tys[0], Ty::Ref(_, t) if t.is_zst()) {
+                    let x = self.b.build_load(a, "")?;
+                    let y = self.b.build_load(c, "")?;
+                    self.b.build_store(a, y)?;
+                    self.b.build_store(c, x)?;
+                }
+                return Ok(None);
+            }
+            B::MemReplace => {
+                let a = vals[0].into_pointer_value();
+                if ret.is_zst() {
+                    return Ok(None);
+                }
+                let old = self.b.build_load(a, "")?;
+                self.b.build_store(a, vals[1])?;
+                old
+            }
+            B::MemTake => {
+                let a = vals[0].into_pointer_value();
+                if ret.is_zst() {
+                    return Ok(None);
+                }
+                let old = self.b.build_load(a, "")?;
+                let d = self.default_value(ret)?;
+                let d = self.val(d, ret);
+                self.b.build_store(a, d)?;
+                old
+            }
+            B::CmpMin | B::CmpMax => {
+                let (x, y) = (vals[0].into_int_value(), vals[1].into_int_value());
+                let signed = matches!(tys[0], Ty::Int(i) if i.signed());
+                // Rust: min returns the first on equality, max the second.
+                let pred = match (b == B::CmpMin, signed) {
+                    (true, true) => IntPredicate::SLE,
+                    (true, false) => IntPredicate::ULE,
+                    (false, true) => IntPredicate::SGT,
+                    (false, false) => IntPredicate::UGT,
+                };
+                let c = self.b.build_int_compare(pred, x, y, "")?;
+                self.b.build_select(c, x, y, "")?
+            }
+            B::SimdSplat
+            | B::SimdNew
+            | B::SimdSelect
+            | B::SimdGet
+            | B::SimdMin
+            | B::SimdMax
+            | B::SimdSqrt
+            | B::SimdAbs
+            | B::SimdMulAdd
+            | B::SimdLt
+            | B::SimdLe
+            | B::SimdGt
+            | B::SimdGe
+            | B::SimdEq
+            | B::SimdToI32x4
+            | B::SimdToF32x4
+            | B::SimdAny
+            | B::SimdAll => {
+                let s = match (&tys.first(), ret) {
+                    (Some(Ty::Simd(s)), _) => *s,
+                    (_, Ty::Simd(s)) => *s,
+                    _ => SimdTy::F32x4,
+                };
+                let s = if matches!(b, B::SimdSplat | B::SimdNew | B::SimdSelect) {
+                    match ret {
+                        Ty::Simd(s) => *s,
+                        _ => s,
+                    }
+                } else {
+                    s
+                };
+                self.simd_builtin(s, b, vals, rt)?
+            }
+            B::Len
+            | B::IsEmpty
+            | B::First
+            | B::Last
+            | B::Swap
+            | B::Fill
+            | B::Contains
+            | B::AsSlice => return self.seq_builtin(b, vals, tys, ret),
+        };
+        Ok(if ret.is_zst() { None } else { Some(v) })
+    }
+
+    fn float_builtin(
+        &mut self,
+        b: Builtin,
+        vals: &[BasicValueEnum<'ctx>],
+        t: &Ty,
+        ret: &Ty,
+    ) -> LResult<BasicValueEnum<'ctx>> {
+        use Builtin as B;
+        let rt = self.llty(ret);
+        let sfx = Self::fsuffix(t);
+        let x = vals[0];
+        let ft = x.get_type();
+        let xf = x.into_float_value();
+        let fty = xf.get_type();
+        Ok(match b {
+            B::FSqrt | B::FAbs => {
+                let n = if b == B::FAbs { "fabs" } else { "sqrt" };
+                self.intrinsic(&format!("llvm.{n}.{sfx}"), ft, &[x])?
+            }
+            B::FMin | B::FMax => self.float_minmax(b == B::FMin, xf, vals[1].into_float_value())?,
+            B::FCopysign => self.intrinsic(&format!("llvm.copysign.{sfx}"), ft, &[x, vals[1]])?,
+            B::FMulAdd => {
+                // r6 `maddf.fmt fd, fs, ft`: fd = fd + fs * ft, one rounding. LLVM 14
+                // does not select it for `llvm.fma`, which would call `fmaf`.
+                let fnty = ft.fn_type(&[ft.into(), ft.into(), ft.into()], false);
+                let fmt = if sfx == "f64" { "d" } else { "s" };
+                let ia = self.ctx.create_inline_asm(
+                    fnty,
+                    format!("maddf.{fmt} $0, $1, $2"),
+                    "=f,f,f,0".into(),
+                    false,
+                    false,
+                    None,
+                    false,
+                );
+                let callable =
+                    CallableValue::try_from(ia).map_err(|_| internal("inline asm callable"))?;
+                let args: [BasicMetadataValueEnum; 3] = [x.into(), vals[1].into(), vals[2].into()];
+                self.b
+                    .build_call(callable, &args, "")?
+                    .try_as_basic_value()
+                    .basic()
+                    .ok_or_else(|| internal("maddf"))?
+            }
+            B::FPowi => self.float_powi(xf, vals[1].into_int_value())?,
+            B::FFloor | B::FCeil | B::FRound | B::FTrunc | B::FFract => {
+                self.float_unary(b, x, t)?
+            }
+            B::FClamp => {
+                let lo = vals[1].into_float_value();
+                let hi = vals[2].into_float_value();
+                let lt = self
+                    .b
+                    .build_float_compare(FloatPredicate::OLT, xf, lo, "")?;
+                let y = self.b.build_select(lt, lo, xf, "")?.into_float_value();
+                let gt = self.b.build_float_compare(FloatPredicate::OGT, y, hi, "")?;
+                self.b.build_select(gt, hi, y, "")?
+            }
+            B::FIsNan => self
+                .b
+                .build_float_compare(FloatPredicate::UNO, xf, xf, "")?
+                .into(),
+            B::FIsFinite | B::FIsInfinite => {
+                let a = self
+                    .intrinsic(&format!("llvm.fabs.{sfx}"), ft, &[x])?
+                    .into_float_value();
+                let inf = a.get_type().const_float(f64::INFINITY);
+                let pred = if b == B::FIsFinite {
+                    FloatPredicate::OLT
+                } else {
+                    FloatPredicate::OEQ
+                };
+                self.b.build_float_compare(pred, a, inf, "")?.into()
+            }
+            B::FIsSignNegative | B::FIsSignPositive => {
+                let it = self.int_ty(if sfx == "f64" { 64 } else { 32 });
+                let bits = self.b.build_bit_cast(x, it, "")?.into_int_value();
+                let pred = if b == B::FIsSignNegative {
+                    IntPredicate::SLT
+                } else {
+                    IntPredicate::SGE
+                };
+                self.b
+                    .build_int_compare(pred, bits, it.const_zero(), "")?
+                    .into()
+            }
+            B::FToBits => self.b.build_bit_cast(x, rt, "")?,
+            B::FSignum => {
+                let one = fty.const_float(1.0);
+                let s = self.intrinsic(&format!("llvm.copysign.{sfx}"), ft, &[one.into(), x])?;
+                let nan = self
+                    .b
+                    .build_float_compare(FloatPredicate::UNO, xf, xf, "")?;
+                self.b.build_select(nan, x, s, "")?
+            }
+            B::FRecip => self.b.build_float_div(fty.const_float(1.0), xf, "")?.into(),
+            B::FToDegrees | B::FToRadians => {
+                // Rust: f32 multiplies by a rounded f32 constant; f64 as well.
+                let k = if b == B::FToDegrees {
+                    if sfx == "f64" {
+                        180.0f64 / std::f64::consts::PI
+                    } else {
+                        57.295_78_f32 as f64
+                    }
+                } else if sfx == "f64" {
+                    std::f64::consts::PI / 180.0
+                } else {
+                    (std::f32::consts::PI / 180.0) as f64
+                };
+                let k = fty.const_float(k);
+                self.b.build_float_mul(xf, k, "")?.into()
+            }
+            B::FRemEuclid => {
+                // r = self % rhs; if r < 0 { r + |rhs| } else { r }
+                let y = vals[1];
+                let r = self
+                    .arith(crate::ops::BinOp::Rem, x, y, t, t)?
+                    .into_float_value();
+                let neg =
+                    self.b
+                        .build_float_compare(FloatPredicate::OLT, r, fty.const_zero(), "")?;
+                let ay = self
+                    .intrinsic(&format!("llvm.fabs.{sfx}"), ft, &[y])?
+                    .into_float_value();
+                let s = self.b.build_float_add(r, ay, "")?;
+                self.b.build_select(neg, s, r, "")?
+            }
+            B::FDivEuclid => {
+                // q = trunc(self / rhs); if self % rhs < 0 { if rhs > 0 { q - 1 } else { q + 1 } } else { q }
+                let y = vals[1];
+                let yf = y.into_float_value();
+                let d = self.b.build_float_div(xf, yf, "")?;
+                let q = self.float_unary(B::FTrunc, d.into(), t)?.into_float_value();
+                let r = self
+                    .arith(crate::ops::BinOp::Rem, x, y, t, t)?
+                    .into_float_value();
+                let neg =
+                    self.b
+                        .build_float_compare(FloatPredicate::OLT, r, fty.const_zero(), "")?;
+                let pos =
+                    self.b
+                        .build_float_compare(FloatPredicate::OGT, yf, fty.const_zero(), "")?;
+                let qm = self.b.build_float_sub(q, fty.const_float(1.0), "")?;
+                let qp = self.b.build_float_add(q, fty.const_float(1.0), "")?;
+                let adj = self.b.build_select(pos, qm, qp, "")?.into_float_value();
+                self.b.build_select(neg, adj, q, "")?
+            }
+            B::FPartialCmp => {
+                let y = self
+                    .b
+                    .build_load(vals[1].into_pointer_value(), "")?
+                    .into_float_value();
+                let ok = self.b.build_float_compare(FloatPredicate::ORD, xf, y, "")?;
+                let lt = self.b.build_float_compare(FloatPredicate::OLT, xf, y, "")?;
+                let gt = self.b.build_float_compare(FloatPredicate::OGT, xf, y, "")?;
+                self.opt_ordering(ret, ok, lt, gt)?
+            }
+            B::FTotalCmp => {
+                let y = self.b.build_load(vals[1].into_pointer_value(), "")?;
+                let bits = if sfx == "f64" { 64 } else { 32 };
+                let it = self.int_ty(bits);
+                let key = |l: &mut Self, v: BasicValueEnum<'ctx>| -> LResult<IntValue<'ctx>> {
+                    let i = l.b.build_bit_cast(v, it, "")?.into_int_value();
+                    let s =
+                        l.b.build_right_shift(i, it.const_int(bits as u64 - 1, false), true, "")?;
+                    let s =
+                        l.b.build_right_shift(s, it.const_int(1, false), false, "")?;
+                    Ok(l.b.build_xor(i, s, "")?)
+                };
+                let kx = key(self, x)?;
+                let ky = key(self, y)?;
+                let lt = self.b.build_int_compare(IntPredicate::SLT, kx, ky, "")?;
+                let gt = self.b.build_int_compare(IntPredicate::SGT, kx, ky, "")?;
+                self.ordering(ret, lt, gt)?
+            }
+            B::FLogBase => {
+                let name = if sfx == "f64" { "log" } else { "logf" };
+                let a = self.libm_call(name, &[x], t)?.into_float_value();
+                let c = self.libm_call(name, &[vals[1]], t)?.into_float_value();
+                self.b.build_float_div(a, c, "")?.into()
+            }
+            B::FSinCos => {
+                let (sn, cn) = if sfx == "f64" {
+                    ("sin", "cos")
+                } else {
+                    ("sinf", "cosf")
+                };
+                let s = self.libm_call(sn, &[x], t)?;
+                let c = self.libm_call(cn, &[x], t)?;
+                let st = self.llty(ret).into_struct_type();
+                let mut agg = st.get_undef();
+                agg = self
+                    .b
+                    .build_insert_value(agg, s, 0, "")?
+                    .into_struct_value();
+                agg = self
+                    .b
+                    .build_insert_value(agg, c, 1, "")?
+                    .into_struct_value();
+                agg.into()
+            }
+            other => return Err(internal(format!("float builtin {other:?}"))),
+        })
+    }
+
+    /// Integer builtins added with the catalogue.
+    fn int_builtin2(
+        &mut self,
+        name: Builtin,
+        vals: &[BasicValueEnum<'ctx>],
+        t: &Ty,
+    ) -> LResult<BasicValueEnum<'ctx>> {
+        use Builtin as B;
+        let x = vals[0].into_int_value();
+        let it = x.get_type();
+        let zero = it.const_zero();
+        let signed = matches!(t, Ty::Int(i) if i.signed());
+        Ok(match name {
+            B::ISignum => {
+                let pos = self.b.build_int_compare(IntPredicate::SGT, x, zero, "")?;
+                let neg = self.b.build_int_compare(IntPredicate::SLT, x, zero, "")?;
+                let one = self
+                    .b
+                    .build_select(pos, it.const_int(1, false), zero, "")?
+                    .into_int_value();
+                self.b.build_select(neg, it.const_all_ones(), one, "")?
+            }
+            B::IIsPositive => self
+                .b
+                .build_int_compare(IntPredicate::SGT, x, zero, "")?
+                .into(),
+            B::IIsNegative => self
+                .b
+                .build_int_compare(IntPredicate::SLT, x, zero, "")?
+                .into(),
+            B::IAbsDiff => {
+                let y = vals[1].into_int_value();
+                let pred = if signed {
+                    IntPredicate::SLT
+                } else {
+                    IntPredicate::ULT
+                };
+                let lt = self.b.build_int_compare(pred, x, y, "")?;
+                let d1 = self.b.build_int_sub(y, x, "")?;
+                let d2 = self.b.build_int_sub(x, y, "")?;
+                self.b.build_select(lt, d1, d2, "")?
+            }
+            B::IRemEuclid | B::IDivEuclid => {
+                let y = vals[1].into_int_value();
+                let r = self.int_div(crate::ops::BinOp::Rem, x, y, signed)?;
+                if !signed {
+                    if name == B::IRemEuclid {
+                        return Ok(r.into());
+                    }
+                    return Ok(self.int_div(crate::ops::BinOp::Div, x, y, false)?.into());
+                }
+                let q = self.b.build_int_signed_div(x, y, "")?;
+                let rneg = self.b.build_int_compare(IntPredicate::SLT, r, zero, "")?;
+                let ypos = self.b.build_int_compare(IntPredicate::SGT, y, zero, "")?;
+                if name == B::IRemEuclid {
+                    // r < 0: r + |y| (wrapping).
+                    let ny = self.b.build_int_neg(y, "")?;
+                    let ay = self.b.build_select(ypos, y, ny, "")?.into_int_value();
+                    let s = self.b.build_int_add(r, ay, "")?;
+                    self.b.build_select(rneg, s, r, "")?
+                } else {
+                    let one = it.const_int(1, false);
+                    let qm = self.b.build_int_sub(q, one, "")?;
+                    let qp = self.b.build_int_add(q, one, "")?;
+                    let adj = self.b.build_select(ypos, qm, qp, "")?.into_int_value();
+                    self.b.build_select(rneg, adj, q, "")?
+                }
+            }
+            other => return Err(internal(format!("int builtin {other:?}"))),
+        })
+    }
+
+    /// Array and slice builtins: `vals[0]` is a pointer to the array, or the slice
+    /// reference `{ptr, len}`.
+    fn seq_builtin(
+        &mut self,
+        b: Builtin,
+        vals: &[BasicValueEnum<'ctx>],
+        tys: &[Ty],
+        ret: &Ty,
+    ) -> LResult<V<'ctx>> {
+        use Builtin as B;
         let i32t = self.ctx.i32_type();
-        match t {
-            Ty::Ref(_, inner) => {
-                let x = self.b.build_load(v.into_pointer_value(), "")?;
-                self.print_value(x, inner)?;
-            }
-            Ty::Str => {
-                let sv = v.into_struct_value();
-                let a = self.b.build_extract_value(sv, 0, "")?;
-                let l = self.b.build_extract_value(sv, 1, "")?;
-                self.trax(instr(TraxOp::PrintStr), &[a, l], &[])?;
-            }
-            Ty::Float(FloatTy::F32) => {
-                self.trax(instr(TraxOp::PrintF32), &[v], &[])?;
-            }
-            Ty::Float(FloatTy::F64) => {
-                self.trax(instr(TraxOp::PrintF64), &[v], &[])?;
-            }
-            Ty::Bool => {
-                self.trax(instr(TraxOp::PrintBool), &[v], &[])?;
-            }
-            Ty::Char => {
-                self.trax(instr(TraxOp::PrintChar), &[v], &[])?;
-            }
-            Ty::Int(it) if it.bits() == 64 => {
-                let x = v.into_int_value();
-                let lo = self.b.build_int_truncate(x, i32t, "")?;
-                let hi =
-                    self.b
-                        .build_right_shift(x, x.get_type().const_int(32, false), false, "")?;
-                let hi = self.b.build_int_truncate(hi, i32t, "")?;
-                let op = if it.signed() {
-                    TraxOp::PrintI64
-                } else {
-                    TraxOp::PrintU64
-                };
-                self.trax(instr(op), &[lo.into(), hi.into()], &[])?;
-            }
-            Ty::Int(it) => {
-                let x =
-                    self.b
-                        .build_int_cast_sign_flag(v.into_int_value(), i32t, it.signed(), "")?;
-                let op = if it.signed() {
-                    TraxOp::PrintInt
-                } else {
-                    TraxOp::PrintUint
-                };
-                self.trax(instr(op), &[x.into()], &[])?;
+        let s = match &tys[0] {
+            Ty::Array(el, n) => super::place::Seq {
+                ptr: vals[0].into_pointer_value(),
+                len: i32t.const_int(*n as u64, false),
+                elem: (**el).clone(),
+                array: true,
+            },
+            Ty::Slice(el) => {
+                let (ptr, len) = self.slice_parts(vals[0].into_struct_value())?;
+                super::place::Seq {
+                    ptr,
+                    len,
+                    elem: (**el).clone(),
+                    array: false,
+                }
             }
             other => {
-                return Err(LowerError::Internal(format!(
-                    "print {}",
+                return Err(internal(format!(
+                    "sequence builtin on {}",
                     self.p.ty_str(other)
                 )))
             }
-        }
-        Ok(())
+        };
+        Ok(match b {
+            B::Len => Some(s.len.into()),
+            B::IsEmpty => Some(
+                self.b
+                    .build_int_compare(IntPredicate::EQ, s.len, i32t.const_zero(), "")?
+                    .into(),
+            ),
+            B::AsSlice => {
+                let first = self.seq_elem(&s, i32t.const_zero())?;
+                Some(self.make_slice(first, &s.elem, s.len)?.into())
+            }
+            B::First | B::Last => {
+                let nonempty =
+                    self.b
+                        .build_int_compare(IntPredicate::NE, s.len, i32t.const_zero(), "")?;
+                let idx = if b == B::First {
+                    i32t.const_zero()
+                } else {
+                    self.b.build_int_sub(s.len, i32t.const_int(1, false), "")?
+                };
+                // The address is only formed, not read, when the sequence is empty.
+                let p = self.seq_elem(&s, idx)?;
+                let some = self.option(ret, Some(p.into()))?;
+                let none = self.option(ret, None)?;
+                Some(self.b.build_select(nonempty, some, none, "")?)
+            }
+            B::Swap => {
+                let (i, j) = (vals[1].into_int_value(), vals[2].into_int_value());
+                let len = s.len;
+                for k in [i, j] {
+                    let ok = self.b.build_int_compare(IntPredicate::ULT, k, len, "")?;
+                    self.check_with(ok, |l| l.bounds_abort(len, k))?;
+                }
+                let pi = self.seq_elem(&s, i)?;
+                let pj = self.seq_elem(&s, j)?;
+                if !s.elem.is_zst() {
+                    let a = self.b.build_load(pi, "")?;
+                    let c = self.b.build_load(pj, "")?;
+                    self.b.build_store(pi, c)?;
+                    self.b.build_store(pj, a)?;
+                }
+                None
+            }
+            B::Fill | B::Contains => {
+                let idx = self.alloca(&Ty::Int(IntTy::Usize), "seq.i")?;
+                let found = self.alloca(&Ty::Bool, "seq.found")?;
+                self.b
+                    .build_store(found, self.ctx.bool_type().const_zero())?;
+                self.b.build_store(idx, i32t.const_zero())?;
+                let head = self.new_block("seq.cond");
+                let body = self.new_block("seq.body");
+                let exit = self.new_block("seq.end");
+                self.b.build_unconditional_branch(head)?;
+                self.b.position_at_end(head);
+                let k = self.b.build_load(idx, "")?.into_int_value();
+                let more = self.b.build_int_compare(IntPredicate::ULT, k, s.len, "")?;
+                self.b.build_conditional_branch(more, body, exit)?;
+                self.b.position_at_end(body);
+                let ep = self.seq_elem(&s, k)?;
+                if b == B::Fill {
+                    if !s.elem.is_zst() {
+                        self.b.build_store(ep, vals[1])?;
+                    }
+                } else {
+                    let eq = self.derived_eq(ep, vals[1].into_pointer_value(), &s.elem)?;
+                    let hit = self.new_block("seq.hit");
+                    let next = self.new_block("seq.next");
+                    self.b.build_conditional_branch(eq, hit, next)?;
+                    self.b.position_at_end(hit);
+                    self.b
+                        .build_store(found, self.ctx.bool_type().const_int(1, false))?;
+                    self.b.build_unconditional_branch(exit)?;
+                    self.b.position_at_end(next);
+                }
+                let nx = self.b.build_int_add(k, i32t.const_int(1, false), "")?;
+                self.b.build_store(idx, nx)?;
+                self.b.build_unconditional_branch(head)?;
+                self.b.position_at_end(exit);
+                if b == B::Contains {
+                    Some(self.b.build_load(found, "")?)
+                } else {
+                    None
+                }
+            }
+            other => return Err(internal(format!("sequence builtin {other:?}"))),
+        })
+        .map(|v| if ret.is_zst() { None } else { v })
     }
 
     /// Lowers a builtin macro.
@@ -959,31 +1400,18 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
         let call = body
             .macros
             .get(&key(m))
-            .ok_or_else(|| LowerError::Internal("unchecked macro".into()))?;
+            .ok_or_else(|| internal("unchecked macro"))?;
         match call {
             MacroCall::Print(pieces) => {
-                // Merge adjacent literal pieces.
-                let mut lit = String::new();
-                for p in pieces {
-                    match p {
-                        FmtPiece::Lit(s) => lit.push_str(s),
-                        // `{:?}` prints as `{}` (the print instructions render `Display`).
-                        FmtPiece::Arg(e) | FmtPiece::Debug(e) => {
-                            let t = self.ty_of(e);
-                            let v = self.expr(e)?;
-                            self.print_str(&std::mem::take(&mut lit))?;
-                            if let Some(v) = v {
-                                self.print_value(v, &t)?;
-                            }
-                        }
-                    }
-                }
-                self.print_str(&lit)?;
+                self.print_pieces(pieces)?;
                 Ok(None)
             }
             MacroCall::Abort { .. } => {
                 self.abort_macro(m, call)?;
                 Ok(None)
+            }
+            MacroCall::Matches { expr, pat, guard } => {
+                self.matches_macro(expr, pat, guard.as_deref())
             }
             MacroCall::Nothing => Ok(None),
             MacroCall::TraxOp { instr, args } => {
@@ -1016,8 +1444,7 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                     None,
                     false,
                 );
-                let callable = CallableValue::try_from(ia)
-                    .map_err(|_| LowerError::Internal("inline asm".into()))?;
+                let callable = CallableValue::try_from(ia).map_err(|_| internal("inline asm"))?;
                 self.b.build_call(callable, &[bits.into()], "")?;
                 Ok(None)
             }
@@ -1033,14 +1460,13 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                     None,
                     false,
                 );
-                let callable = CallableValue::try_from(ia)
-                    .map_err(|_| LowerError::Internal("inline asm".into()))?;
+                let callable = CallableValue::try_from(ia).map_err(|_| internal("inline asm"))?;
                 let r = self
                     .b
                     .build_call(callable, &[], "")?
                     .try_as_basic_value()
                     .basic()
-                    .ok_or_else(|| LowerError::Internal("mfc2".into()))?;
+                    .ok_or_else(|| internal("mfc2"))?;
                 Ok(Some(self.b.build_bit_cast(r, self.ctx.f32_type(), "")?))
             }
             MacroCall::SymbolAddr(name) => {

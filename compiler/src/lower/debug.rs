@@ -40,7 +40,13 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
             return *d;
         }
         let d = match t {
-            Ty::Unit | Ty::Never | Ty::Var(_) => {
+            Ty::Unit
+            | Ty::Never
+            | Ty::Var(_)
+            | Ty::Param(_)
+            | Ty::Proj(..)
+            | Ty::Infer
+            | Ty::Slice(_) => {
                 let file = self.di_file(self.file);
                 self.dib
                     .create_struct_type(
@@ -59,6 +65,7 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                     )
                     .as_type()
             }
+            Ty::Closure(c) => self.closure_di(c),
             Ty::Bool => self.basic("bool", 8, DW_ATE_BOOLEAN),
             Ty::Char => self.basic("char", 32, DW_ATE_UTF),
             Ty::Int(i) => self.basic(
@@ -72,15 +79,17 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
             ),
             Ty::Float(FloatTy::F32) => self.basic("f32", 32, DW_ATE_FLOAT),
             Ty::Float(FloatTy::F64) => self.basic("f64", 64, DW_ATE_FLOAT),
-            Ty::Struct(s) => {
-                if self.di_in_progress.contains(s) {
+            Ty::Adt(a, _) => {
+                let a = *a;
+                let def = &self.p.adts[a];
+                let file = self.di_file(def.file);
+                if self.di_in_progress.contains(t) {
                     // Recursive through a pointer: describe the inner occurrence as opaque.
-                    let file = self.di_file(self.p.structs[*s].file);
                     return self
                         .dib
                         .create_struct_type(
                             file.as_debug_info_scope(),
-                            &self.p.structs[*s].name,
+                            &def.name,
                             file,
                             0,
                             0,
@@ -94,57 +103,102 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                         )
                         .as_type();
                 }
-                self.di_in_progress.push(*s);
-                let def = &self.p.structs[*s];
-                let st = self.struct_ty(*s);
-                let file = self.di_file(def.file);
-                let line = Loc::of(def.item.ident.span()).line;
-                let mut members = Vec::new();
-                let fields = def.fields.clone();
-                let field_syn: Vec<Span> = match &def.item.fields {
-                    syn::Fields::Named(n) => n
-                        .named
-                        .iter()
-                        .map(|f| {
-                            f.ident
-                                .as_ref()
-                                .map(|i| i.span())
-                                .unwrap_or_else(Span::call_site)
-                        })
-                        .collect(),
-                    _ => Vec::new(),
-                };
-                for (i, (name, ft)) in fields.iter().enumerate() {
-                    let fdi = self.di_type(ft);
-                    let lt = self.llty(ft);
-                    let size = self.td.get_bit_size(&lt);
-                    let align = self.td.get_abi_alignment(&lt) * 8;
-                    let off = self.td.offset_of_element(&st, i as u32).unwrap_or(0) * 8;
-                    let fline = field_syn.get(i).map(|s| Loc::of(*s).line).unwrap_or(line);
-                    members.push(
-                        self.dib
-                            .create_member_type(
-                                file.as_debug_info_scope(),
-                                name,
-                                file,
-                                fline,
-                                size,
-                                align,
-                                off,
-                                0,
-                                fdi,
-                            )
-                            .as_type(),
+                if def.is_fieldless_enum() {
+                    let it = def.repr;
+                    let d = self.basic(
+                        &def.name,
+                        it.bits() as u64,
+                        if it.signed() {
+                            DW_ATE_SIGNED
+                        } else {
+                            DW_ATE_UNSIGNED
+                        },
                     );
+                    self.di_types.insert(t.clone(), d);
+                    return d;
                 }
-                let size = self.td.get_bit_size(&st.as_basic_type_enum());
+                self.di_in_progress.push(t.clone());
+                let line = Loc::of(def.span).line;
+                let name = self.p.ty_str(t);
+                let uid = format!("{}::{}", self.p.modules[def.module].path, name);
+                let lt = self.llty(t);
+                let st = lt.into_struct_type();
+                let mut members = Vec::new();
+                if !def.is_enum {
+                    let fields = self.field_tys(t, 0);
+                    let fdefs = self.p.adts[a].variants[0].fields.clone();
+                    for (i, ft) in fields.iter().enumerate() {
+                        let off = self.td.offset_of_element(&st, i as u32).unwrap_or(0) * 8;
+                        let fline = Loc::of(fdefs[i].span).line;
+                        let m = self.member(file, &fdefs[i].name, fline, ft, off);
+                        members.push(m);
+                    }
+                } else {
+                    let tag_t = Ty::Int(def.repr);
+                    members.push(self.member(file, "discriminant", line, &tag_t, 0));
+                    let poff = self.td.offset_of_element(&st, 1).unwrap_or(0) * 8;
+                    let nv = self.p.adts[a].variants.len();
+                    for v in 0..nv {
+                        if self.p.adts[a].variants[v].fields.is_empty() {
+                            continue;
+                        }
+                        let vname = self.p.adts[a].variants[v].name.clone();
+                        let vt = self.variant_ty(t, v);
+                        let fields = self.field_tys(t, v);
+                        let fdefs = self.p.adts[a].variants[v].fields.clone();
+                        let mut vm = Vec::new();
+                        for (i, ft) in fields.iter().enumerate() {
+                            let off = self.td.offset_of_element(&vt, i as u32).unwrap_or(0) * 8;
+                            let fname = if fdefs[i].name.chars().all(|c| c.is_ascii_digit()) {
+                                format!("__{}", fdefs[i].name)
+                            } else {
+                                fdefs[i].name.clone()
+                            };
+                            vm.push(self.member(file, &fname, line, ft, off));
+                        }
+                        let vsize = self.td.get_bit_size(&vt.as_basic_type_enum());
+                        let valign = self.td.get_abi_alignment(&vt) * 8;
+                        let vdi = self
+                            .dib
+                            .create_struct_type(
+                                file.as_debug_info_scope(),
+                                &vname,
+                                file,
+                                line,
+                                vsize,
+                                valign,
+                                0,
+                                None,
+                                &vm,
+                                0,
+                                None,
+                                &format!("{uid}::{vname}"),
+                            )
+                            .as_type();
+                        members.push(
+                            self.dib
+                                .create_member_type(
+                                    file.as_debug_info_scope(),
+                                    &vname,
+                                    file,
+                                    line,
+                                    vsize,
+                                    valign,
+                                    poff,
+                                    0,
+                                    vdi,
+                                )
+                                .as_type(),
+                        );
+                    }
+                }
+                let size = self.td.get_bit_size(&lt);
                 let align = self.td.get_abi_alignment(&st) * 8;
-                let uid = format!("{}::{}", self.p.modules[def.module].path, def.name);
                 let d = self
                     .dib
                     .create_struct_type(
                         file.as_debug_info_scope(),
-                        &def.name,
+                        &name,
                         file,
                         line,
                         size,
@@ -159,6 +213,35 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                     .as_type();
                 self.di_in_progress.pop();
                 d
+            }
+            Ty::Tuple(ts) => {
+                let file = self.di_file(self.file);
+                let name = self.p.ty_str(t);
+                let lt = self.llty(t);
+                let st = lt.into_struct_type();
+                let mut members = Vec::new();
+                for (i, et) in ts.clone().iter().enumerate() {
+                    let off = self.td.offset_of_element(&st, i as u32).unwrap_or(0) * 8;
+                    members.push(self.member(file, &format!("__{i}"), 0, et, off));
+                }
+                let size = self.td.get_bit_size(&lt);
+                let align = self.td.get_abi_alignment(&st) * 8;
+                self.dib
+                    .create_struct_type(
+                        file.as_debug_info_scope(),
+                        &name,
+                        file,
+                        0,
+                        size,
+                        align,
+                        0,
+                        None,
+                        &members,
+                        0,
+                        None,
+                        &name,
+                    )
+                    .as_type()
             }
             Ty::Array(e, n) => {
                 let ed = self.di_type(e);
@@ -179,6 +262,48 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                     .create_array_type(ed, 128, 128, std::slice::from_ref(&(0..4)));
                 let _ = DI_FLAG_VECTOR;
                 arr.as_type()
+            }
+            Ty::Ref(_, e) | Ty::Ptr(_, e) if matches!(**e, Ty::Slice(_)) => {
+                let Ty::Slice(el) = &**e else { unreachable!() };
+                let file = self.di_file(self.file);
+                let eld = self.di_type(el);
+                let name = self.p.ty_str(t);
+                let ptr = self
+                    .dib
+                    .create_pointer_type(
+                        &format!("*const {}", self.p.ty_str(el)),
+                        eld,
+                        32,
+                        32,
+                        AddressSpace::default(),
+                    )
+                    .as_type();
+                let len = self.di_type(&Ty::Int(IntTy::Usize));
+                let scope = file.as_debug_info_scope();
+                let m1 = self
+                    .dib
+                    .create_member_type(scope, "data_ptr", file, 0, 32, 32, 0, 0, ptr)
+                    .as_type();
+                let m2 = self
+                    .dib
+                    .create_member_type(scope, "length", file, 0, 32, 32, 32, 0, len)
+                    .as_type();
+                self.dib
+                    .create_struct_type(
+                        scope,
+                        &name,
+                        file,
+                        0,
+                        64,
+                        32,
+                        0,
+                        None,
+                        &[m1, m2],
+                        0,
+                        None,
+                        &name,
+                    )
+                    .as_type()
             }
             Ty::Ref(_, e) | Ty::Ptr(_, e) => {
                 let ed = self.di_type(e);
@@ -224,6 +349,34 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
         };
         self.di_types.insert(t.clone(), d);
         d
+    }
+
+    /// A member of a struct type at bit offset `off`.
+    fn member(
+        &mut self,
+        file: DIFile<'ctx>,
+        name: &str,
+        line: u32,
+        t: &Ty,
+        off: u64,
+    ) -> DIType<'ctx> {
+        let fdi = self.di_type(t);
+        let lt = self.llty(t);
+        let size = self.td.get_bit_size(&lt);
+        let align = self.td.get_abi_alignment(&lt) * 8;
+        self.dib
+            .create_member_type(
+                file.as_debug_info_scope(),
+                name,
+                file,
+                line,
+                size,
+                align,
+                off,
+                0,
+                fdi,
+            )
+            .as_type()
     }
 
     /// Describes a stack slot as a local variable or parameter (`arg` is 1-based).

@@ -1,15 +1,14 @@
 //! Lowering of blocks, statements and expressions.
 
-use super::{int_of, LResult, LoopTarget, LowerError, Lowerer, V};
-use crate::resolve::Recv;
-use crate::ty::{FloatTy, IntTy, Ty};
-use crate::typeck::{classify_for, key, Callee, ForKind, Res};
+use super::{int_of, internal, LResult, LoopTarget, Lowerer, V};
+use crate::ops::{BinOp, UnOp};
+use crate::ty::{FloatTy, IntTy, SimdTy, Ty};
+use crate::typeck::{key, Adjust, OpCall, Res};
 use inkwell::types::BasicTypeEnum;
-use inkwell::values::{BasicValue, BasicValueEnum, IntValue, PointerValue};
+use inkwell::values::{BasicValueEnum, IntValue};
 use inkwell::{FloatPredicate, IntPredicate};
-use proc_macro2::Span;
 use syn::spanned::Spanned;
-use syn::{BinOp, Expr, Lit, Pat, Stmt, UnOp};
+use syn::{Expr, Lit, Pat, Stmt};
 use trax_runtime::isa::AbortKind;
 
 impl<'ctx> Lowerer<'ctx, '_, '_> {
@@ -58,34 +57,65 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
             Pat::Type(pt) => &*pt.pat,
             p => p,
         };
-        let v = match &l.init {
-            Some(init) => {
-                self.set_loc(init.expr.span());
-                Some(self.expr(&init.expr)?)
-            }
-            None => None,
+        let Some(init) = &l.init else {
+            // `let x;`: declare the bindings' slots.
+            return self.declare_pat(pat);
         };
+        self.set_loc(init.expr.span());
+        // A plain binding keeps its value in its own slot.
         if let Pat::Ident(pi) = pat {
-            if let Some(&id) = self.body.pat_locals.get(&key(pi)) {
-                let ty = self.body.locals[id].ty.clone();
-                self.set_loc(pi.ident.span());
-                let slot = self.alloca(&ty, &pi.ident.to_string())?;
-                self.declare_var(slot, &pi.ident.to_string(), &ty, pi.ident.span(), None);
-                if let Some(Some(v)) = v {
-                    self.b.build_store(slot, v)?;
+            if pi.subpat.is_none() {
+                if let Some((id, crate::typeck::BindMode::Value)) =
+                    self.body.binds.get(&key(pi)).copied()
+                {
+                    let v = self.expr(&init.expr)?;
+                    let ty = self.body.locals[id].ty.clone();
+                    self.set_loc(pi.ident.span());
+                    let slot = self.alloca(&ty, &pi.ident.to_string())?;
+                    self.declare_var(slot, &pi.ident.to_string(), &ty, pi.ident.span(), None);
+                    if let Some(v) = v {
+                        if !self.terminated() {
+                            self.b.build_store(slot, v)?;
+                        }
+                    }
+                    self.fs().locals.insert(id, slot);
+                    return Ok(());
                 }
-                self.fs().locals.insert(id, slot);
             }
         }
+        let ty = self.ty_of(&init.expr);
+        let place = self.place_or_temp(&init.expr)?;
+        if self.terminated() {
+            return self.declare_pat(pat);
+        }
+        let fail = self.new_block("let.else");
+        self.match_pat(pat, place, &ty, fail)?;
+        let cont = self
+            .b
+            .get_insert_block()
+            .ok_or_else(|| internal("no block"))?;
+        self.b.position_at_end(fail);
+        match &init.diverge {
+            Some((_, els)) => {
+                self.expr(els)?;
+                if !self.terminated() {
+                    self.b.build_unreachable()?;
+                }
+            }
+            None => {
+                self.b.build_unreachable()?;
+            }
+        }
+        self.b.position_at_end(cont);
         Ok(())
     }
 
     // ---------------------------------------------------------------- expressions
 
-    /// Lowers an expression to its value.
+    /// Lowers an expression to its value (after its coercion, if any).
     pub(super) fn expr(&mut self, e: &Expr) -> LResult<V<'ctx>> {
         self.set_loc(e.span());
-        let ty = self.ty_of(e);
+        let ty = self.raw_ty(e);
         let v = self.expr_inner(e, &ty)?;
         if matches!(ty, Ty::Never) && !self.terminated() {
             self.b.build_unreachable()?;
@@ -96,7 +126,34 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
         if ty.is_zst() {
             return Ok(None);
         }
-        Ok(v)
+        self.adjust(e, v, &ty)
+    }
+
+    /// Applies the coercion recorded for `e` to its value.
+    fn adjust(&mut self, e: &Expr, v: V<'ctx>, ty: &Ty) -> LResult<V<'ctx>> {
+        match self.body.adjust.get(&key(e)) {
+            None => Ok(v),
+            Some(Adjust::Deref(n)) => {
+                let mut v = self.val(v, ty);
+                for _ in 0..*n {
+                    v = self.b.build_load(v.into_pointer_value(), "")?;
+                }
+                Ok(Some(v))
+            }
+            Some(Adjust::Unsize(n)) => {
+                let Ty::Ref(_, inner) = ty else {
+                    return Err(internal("unsize of a non-reference"));
+                };
+                let Ty::Array(el, _) = &**inner else {
+                    return Err(internal("unsize of a non-array"));
+                };
+                let p = self.val(v, ty).into_pointer_value();
+                Ok(Some(
+                    self.make_slice(p, el, self.ctx.i32_type().const_int(*n as u64, false))?
+                        .into(),
+                ))
+            }
+        }
     }
 
     fn expr_inner(&mut self, e: &Expr, ty: &Ty) -> LResult<V<'ctx>> {
@@ -130,9 +187,9 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                 let exit = self.new_block("while.end");
                 self.br(head)?;
                 self.b.position_at_end(head);
-                let c = self.expr(&w.cond)?;
-                let c = self.val(c, &Ty::Bool).into_int_value();
-                self.b.build_conditional_branch(c, body, exit)?;
+                let prev = self.push_scope(w.while_token.span);
+                self.cond(&w.cond, exit)?;
+                self.br(body)?;
                 self.b.position_at_end(body);
                 self.fs().loops.push(LoopTarget {
                     label: w.label.as_ref().map(|l| l.name.ident.to_string()),
@@ -142,6 +199,7 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                 });
                 let r = self.block(&w.body, true);
                 self.fs().loops.pop();
+                self.pop_scope(prev);
                 r?;
                 self.br(head)?;
                 self.b.position_at_end(exit);
@@ -212,9 +270,15 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                 Ok(None)
             }
             Expr::Call(c) => {
+                if let Some(crate::typeck::Callee::Closure { ty: ct, derefs }) =
+                    self.body.callees.get(&key(e)).cloned()
+                {
+                    return self.closure_call(e, c, &ct, derefs, ty);
+                }
                 let args: Vec<&Expr> = c.args.iter().collect();
                 self.call(e, None, &args, ty)
             }
+            Expr::Closure(_) => self.closure_value(e, ty),
             Expr::MethodCall(m) => {
                 let args: Vec<&Expr> = m.args.iter().collect();
                 self.call(e, Some(&m.receiver), &args, ty)
@@ -224,6 +288,9 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                 Ok(Some(self.b.build_load(p, "")?))
             }
             Expr::Reference(r) => {
+                if let Some(v) = self.slice_ref(&r.expr)? {
+                    return Ok(Some(v));
+                }
                 let p = self.place_or_temp(&r.expr)?;
                 Ok(Some(p.into()))
             }
@@ -231,7 +298,7 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                 let lt = self.llty(ty);
                 let mut agg = super::undef(lt).into_array_value();
                 let Ty::Array(et, _) = ty else {
-                    return Err(LowerError::Internal("array type".into()));
+                    return Err(internal("array type"));
                 };
                 for (i, x) in a.elems.iter().enumerate() {
                     let v = self.expr(x)?;
@@ -245,7 +312,7 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
             }
             Expr::Repeat(r) => {
                 let Ty::Array(et, n) = ty else {
-                    return Err(LowerError::Internal("repeat type".into()));
+                    return Err(internal("repeat type"));
                 };
                 let v = self.expr(&r.expr)?;
                 let v = self.val(v, et);
@@ -255,77 +322,68 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                 }
                 // Runtime element: fill a stack slot with a loop.
                 let slot = self.alloca(ty, "repeat")?;
-                let i32t = self.ctx.i32_type();
-                let idx = self.alloca(&Ty::Int(IntTy::U32), "repeat.i")?;
-                self.b.build_store(idx, i32t.const_zero())?;
-                let head = self.new_block("repeat.cond");
-                let body = self.new_block("repeat.body");
-                let exit = self.new_block("repeat.end");
-                self.b.build_unconditional_branch(head)?;
-                self.b.position_at_end(head);
-                let iv = self.b.build_load(idx, "")?.into_int_value();
-                let c = self.b.build_int_compare(
-                    IntPredicate::ULT,
-                    iv,
-                    i32t.const_int(*n as u64, false),
-                    "",
-                )?;
-                self.b.build_conditional_branch(c, body, exit)?;
-                self.b.position_at_end(body);
-                // SAFETY: `iv < n` on this path, so the GEP is in bounds of the array slot.
-                let ep = unsafe {
-                    self.b
-                        .build_in_bounds_gep(slot, &[i32t.const_zero(), iv], "")?
-                };
-                self.b.build_store(ep, v)?;
-                let nx = self.b.build_int_add(iv, i32t.const_int(1, false), "")?;
-                self.b.build_store(idx, nx)?;
-                self.b.build_unconditional_branch(head)?;
-                self.b.position_at_end(exit);
+                self.fill_loop(slot, *n, v)?;
                 Ok(Some(self.b.build_load(slot, "")?))
             }
-            Expr::Struct(s) => {
-                let Ty::Struct(sid) = ty else {
-                    return Err(LowerError::Internal("struct type".into()));
+            Expr::Struct(s) => self.struct_lit(e, s, ty),
+            Expr::Tuple(t) => {
+                let Ty::Tuple(ts) = ty else {
+                    return Ok(None);
                 };
-                let def = &self.p.structs[*sid];
-                let st = self.struct_ty(*sid);
-                let mut agg = match &s.rest {
-                    Some(r) => self
-                        .expr(r)?
-                        .map(|v| v.into_struct_value())
-                        .unwrap_or_else(|| st.get_undef()),
-                    None => st.get_undef(),
-                };
-                for fv in &s.fields {
-                    let name = match &fv.member {
-                        syn::Member::Named(n) => n.to_string(),
-                        syn::Member::Unnamed(i) => i.index.to_string(),
-                    };
-                    let idx = def
-                        .fields
-                        .iter()
-                        .position(|(n, _)| *n == name)
-                        .ok_or_else(|| LowerError::Internal("field".into()))?;
-                    let ft = def.fields[idx].1.clone();
-                    let v = self.expr(&fv.expr)?;
-                    let v = self.val(v, &ft);
+                let lt = self.llty(ty).into_struct_type();
+                let mut agg = lt.get_undef();
+                for (i, x) in t.elems.iter().enumerate() {
+                    let v = self.expr(x)?;
+                    let v = self.val(v, &ts[i]);
                     agg = self
                         .b
-                        .build_insert_value(agg, v, idx as u32, "")?
+                        .build_insert_value(agg, v, i as u32, "")?
                         .into_struct_value();
                 }
                 Ok(Some(agg.into()))
             }
-            Expr::Tuple(_) => Ok(None),
             Expr::Match(m) => self.match_expr(m, ty),
             Expr::Macro(m) => self.mac(&m.mac),
-            other => Err(self.err(
-                other.span(),
-                "unsupported-expression",
-                "this expression is not supported in TRaX-Rust",
-            )),
+            Expr::Try(t) => self.try_expr(e, t, ty),
+            other => Err(internal(format!(
+                "unsupported expression reached lowering at line {}",
+                crate::diag::Loc::of(other.span()).line
+            ))),
         }
+    }
+
+    /// Stores `v` into each of the `n` elements of the array at `slot`.
+    pub(super) fn fill_loop(
+        &mut self,
+        slot: inkwell::values::PointerValue<'ctx>,
+        n: u32,
+        v: BasicValueEnum<'ctx>,
+    ) -> LResult<()> {
+        let i32t = self.ctx.i32_type();
+        let idx = self.alloca(&Ty::Int(IntTy::U32), "fill.i")?;
+        self.b.build_store(idx, i32t.const_zero())?;
+        let head = self.new_block("fill.cond");
+        let body = self.new_block("fill.body");
+        let exit = self.new_block("fill.end");
+        self.b.build_unconditional_branch(head)?;
+        self.b.position_at_end(head);
+        let iv = self.b.build_load(idx, "")?.into_int_value();
+        let c =
+            self.b
+                .build_int_compare(IntPredicate::ULT, iv, i32t.const_int(n as u64, false), "")?;
+        self.b.build_conditional_branch(c, body, exit)?;
+        self.b.position_at_end(body);
+        // SAFETY: `iv < n` on this path, so the GEP is in bounds of the array slot.
+        let ep = unsafe {
+            self.b
+                .build_in_bounds_gep(slot, &[i32t.const_zero(), iv], "")?
+        };
+        self.b.build_store(ep, v)?;
+        let nx = self.b.build_int_add(iv, i32t.const_int(1, false), "")?;
+        self.b.build_store(idx, nx)?;
+        self.b.build_unconditional_branch(head)?;
+        self.b.position_at_end(exit);
+        Ok(())
     }
 
     fn loop_target(
@@ -334,7 +392,7 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
     ) -> LResult<(
         inkwell::basic_block::BasicBlock<'ctx>,
         inkwell::basic_block::BasicBlock<'ctx>,
-        Option<PointerValue<'ctx>>,
+        Option<inkwell::values::PointerValue<'ctx>>,
     )> {
         let loops = &self.fs().loops;
         let t = match label {
@@ -342,22 +400,22 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
             Some(l) => loops.iter().rev().find(|t| t.label.as_deref() == Some(l)),
         };
         t.map(|t| (t.brk, t.cont, t.slot))
-            .ok_or_else(|| LowerError::Internal("loop target".into()))
+            .ok_or_else(|| internal("loop target"))
     }
 
-    fn lit(&mut self, l: &Lit, ty: &Ty) -> LResult<BasicValueEnum<'ctx>> {
+    pub(super) fn lit(&mut self, l: &Lit, ty: &Ty) -> LResult<BasicValueEnum<'ctx>> {
         Ok(match (l, ty) {
             (Lit::Int(i), Ty::Int(it)) => {
                 let v: i128 = i
                     .base10_parse()
-                    .map_err(|_| self.err(i.span(), "invalid-literal", "bad integer literal"))?;
+                    .map_err(|_| internal("bad integer literal"))?;
                 self.int_ty(it.bits()).const_int(v as u64, false).into()
             }
             (Lit::Int(i), Ty::Float(f)) => {
-                let v: f64 = i
+                let v = i
                     .base10_parse::<i128>()
                     .map(|v| v as f64)
-                    .map_err(|_| self.err(i.span(), "invalid-literal", "bad literal"))?;
+                    .map_err(|_| internal("bad literal"))?;
                 self.float_const(*f, v)
             }
             (Lit::Float(x), Ty::Float(f)) => {
@@ -365,7 +423,7 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                     FloatTy::F32 => x.base10_parse::<f32>().map(|v| v as f64),
                     FloatTy::F64 => x.base10_parse::<f64>(),
                 }
-                .map_err(|_| self.err(x.span(), "invalid-literal", "bad float literal"))?;
+                .map_err(|_| internal("bad float literal"))?;
                 self.float_const(*f, v)
             }
             (Lit::Bool(b), _) => self.ctx.bool_type().const_int(b.value as u64, false).into(),
@@ -376,7 +434,7 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                 .into(),
             (Lit::Byte(c), _) => self.ctx.i8_type().const_int(c.value() as u64, false).into(),
             (Lit::Str(s), _) => self.str_value(&s.value()),
-            _ => return Err(self.err(l.span(), "unsupported-literal", "unsupported literal")),
+            _ => return Err(internal("unsupported literal")),
         })
     }
 
@@ -406,18 +464,22 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                 self.int_ty(it.bits()).const_int(v as u64, false).into(),
             )),
             Some(Res::Float(f, v)) => Ok(Some(self.float_const(f, v))),
-            Some(Res::UnitStruct(s)) => Ok(Some(self.struct_ty(s).const_named_struct(&[]).into())),
-            Some(Res::Global(g)) if self.p.globals[g].is_static.is_none() && is_scalar(ty) => {
+            Some(Res::Unit(_, v)) => Ok(Some(self.build_adt(ty, v, &[])?)),
+            Some(Res::Global(g, substs))
+                if self.p.globals[g].is_static.is_none() && is_scalar(ty) =>
+            {
+                if let Some(v) = self.consts.get(&(g, substs.clone())) {
+                    if let Some(c) = self.const_val(ty, v)? {
+                        return Ok(Some(c));
+                    }
+                }
                 let gd = &self.p.globals[g];
                 if self.const_depth > 64 {
-                    return Err(self.err(
-                        e.span(),
-                        "recursive-constant",
-                        format!("constant `{}` refers to itself", gd.name),
-                    ));
+                    return Err(internal(format!("constant `{}` refers to itself", gd.name)));
                 }
+                let expr = gd.expr.ok_or_else(|| internal("const without value"))?;
                 self.const_depth += 1;
-                let r = self.with_body(g, |l| l.expr(gd.expr));
+                let r = self.with_body(g, &substs, |l| l.expr(expr));
                 self.const_depth -= 1;
                 r
             }
@@ -426,146 +488,6 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                 Ok(Some(self.b.build_load(p, "")?))
             }
         }
-    }
-
-    /// True for expressions that denote memory.
-    fn is_place(&self, e: &Expr) -> bool {
-        match e {
-            Expr::Path(_) => match self.body.res.get(&key(e)) {
-                Some(Res::Local(_)) => true,
-                Some(Res::Global(g)) => {
-                    self.p.globals[*g].is_static.is_some() || !is_scalar(&self.p.globals[*g].ty)
-                }
-                _ => false,
-            },
-            Expr::Field(f) => {
-                self.body.derefs.get(&key(e)).copied().unwrap_or(0) > 0 || self.is_place(&f.base)
-            }
-            Expr::Index(i) => {
-                self.body.derefs.get(&key(e)).copied().unwrap_or(0) > 0 || self.is_place(&i.expr)
-            }
-            Expr::Paren(p) => self.is_place(&p.expr),
-            Expr::Unary(u) => matches!(u.op, UnOp::Deref(_)),
-            _ => false,
-        }
-    }
-
-    /// The address of a place expression, or of a temporary holding the value.
-    pub(super) fn place_or_temp(&mut self, e: &Expr) -> LResult<PointerValue<'ctx>> {
-        if self.is_place(e) {
-            return self.place(e);
-        }
-        let t = self.ty_of(e);
-        let v = self.expr(e)?;
-        let v = self.val(v, &t);
-        let slot = self.alloca(&t, "tmp")?;
-        self.b.build_store(slot, v)?;
-        Ok(slot)
-    }
-
-    /// Address of the value reached by dereferencing `e` `derefs` times (0: `e` itself).
-    fn deref_base(&mut self, e: &Expr, derefs: u32) -> LResult<PointerValue<'ctx>> {
-        if derefs == 0 {
-            return self.place_or_temp(e);
-        }
-        let t = self.ty_of(e);
-        let v = self.expr(e)?;
-        let mut p = self.val(v, &t).into_pointer_value();
-        for _ in 1..derefs {
-            p = self.b.build_load(p, "")?.into_pointer_value();
-        }
-        Ok(p)
-    }
-
-    /// Lowers a place expression to its address.
-    pub(super) fn place(&mut self, e: &Expr) -> LResult<PointerValue<'ctx>> {
-        match e {
-            Expr::Paren(p) => self.place(&p.expr),
-            Expr::Group(p) => self.place(&p.expr),
-            Expr::Path(_) => match self.body.res.get(&key(e)).cloned() {
-                Some(Res::Local(id)) => self
-                    .fs()
-                    .locals
-                    .get(&id)
-                    .copied()
-                    .ok_or_else(|| LowerError::Internal(format!("local {id} has no slot"))),
-                Some(Res::Global(g)) => Ok(self.global(g)?.as_pointer_value()),
-                Some(_) => self.place_or_temp_value(e),
-                None => {
-                    let l = crate::diag::Loc::of(e.span());
-                    Err(LowerError::Internal(format!(
-                        "unresolved path at {}:{}:{}",
-                        self.p.sources.get(self.file).display.display(),
-                        l.line,
-                        l.col
-                    )))
-                }
-            },
-            Expr::Field(f) => {
-                let derefs = self.body.derefs.get(&key(e)).copied().unwrap_or(0);
-                let base = self.deref_base(&f.base, derefs)?;
-                let bt = self.ty_of(&f.base);
-                let mut st = bt;
-                while let Ty::Ref(_, inner) = st {
-                    st = *inner;
-                }
-                let Ty::Struct(sid) = st else {
-                    return Err(LowerError::Internal("field of non-struct".into()));
-                };
-                let name = match &f.member {
-                    syn::Member::Named(n) => n.to_string(),
-                    syn::Member::Unnamed(i) => i.index.to_string(),
-                };
-                let idx = self.p.structs[sid]
-                    .fields
-                    .iter()
-                    .position(|(n, _)| *n == name)
-                    .ok_or_else(|| LowerError::Internal("field".into()))?;
-                Ok(self.b.build_struct_gep(base, idx as u32, &name)?)
-            }
-            Expr::Index(i) => {
-                let derefs = self.body.derefs.get(&key(e)).copied().unwrap_or(0);
-                let base = self.deref_base(&i.expr, derefs)?;
-                let mut at = self.ty_of(&i.expr);
-                while let Ty::Ref(_, inner) = at {
-                    at = *inner;
-                }
-                let Ty::Array(_, n) = at else {
-                    return Err(LowerError::Internal("index of non-array".into()));
-                };
-                let idx = self.expr(&i.index)?;
-                let idx = self.val(idx, &Ty::Int(IntTy::Usize)).into_int_value();
-                self.set_loc(e.span());
-                let i32t = self.ctx.i32_type();
-                let ok = self.b.build_int_compare(
-                    IntPredicate::ULT,
-                    idx,
-                    i32t.const_int(n as u64, false),
-                    "inbounds",
-                )?;
-                self.check_with(ok, |l| l.bounds_abort(n, idx))?;
-                // SAFETY: the bounds check above guarantees `idx < n`.
-                Ok(unsafe {
-                    self.b
-                        .build_in_bounds_gep(base, &[i32t.const_zero(), idx], "")?
-                })
-            }
-            Expr::Unary(u) if matches!(u.op, UnOp::Deref(_)) => {
-                let t = self.ty_of(&u.expr);
-                let v = self.expr(&u.expr)?;
-                Ok(self.val(v, &t).into_pointer_value())
-            }
-            _ => self.place_or_temp_value(e),
-        }
-    }
-
-    fn place_or_temp_value(&mut self, e: &Expr) -> LResult<PointerValue<'ctx>> {
-        let t = self.ty_of(e);
-        let v = self.expr(e)?;
-        let v = self.val(v, &t);
-        let slot = self.alloca(&t, "tmp")?;
-        self.b.build_store(slot, v)?;
-        Ok(slot)
     }
 
     /// Aborts the program with `kind` unless `ok` holds.
@@ -587,109 +509,58 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
     // ---------------------------------------------------------------- operators
 
     fn binary(&mut self, e: &Expr, b: &syn::ExprBinary, ty: &Ty) -> LResult<V<'ctx>> {
-        use BinOp::*;
-        if let Some(&f) = self.body.ops.get(&key(e)) {
-            let fd = &self.p.fns[f];
-            if fd.receiver == Some(Recv::RefMut) {
-                let r = self.expr(&b.right)?;
-                let rt = self.ty_of(&b.right);
-                let r = self.val(r, &rt);
-                let p = self.place(&b.left)?;
-                self.set_loc(e.span());
-                return self.call_fn(f, vec![p.into(), r], &Ty::Unit);
-            }
-            let lt = self.ty_of(&b.left);
-            let rt = self.ty_of(&b.right);
+        let (op, assign) = BinOp::of(&b.op);
+        if let Some(o) = self.body.ops.get(&key(e)).cloned() {
+            return self.op_call(e, &o, &b.left, &b.right, op, assign, ty);
+        }
+        if matches!(op, BinOp::And | BinOp::Or) {
+            let is_and = op == BinOp::And;
+            let slot = self.alloca(&Ty::Bool, "sc")?;
             let l = self.expr(&b.left)?;
-            let l = self.val(l, &lt);
+            let l = self.val(l, &Ty::Bool).into_int_value();
+            self.b.build_store(slot, l)?;
+            let rhs = self.new_block(if is_and { "and.rhs" } else { "or.rhs" });
+            let end = self.new_block("sc.end");
+            if is_and {
+                self.b.build_conditional_branch(l, rhs, end)?;
+            } else {
+                self.b.build_conditional_branch(l, end, rhs)?;
+            }
+            self.b.position_at_end(rhs);
+            let r = self.expr(&b.right)?;
+            if let Some(r) = r {
+                self.b.build_store(slot, r)?;
+            }
+            self.br(end)?;
+            self.b.position_at_end(end);
+            return Ok(Some(self.b.build_load(slot, "")?));
+        }
+        if assign {
+            let lt = self.raw_ty(&b.left);
+            let rt = self.ty_of(&b.right);
             let r = self.expr(&b.right)?;
             let r = self.val(r, &rt);
+            let p = self.place(&b.left)?;
+            let l = self.b.build_load(p, "")?;
             self.set_loc(e.span());
-            return self.call_fn(f, vec![l, r], ty);
+            let v = self.arith(op, l, r, &lt, &rt)?;
+            self.b.build_store(p, v)?;
+            return Ok(None);
         }
-        match b.op {
-            And(_) | Or(_) => {
-                let is_and = matches!(b.op, And(_));
-                let slot = self.alloca(&Ty::Bool, "sc")?;
-                let l = self.expr(&b.left)?;
-                let l = self.val(l, &Ty::Bool).into_int_value();
-                self.b.build_store(slot, l)?;
-                let rhs = self.new_block(if is_and { "and.rhs" } else { "or.rhs" });
-                let end = self.new_block("sc.end");
-                if is_and {
-                    self.b.build_conditional_branch(l, rhs, end)?;
-                } else {
-                    self.b.build_conditional_branch(l, end, rhs)?;
-                }
-                self.b.position_at_end(rhs);
-                let r = self.expr(&b.right)?;
-                if let Some(r) = r {
-                    self.b.build_store(slot, r)?;
-                }
-                self.br(end)?;
-                self.b.position_at_end(end);
-                Ok(Some(self.b.build_load(slot, "")?))
-            }
-            AddAssign(_) | SubAssign(_) | MulAssign(_) | DivAssign(_) | RemAssign(_)
-            | BitAndAssign(_) | BitOrAssign(_) | BitXorAssign(_) | ShlAssign(_) | ShrAssign(_) => {
-                let lt = self.ty_of(&b.left);
-                let rt = self.ty_of(&b.right);
-                let r = self.expr(&b.right)?;
-                let r = self.val(r, &rt);
-                let p = self.place(&b.left)?;
-                let l = self.b.build_load(p, "")?;
-                self.set_loc(e.span());
-                let op = match b.op {
-                    AddAssign(_) => "+",
-                    SubAssign(_) => "-",
-                    MulAssign(_) => "*",
-                    DivAssign(_) => "/",
-                    RemAssign(_) => "%",
-                    BitAndAssign(_) => "&",
-                    BitOrAssign(_) => "|",
-                    BitXorAssign(_) => "^",
-                    ShlAssign(_) => "<<",
-                    _ => ">>",
-                };
-                let v = self.arith(op, l, r, &lt, &rt)?;
-                self.b.build_store(p, v)?;
-                Ok(None)
-            }
-            _ => {
-                let lt = self.ty_of(&b.left);
-                let rt = self.ty_of(&b.right);
-                let l = self.expr(&b.left)?;
-                let l = self.val(l, &lt);
-                let r = self.expr(&b.right)?;
-                let r = self.val(r, &rt);
-                self.set_loc(e.span());
-                let op = match b.op {
-                    Add(_) => "+",
-                    Sub(_) => "-",
-                    Mul(_) => "*",
-                    Div(_) => "/",
-                    Rem(_) => "%",
-                    BitAnd(_) => "&",
-                    BitOr(_) => "|",
-                    BitXor(_) => "^",
-                    Shl(_) => "<<",
-                    Shr(_) => ">>",
-                    Eq(_) => "==",
-                    Ne(_) => "!=",
-                    Lt(_) => "<",
-                    Le(_) => "<=",
-                    Gt(_) => ">",
-                    _ => ">=",
-                };
-                Ok(Some(self.arith(op, l, r, &lt, &rt)?))
-            }
-        }
+        let lt = self.ty_of(&b.left);
+        let rt = self.ty_of(&b.right);
+        let l = self.expr(&b.left)?;
+        let l = self.val(l, &lt);
+        let r = self.expr(&b.right)?;
+        let r = self.val(r, &rt);
+        self.set_loc(e.span());
+        Ok(Some(self.arith(op, l, r, &lt, &rt)?))
     }
 
     /// Applies a primitive binary operator.
     pub(super) fn arith(
         &mut self,
-        op: &str,
+        op: BinOp,
         l: BasicValueEnum<'ctx>,
         r: BasicValueEnum<'ctx>,
         lt: &Ty,
@@ -700,24 +571,36 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
             Ty::Float(_) => {
                 let (l, r) = (l.into_float_value(), r.into_float_value());
                 Ok(match op {
-                    "+" => b.build_float_add(l, r, "")?.into(),
-                    "-" => b.build_float_sub(l, r, "")?.into(),
-                    "*" => b.build_float_mul(l, r, "")?.into(),
-                    "/" => b.build_float_div(l, r, "")?.into(),
-                    "%" => {
-                        // fmod without libm: l - trunc(l / r) * r.
+                    BinOp::Add => b.build_float_add(l, r, "")?.into(),
+                    BinOp::Sub => b.build_float_sub(l, r, "")?.into(),
+                    BinOp::Mul => b.build_float_mul(l, r, "")?.into(),
+                    BinOp::Div => b.build_float_div(l, r, "")?.into(),
+                    BinOp::Rem => {
+                        // Exact fmod: the prelude's `lang::fmodf`/`fmod`.
+                        let name = if matches!(lt, Ty::Float(FloatTy::F64)) {
+                            "fmod"
+                        } else {
+                            "fmodf"
+                        };
+                        if let Some(f) = self.p.lang_fn(name) {
+                            let v = self.call_fn(f, &[], vec![l.into(), r.into()], lt)?;
+                            return v.ok_or_else(|| internal("fmod"));
+                        }
+                        // Without the prelude: l - trunc(l / r) * r.
                         let q = b.build_float_div(l, r, "")?;
-                        let t = self.float_unary("trunc", q.into(), lt)?.into_float_value();
+                        let t = self
+                            .float_unary(crate::builtins::Builtin::FTrunc, q.into(), lt)?
+                            .into_float_value();
                         let m = self.b.build_float_mul(t, r, "")?;
                         self.b.build_float_sub(l, m, "")?.into()
                     }
                     _ => {
                         let pred = match op {
-                            "==" => FloatPredicate::OEQ,
-                            "!=" => FloatPredicate::UNE,
-                            "<" => FloatPredicate::OLT,
-                            "<=" => FloatPredicate::OLE,
-                            ">" => FloatPredicate::OGT,
+                            BinOp::Eq => FloatPredicate::OEQ,
+                            BinOp::Ne => FloatPredicate::UNE,
+                            BinOp::Lt => FloatPredicate::OLT,
+                            BinOp::Le => FloatPredicate::OLE,
+                            BinOp::Gt => FloatPredicate::OGT,
                             _ => FloatPredicate::OGE,
                         };
                         b.build_float_compare(pred, l, r, "")?.into()
@@ -726,17 +609,17 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
             }
             Ty::Simd(_) => {
                 let (l, r) = (l.into_vector_value(), r.into_vector_value());
-                let fl = matches!(lt, Ty::Simd(crate::ty::SimdTy::F32x4));
+                let fl = matches!(lt, Ty::Simd(SimdTy::F32x4));
                 Ok(match (op, fl) {
-                    ("+", true) => b.build_float_add(l, r, "")?.into(),
-                    ("-", true) => b.build_float_sub(l, r, "")?.into(),
-                    ("*", true) => b.build_float_mul(l, r, "")?.into(),
-                    ("/", true) => b.build_float_div(l, r, "")?.into(),
-                    ("+", false) => b.build_int_add(l, r, "")?.into(),
-                    ("-", false) => b.build_int_sub(l, r, "")?.into(),
-                    ("*", false) => b.build_int_mul(l, r, "")?.into(),
-                    ("&", false) => b.build_and(l, r, "")?.into(),
-                    ("|", false) => b.build_or(l, r, "")?.into(),
+                    (BinOp::Add, true) => b.build_float_add(l, r, "")?.into(),
+                    (BinOp::Sub, true) => b.build_float_sub(l, r, "")?.into(),
+                    (BinOp::Mul, true) => b.build_float_mul(l, r, "")?.into(),
+                    (BinOp::Div, true) => b.build_float_div(l, r, "")?.into(),
+                    (BinOp::Add, false) => b.build_int_add(l, r, "")?.into(),
+                    (BinOp::Sub, false) => b.build_int_sub(l, r, "")?.into(),
+                    (BinOp::Mul, false) => b.build_int_mul(l, r, "")?.into(),
+                    (BinOp::BitAnd, false) => b.build_and(l, r, "")?.into(),
+                    (BinOp::BitOr, false) => b.build_or(l, r, "")?.into(),
                     _ => b.build_xor(l, r, "")?.into(),
                 })
             }
@@ -750,56 +633,56 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                 let signed = int_of(lt).map(IntTy::signed).unwrap_or(false);
                 let (l, r) = (l.into_int_value(), r.into_int_value());
                 Ok(match op {
-                    "+" => b.build_int_add(l, r, "")?.into(),
-                    "-" => b.build_int_sub(l, r, "")?.into(),
-                    "*" => b.build_int_mul(l, r, "")?.into(),
-                    "&" => b.build_and(l, r, "")?.into(),
-                    "|" => b.build_or(l, r, "")?.into(),
-                    "^" => b.build_xor(l, r, "")?.into(),
-                    "<<" | ">>" => {
+                    BinOp::Add => b.build_int_add(l, r, "")?.into(),
+                    BinOp::Sub => b.build_int_sub(l, r, "")?.into(),
+                    BinOp::Mul => b.build_int_mul(l, r, "")?.into(),
+                    BinOp::BitAnd => b.build_and(l, r, "")?.into(),
+                    BinOp::BitOr => b.build_or(l, r, "")?.into(),
+                    BinOp::BitXor => b.build_xor(l, r, "")?.into(),
+                    BinOp::Shl | BinOp::Shr => {
                         let bits = l.get_type().get_bit_width();
                         let rs = int_of(rt).map(IntTy::signed).unwrap_or(false);
                         let amt = b.build_int_cast_sign_flag(r, l.get_type(), rs, "")?;
                         let amt =
                             b.build_and(amt, l.get_type().const_int(bits as u64 - 1, false), "")?;
-                        if op == "<<" {
+                        if op == BinOp::Shl {
                             b.build_left_shift(l, amt, "")?.into()
                         } else {
                             b.build_right_shift(l, amt, signed, "")?.into()
                         }
                     }
-                    "/" | "%" => self.int_div(op, l, r, signed)?.into(),
+                    BinOp::Div | BinOp::Rem => self.int_div(op, l, r, signed)?.into(),
                     _ => self.int_cmp(op, l, r, signed)?,
                 })
             }
         }
     }
 
-    fn int_cmp(
+    pub(super) fn int_cmp(
         &mut self,
-        op: &str,
+        op: BinOp,
         l: IntValue<'ctx>,
         r: IntValue<'ctx>,
         signed: bool,
     ) -> LResult<BasicValueEnum<'ctx>> {
         let pred = match (op, signed) {
-            ("==", _) => IntPredicate::EQ,
-            ("!=", _) => IntPredicate::NE,
-            ("<", true) => IntPredicate::SLT,
-            ("<", false) => IntPredicate::ULT,
-            ("<=", true) => IntPredicate::SLE,
-            ("<=", false) => IntPredicate::ULE,
-            (">", true) => IntPredicate::SGT,
-            (">", false) => IntPredicate::UGT,
-            (">=", true) => IntPredicate::SGE,
+            (BinOp::Eq, _) => IntPredicate::EQ,
+            (BinOp::Ne, _) => IntPredicate::NE,
+            (BinOp::Lt, true) => IntPredicate::SLT,
+            (BinOp::Lt, false) => IntPredicate::ULT,
+            (BinOp::Le, true) => IntPredicate::SLE,
+            (BinOp::Le, false) => IntPredicate::ULE,
+            (BinOp::Gt, true) => IntPredicate::SGT,
+            (BinOp::Gt, false) => IntPredicate::UGT,
+            (BinOp::Ge, true) => IntPredicate::SGE,
             _ => IntPredicate::UGE,
         };
         Ok(self.b.build_int_compare(pred, l, r, "")?.into())
     }
 
-    fn int_div(
+    pub(super) fn int_div(
         &mut self,
-        op: &str,
+        op: BinOp,
         l: IntValue<'ctx>,
         r: IntValue<'ctx>,
         signed: bool,
@@ -808,7 +691,7 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
         let nonzero = self
             .b
             .build_int_compare(IntPredicate::NE, r, t.const_zero(), "")?;
-        let what = if op == "/" {
+        let what = if op == BinOp::Div {
             "attempt to divide by zero"
         } else {
             "attempt to calculate the remainder with a divisor of zero"
@@ -823,7 +706,7 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                 .build_int_compare(IntPredicate::EQ, r, t.const_all_ones(), "")?;
             let both = self.b.build_and(is_min, is_m1, "")?;
             let ok = self.b.build_not(both, "")?;
-            let what = if op == "/" {
+            let what = if op == BinOp::Div {
                 "attempt to divide with overflow"
             } else {
                 "attempt to calculate the remainder with overflow"
@@ -831,44 +714,41 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
             self.check(ok, AbortKind::Overflow, what)?;
         }
         Ok(match (op, signed) {
-            ("/", true) => self.b.build_int_signed_div(l, r, "")?,
-            ("/", false) => self.b.build_int_unsigned_div(l, r, "")?,
+            (BinOp::Div, true) => self.b.build_int_signed_div(l, r, "")?,
+            (BinOp::Div, false) => self.b.build_int_unsigned_div(l, r, "")?,
             (_, true) => self.b.build_int_signed_rem(l, r, "")?,
             _ => self.b.build_int_unsigned_rem(l, r, "")?,
         })
     }
 
     fn unary(&mut self, e: &Expr, u: &syn::ExprUnary, ty: &Ty) -> LResult<V<'ctx>> {
-        if let Some(&f) = self.body.ops.get(&key(e)) {
+        if let Some(OpCall::Fn { func, substs, .. }) = self.body.ops.get(&key(e)).cloned() {
             let it = self.ty_of(&u.expr);
             let v = self.expr(&u.expr)?;
             let v = self.val(v, &it);
             self.set_loc(e.span());
-            return self.call_fn(f, vec![v], ty);
+            return self.call_fn(func, &substs, vec![v], ty);
         }
-        match u.op {
-            UnOp::Deref(_) => {
+        match UnOp::of(&u.op) {
+            UnOp::Deref => {
                 let p = self.place(e)?;
                 Ok(Some(self.b.build_load(p, "")?))
             }
-            UnOp::Not(_) => {
+            UnOp::Not => {
                 let v = self.expr(&u.expr)?;
                 let v = self.val(v, ty).into_int_value();
                 Ok(Some(self.b.build_not(v, "")?.into()))
             }
-            UnOp::Neg(_) => {
+            UnOp::Neg => {
                 let v = self.expr(&u.expr)?;
                 let v = self.val(v, ty);
                 Ok(Some(match ty {
                     Ty::Float(_) => self.b.build_float_neg(v.into_float_value(), "")?.into(),
-                    Ty::Simd(crate::ty::SimdTy::F32x4) => {
-                        self.simd_sign_bit(v.into_vector_value(), true)?
-                    }
+                    Ty::Simd(SimdTy::F32x4) => self.simd_sign_bit(v.into_vector_value(), true)?,
                     Ty::Simd(_) => self.b.build_int_neg(v.into_vector_value(), "")?.into(),
                     _ => self.b.build_int_neg(v.into_int_value(), "")?.into(),
                 }))
             }
-            _ => Err(LowerError::Internal("unary op".into())),
         }
     }
 
@@ -889,6 +769,11 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
             (Ty::Bool | Ty::Char, Ty::Int(_)) => b
                 .build_int_cast_sign_flag(v.into_int_value(), tl.into_int_type(), false, "")?
                 .into(),
+            (Ty::Adt(a, _), Ty::Int(_)) => {
+                let signed = self.p.adts[*a].repr.signed();
+                b.build_int_cast_sign_flag(v.into_int_value(), tl.into_int_type(), signed, "")?
+                    .into()
+            }
             (Ty::Int(_), Ty::Char) => b
                 .build_int_z_extend(v.into_int_value(), tl.into_int_type(), "")?
                 .into(),
@@ -921,11 +806,14 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                     .build_call(func, &[v.into()], "")?
                     .try_as_basic_value()
                     .basic()
-                    .ok_or_else(|| LowerError::Internal("cast call".into()))?
+                    .ok_or_else(|| internal("cast call"))?
             }
-            (Ty::Ptr(..) | Ty::Ref(..), Ty::Ptr(..)) => b
-                .build_pointer_cast(v.into_pointer_value(), tl.into_pointer_type(), "")?
-                .into(),
+            (Ty::Ptr(..) | Ty::Ref(..), Ty::Ptr(..)) => match v {
+                BasicValueEnum::PointerValue(p) => {
+                    b.build_pointer_cast(p, tl.into_pointer_type(), "")?.into()
+                }
+                other => other,
+            },
             (Ty::Ptr(..), Ty::Int(_)) => b
                 .build_ptr_to_int(v.into_pointer_value(), tl.into_int_type(), "")?
                 .into(),
@@ -933,7 +821,7 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                 .build_int_to_ptr(v.into_int_value(), tl.into_pointer_type(), "")?
                 .into(),
             _ => {
-                return Err(LowerError::Internal(format!(
+                return Err(internal(format!(
                     "cast {} as {}",
                     self.p.ty_str(from),
                     self.p.ty_str(to)
@@ -944,20 +832,48 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
 
     // ---------------------------------------------------------------- control flow
 
+    /// Lowers a condition: branches to `fail` when it is false (or the `let` pattern does
+    /// not match); continues in the current block otherwise, with the bindings made.
+    pub(super) fn cond(
+        &mut self,
+        c: &Expr,
+        fail: inkwell::basic_block::BasicBlock<'ctx>,
+    ) -> LResult<()> {
+        match c {
+            Expr::Let(l) => {
+                let ty = self.ty_of(&l.expr);
+                let place = self.place_or_temp(&l.expr)?;
+                if self.terminated() {
+                    return Ok(());
+                }
+                self.match_pat(&l.pat, place, &ty, fail)
+            }
+            other => {
+                let v = self.expr(other)?;
+                let v = self.val(v, &Ty::Bool).into_int_value();
+                let ok = self.new_block("cond.true");
+                if !self.terminated() {
+                    self.b.build_conditional_branch(v, ok, fail)?;
+                }
+                self.b.position_at_end(ok);
+                Ok(())
+            }
+        }
+    }
+
     fn if_expr(&mut self, i: &syn::ExprIf, ty: &Ty) -> LResult<V<'ctx>> {
-        let c = self.expr(&i.cond)?;
-        let c = self.val(c, &Ty::Bool).into_int_value();
         let slot = if ty.is_zst() {
             None
         } else {
             Some(self.alloca(ty, "if.value")?)
         };
-        let then_bb = self.new_block("if.then");
         let else_bb = self.new_block("if.else");
         let end = self.new_block("if.end");
-        self.b.build_conditional_branch(c, then_bb, else_bb)?;
-        self.b.position_at_end(then_bb);
-        let tv = self.block(&i.then_branch, true)?;
+        let prev = self.push_scope(i.if_token.span);
+        self.cond(&i.cond, else_bb)?;
+        let tv = self.block(&i.then_branch, true);
+        self.pop_scope(prev);
+        let tv = tv?;
         if let (Some(s), Some(v)) = (slot, tv) {
             if !self.terminated() {
                 self.b.build_store(s, v)?;
@@ -981,436 +897,186 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
         }
     }
 
-    fn bind_loop_var(&mut self, pat: &Pat, ty: &Ty, v: BasicValueEnum<'ctx>) -> LResult<()> {
-        if let Pat::Ident(pi) = pat {
-            if let Some(&id) = self.body.pat_locals.get(&key(pi)) {
-                let slot = match self.fs().locals.get(&id) {
-                    Some(s) => *s,
-                    None => {
-                        let s = self.alloca(ty, &pi.ident.to_string())?;
-                        self.declare_var(s, &pi.ident.to_string(), ty, pi.ident.span(), None);
-                        self.fs().locals.insert(id, s);
-                        s
-                    }
-                };
-                self.b.build_store(slot, v)?;
-            }
-        }
-        Ok(())
-    }
-
-    fn for_loop(&mut self, e: &Expr, f: &syn::ExprForLoop) -> LResult<V<'ctx>> {
-        let kind = self
+    /// `expr?`: returns early with the `None`/`Err`, else yields the value.
+    fn try_expr(&mut self, e: &Expr, t: &syn::ExprTry, ty: &Ty) -> LResult<V<'ctx>> {
+        let vt = self.ty_of(&t.expr);
+        let ret = self
             .body
-            .fors
+            .tries
             .get(&key(e))
-            .copied()
-            .ok_or_else(|| LowerError::Internal("for kind".into()))?;
-        let it = classify_for(&f.expr).ok_or_else(|| LowerError::Internal("for iter".into()))?;
-        let label = f.label.as_ref().map(|l| l.name.ident.to_string());
-        let prev = self.push_scope(f.for_token.span);
-        match kind {
-            ForKind::Range { inclusive, rev } => {
-                let ty = self.ty_of(it.start);
-                let signed = int_of(&ty).map(IntTy::signed).unwrap_or(false);
-                let s = self.expr(it.start)?;
-                let s = self.val(s, &ty).into_int_value();
-                let en = self.expr(it.end.expect("range end"))?;
-                let en = self.val(en, &ty).into_int_value();
-                let step = match it.step {
-                    Some(st) => {
-                        let v = self.expr(st)?;
-                        let v = self.val(v, &Ty::Int(IntTy::Usize)).into_int_value();
-                        let nz = self.b.build_int_compare(
-                            IntPredicate::NE,
-                            v,
-                            v.get_type().const_zero(),
-                            "",
-                        )?;
-                        self.check(nz, AbortKind::Panic, "assertion failed: step != 0")?;
-                        Some(
-                            self.b
-                                .build_int_cast_sign_flag(v, s.get_type(), false, "")?,
-                        )
-                    }
-                    None => None,
-                };
-                let one = s.get_type().const_int(1, false);
-                let cur = self.alloca(&ty, "for.cur")?;
-                // Empty check and first value.
-                let lt = if signed {
-                    IntPredicate::SLT
-                } else {
-                    IntPredicate::ULT
-                };
-                let le = if signed {
-                    IntPredicate::SLE
-                } else {
-                    IntPredicate::ULE
-                };
-                let nonempty =
-                    self.b
-                        .build_int_compare(if inclusive { le } else { lt }, s, en, "")?;
-                let first = if rev {
-                    if inclusive {
-                        en
-                    } else {
-                        self.b.build_int_sub(en, one, "")?
-                    }
-                } else {
-                    s
-                };
-                self.b.build_store(cur, first)?;
-                let body = self.new_block("for.body");
-                let latch = self.new_block("for.next");
-                let exit = self.new_block("for.end");
-                self.b.build_conditional_branch(nonempty, body, exit)?;
-                self.b.position_at_end(body);
-                let v = self.b.build_load(cur, "")?;
-                self.bind_loop_var(&f.pat, &ty, v)?;
-                self.fs().loops.push(LoopTarget {
-                    label,
-                    brk: exit,
-                    cont: latch,
-                    slot: None,
-                });
-                let r = self.block(&f.body, true);
-                self.fs().loops.pop();
-                r?;
-                self.br(latch)?;
-                self.b.position_at_end(latch);
-                let c = self.b.build_load(cur, "")?.into_int_value();
-                // Last value reached? (avoids overflow at the type's bounds)
-                let last = if rev {
-                    s
-                } else if inclusive {
-                    en
-                } else {
-                    self.b.build_int_sub(en, one, "")?
-                };
-                match step {
-                    None => {
-                        let done =
-                            self.b
-                                .build_int_compare(inkwell::IntPredicate::EQ, c, last, "")?;
-                        let nx = if rev {
-                            self.b.build_int_sub(c, one, "")?
-                        } else {
-                            self.b.build_int_add(c, one, "")?
-                        };
-                        self.b.build_store(cur, nx)?;
-                        self.b.build_conditional_branch(done, exit, body)?;
-                    }
-                    Some(stp) => {
-                        // Continue while last - c >= step (unsigned distance).
-                        let dist = self.b.build_int_sub(last, c, "")?;
-                        let more = self.b.build_int_compare(IntPredicate::UGE, dist, stp, "")?;
-                        let nx = self.b.build_int_add(c, stp, "")?;
-                        self.b.build_store(cur, nx)?;
-                        self.b.build_conditional_branch(more, body, exit)?;
-                    }
-                }
-                self.b.position_at_end(exit);
-            }
-            ForKind::Array { by_ref, derefs } => {
-                let base = self.deref_base(it.start, derefs)?;
-                let mut at = self.ty_of(it.start);
-                while let Ty::Ref(_, inner) = at {
-                    at = *inner;
-                }
-                let Ty::Array(et, n) = at else {
-                    return Err(LowerError::Internal("for over non-array".into()));
-                };
-                let i32t = self.ctx.i32_type();
-                let idx = self.alloca(&Ty::Int(IntTy::Usize), "for.idx")?;
-                self.b.build_store(idx, i32t.const_zero())?;
-                let head = self.new_block("for.cond");
-                let body = self.new_block("for.body");
-                let latch = self.new_block("for.next");
-                let exit = self.new_block("for.end");
-                self.b.build_unconditional_branch(head)?;
-                self.b.position_at_end(head);
-                let iv = self.b.build_load(idx, "")?.into_int_value();
-                let c = self.b.build_int_compare(
-                    IntPredicate::ULT,
-                    iv,
-                    i32t.const_int(n as u64, false),
-                    "",
-                )?;
-                self.b.build_conditional_branch(c, body, exit)?;
-                self.b.position_at_end(body);
-                // SAFETY: `iv < n` on this path.
-                let ep = unsafe {
-                    self.b
-                        .build_in_bounds_gep(base, &[i32t.const_zero(), iv], "")?
-                };
-                let (vt, v) = if by_ref {
-                    (Ty::Ref(false, et.clone()), ep.as_basic_value_enum())
-                } else {
-                    (*et.clone(), self.b.build_load(ep, "")?)
-                };
-                self.bind_loop_var(&f.pat, &vt, v)?;
-                self.fs().loops.push(LoopTarget {
-                    label,
-                    brk: exit,
-                    cont: latch,
-                    slot: None,
-                });
-                let r = self.block(&f.body, true);
-                self.fs().loops.pop();
-                r?;
-                self.br(latch)?;
-                self.b.position_at_end(latch);
-                let iv = self.b.build_load(idx, "")?.into_int_value();
-                let nx = self.b.build_int_add(iv, i32t.const_int(1, false), "")?;
-                self.b.build_store(idx, nx)?;
-                self.b.build_unconditional_branch(head)?;
-                self.b.position_at_end(exit);
-            }
-        }
-        self.pop_scope(prev);
-        Ok(None)
-    }
-
-    fn match_expr(&mut self, m: &syn::ExprMatch, ty: &Ty) -> LResult<V<'ctx>> {
-        let st = self.ty_of(&m.expr);
-        let sv = self.expr(&m.expr)?;
-        let sv = self.val(sv, &st).into_int_value();
-        let slot = if ty.is_zst() {
-            None
+            .cloned()
+            .ok_or_else(|| internal("unchecked `?`"))?;
+        let place = self.place_or_temp(&t.expr)?;
+        let Ty::Adt(a, _) = &vt else {
+            return Err(internal("`?` on a non-ADT"));
+        };
+        let is_option = Some(*a) == self.p.lang.option;
+        // Option: None = 0, Some = 1; Result: Ok = 0, Err = 1 (by name).
+        let ok_v = self.p.adts[*a]
+            .variant(if is_option { "Some" } else { "Ok" })
+            .ok_or_else(|| internal("lang variant"))?;
+        let tag_p = self.tag_ptr(place, &vt)?;
+        let tag = self.b.build_load(tag_p, "")?.into_int_value();
+        let want = self.tag_val(*a, ok_v);
+        let is_ok = self.b.build_int_compare(IntPredicate::EQ, tag, want, "")?;
+        let bail = self.new_block("try.bail");
+        let cont = self.new_block("try.ok");
+        self.b.build_conditional_branch(is_ok, cont, bail)?;
+        self.b.position_at_end(bail);
+        let Ty::Adt(ra, _) = &ret else {
+            return Err(internal("`?` return type"));
+        };
+        let out = if is_option {
+            let nv = self.p.adts[*ra]
+                .variant("None")
+                .ok_or_else(|| internal("None"))?;
+            self.build_adt(&ret, nv, &[])?
         } else {
-            Some(self.alloca(ty, "match.value")?)
+            let ev = self.p.adts[*a]
+                .variant("Err")
+                .ok_or_else(|| internal("Err"))?;
+            let fp = self.field_ptr(place, &vt, ev, 0)?;
+            let err = self.b.build_load(fp, "")?;
+            let rv = self.p.adts[*ra]
+                .variant("Err")
+                .ok_or_else(|| internal("Err"))?;
+            self.build_adt(&ret, rv, &[Some(err)])?
         };
-        let end = self.new_block("match.end");
-        for arm in &m.arms {
-            let (pat, guard) = match &arm.pat {
-                Pat::Guard(g) => (&*g.pat, Some(&*g.guard)),
-                p => (p, None),
-            };
-            let body_bb = self.new_block("arm.body");
-            let next = self.new_block("arm.next");
-            self.set_loc(arm.pat.span());
-            let c = self.pattern_test(pat, sv, &st)?;
-            let test_ok = self.new_block("arm.bind");
-            self.b.build_conditional_branch(c, test_ok, next)?;
-            self.b.position_at_end(test_ok);
-            let prev = self.push_scope(arm.pat.span());
-            self.bind_pattern(pat, sv, &st)?;
-            match guard {
-                Some(g) => {
-                    let gv = self.expr(g)?;
-                    let gv = self.val(gv, &Ty::Bool).into_int_value();
-                    self.b.build_conditional_branch(gv, body_bb, next)?;
-                }
-                None => {
-                    self.b.build_unconditional_branch(body_bb)?;
-                }
-            }
-            self.b.position_at_end(body_bb);
-            let v = self.expr(&arm.body)?;
-            if let (Some(s), Some(v)) = (slot, v) {
-                if !self.terminated() {
-                    self.b.build_store(s, v)?;
-                }
-            }
-            self.pop_scope(prev);
-            self.br(end)?;
-            self.b.position_at_end(next);
-        }
-        self.set_loc(m.match_token.span);
-        self.abort(AbortKind::Unreachable, "non-exhaustive match")?;
-        self.b.position_at_end(end);
-        match slot {
-            Some(s) => Ok(Some(self.b.build_load(s, "")?)),
-            None => Ok(None),
-        }
-    }
-
-    fn pat_const(&mut self, e: &Expr, t: &Ty) -> LResult<IntValue<'ctx>> {
-        let it = self.llty(t).into_int_type();
-        let v: i128 = match e {
-            Expr::Lit(l) => match &l.lit {
-                Lit::Bool(b) => b.value as i128,
-                Lit::Char(c) => c.value() as i128,
-                Lit::Byte(c) => c.value() as i128,
-                _ => self.p.eval_int(self.module_id, self.file, e, 0)?,
-            },
-            _ => self.p.eval_int(self.module_id, self.file, e, 0)?,
-        };
-        Ok(it.const_int(v as u64, false))
-    }
-
-    fn pattern_test(&mut self, pat: &Pat, v: IntValue<'ctx>, t: &Ty) -> LResult<IntValue<'ctx>> {
-        let tru = self.ctx.bool_type().const_int(1, false);
-        let signed = int_of(t).map(IntTy::signed).unwrap_or(false);
-        Ok(match pat {
-            Pat::Wild(_) => tru,
-            Pat::Ident(pi) => match self.body.pat_locals.get(&key(pi)) {
-                Some(_) => tru,
-                None => {
-                    let e = Expr::Path(syn::ExprPath {
-                        attrs: vec![],
-                        qself: None,
-                        path: pi.ident.clone().into(),
-                    });
-                    let c = self.pat_const(&e, t)?;
-                    self.b.build_int_compare(IntPredicate::EQ, v, c, "")?
-                }
-            },
-            Pat::Paren(p) => self.pattern_test(&p.pat, v, t)?,
-            Pat::Or(o) => {
-                let mut acc = self.ctx.bool_type().const_zero();
-                for c in &o.cases {
-                    let x = self.pattern_test(c, v, t)?;
-                    acc = self.b.build_or(acc, x, "")?;
-                }
-                acc
-            }
-            Pat::Lit(l) => {
-                let e = Expr::Lit(l.clone());
-                let c = self.pat_const(&e, t)?;
-                self.b.build_int_compare(IntPredicate::EQ, v, c, "")?
-            }
-            Pat::Path(p) => {
-                let e = Expr::Path(p.clone());
-                let c = self.pat_const(&e, t)?;
-                self.b.build_int_compare(IntPredicate::EQ, v, c, "")?
-            }
-            Pat::Range(r) => {
-                let mut acc = tru;
-                if let Some(s) = &r.start {
-                    let c = self.pat_const(s, t)?;
-                    let x = self.b.build_int_compare(
-                        if signed {
-                            IntPredicate::SGE
-                        } else {
-                            IntPredicate::UGE
-                        },
-                        v,
-                        c,
-                        "",
-                    )?;
-                    acc = self.b.build_and(acc, x, "")?;
-                }
-                if let Some(e) = &r.end {
-                    let c = self.pat_const(e, t)?;
-                    let pred = match (&r.limits, signed) {
-                        (syn::RangeLimits::Closed(_), true) => IntPredicate::SLE,
-                        (syn::RangeLimits::Closed(_), false) => IntPredicate::ULE,
-                        (_, true) => IntPredicate::SLT,
-                        (_, false) => IntPredicate::ULT,
-                    };
-                    let x = self.b.build_int_compare(pred, v, c, "")?;
-                    acc = self.b.build_and(acc, x, "")?;
-                }
-                acc
-            }
-            other => {
-                return Err(self.err(other.span(), "unsupported-pattern", "unsupported pattern"))
-            }
-        })
-    }
-
-    fn bind_pattern(&mut self, pat: &Pat, v: IntValue<'ctx>, t: &Ty) -> LResult<()> {
-        if let Pat::Ident(pi) = pat {
-            if let Some(&id) = self.body.pat_locals.get(&key(pi)) {
-                let slot = self.alloca(t, &pi.ident.to_string())?;
-                self.declare_var(slot, &pi.ident.to_string(), t, pi.ident.span(), None);
-                self.b.build_store(slot, v)?;
-                self.fs().locals.insert(id, slot);
-            }
-        }
-        Ok(())
-    }
-
-    // ---------------------------------------------------------------- calls
-
-    fn call(&mut self, e: &Expr, recv: Option<&Expr>, args: &[&Expr], ty: &Ty) -> LResult<V<'ctx>> {
-        let callee = *self
-            .body
-            .callees
-            .get(&key(e))
-            .ok_or_else(|| LowerError::Internal("unresolved call".into()))?;
-        let mut vals = Vec::new();
-        match callee {
-            Callee::Fn {
-                func,
-                derefs,
-                autoref,
-            } => {
-                if let Some(r) = recv {
-                    if autoref {
-                        vals.push(self.deref_base(r, derefs)?.into());
-                    } else if derefs > 0 {
-                        let p = self.deref_base(r, derefs)?;
-                        vals.push(self.b.build_load(p, "")?);
-                    } else {
-                        let t = self.ty_of(r);
-                        let v = self.expr(r)?;
-                        vals.push(self.val(v, &t));
-                    }
-                }
-                for a in args {
-                    let t = self.ty_of(a);
-                    let v = self.expr(a)?;
-                    vals.push(self.val(v, &t));
-                }
-                self.set_loc(e.span());
-                self.call_fn(func, vals, ty)
-            }
-            Callee::Builtin { b, derefs } => {
-                let mut tys = Vec::new();
-                if let Some(r) = recv {
-                    let mut t = self.ty_of(r);
-                    if derefs > 0 {
-                        let p = self.deref_base(r, derefs)?;
-                        vals.push(self.b.build_load(p, "")?);
-                        for _ in 0..derefs {
-                            if let Ty::Ref(_, inner) = t {
-                                t = *inner;
-                            }
-                        }
-                    } else {
-                        let v = self.expr(r)?;
-                        vals.push(self.val(v, &t));
-                    }
-                    tys.push(t);
-                }
-                for a in args {
-                    let t = self.ty_of(a);
-                    let v = self.expr(a)?;
-                    vals.push(self.val(v, &t));
-                    tys.push(t);
-                }
-                self.set_loc(e.span());
-                self.builtin(b, &vals, &tys, ty)
-            }
-        }
-    }
-
-    /// Calls a user function.
-    pub(super) fn call_fn(
-        &mut self,
-        f: crate::resolve::FnId,
-        args: Vec<BasicValueEnum<'ctx>>,
-        ty: &Ty,
-    ) -> LResult<V<'ctx>> {
-        let fv = self.declare_fn(f);
-        let args: Vec<_> = args.into_iter().map(Into::into).collect();
-        let cs = self.b.build_call(fv, &args, "")?;
-        if matches!(ty, Ty::Never) {
-            self.b.build_unreachable()?;
+        self.set_loc(t.question_token.span);
+        self.b.build_return(Some(&out))?;
+        self.b.position_at_end(cont);
+        if ty.is_zst() {
             return Ok(None);
         }
-        Ok(cs.try_as_basic_value().basic())
+        let fp = self.field_ptr(place, &vt, ok_v, 0)?;
+        Ok(Some(self.b.build_load(fp, "")?))
+    }
+
+    /// A struct literal, for structs and enum struct variants.
+    fn struct_lit(&mut self, e: &Expr, s: &syn::ExprStruct, ty: &Ty) -> LResult<V<'ctx>> {
+        let (_, v) = *self
+            .body
+            .structs
+            .get(&key(e))
+            .ok_or_else(|| internal("unchecked struct literal"))?;
+        let ftys = self.field_tys(ty, v);
+        let mut vals: Vec<Option<BasicValueEnum<'ctx>>> = vec![None; ftys.len()];
+        // `..base`: start from the base's fields.
+        let base = match &s.rest {
+            Some(r) => {
+                let bv = self.expr(r)?;
+                Some(self.val(bv, ty))
+            }
+            None => None,
+        };
+        for fv in &s.fields {
+            let i = *self
+                .body
+                .fields
+                .get(&key(fv))
+                .ok_or_else(|| internal("field index"))?;
+            let x = self.expr(&fv.expr)?;
+            vals[i] = Some(self.val(x, &ftys[i]));
+        }
+        if let Some(bv) = base {
+            let sv = bv.into_struct_value();
+            for (i, slot) in vals.iter_mut().enumerate() {
+                if slot.is_none() {
+                    *slot = Some(self.b.build_extract_value(sv, i as u32, "")?);
+                }
+            }
+        }
+        Ok(Some(self.build_adt(ty, v, &vals)?))
+    }
+
+    /// Builds a value of ADT type `t`, variant `v`, from its field values.
+    pub(super) fn build_adt(
+        &mut self,
+        t: &Ty,
+        v: usize,
+        fields: &[Option<BasicValueEnum<'ctx>>],
+    ) -> LResult<BasicValueEnum<'ctx>> {
+        let Ty::Adt(a, _) = t else {
+            return Err(internal("build_adt of a non-ADT"));
+        };
+        let a = *a;
+        let lt = self.llty(t);
+        if self.p.adts[a].is_fieldless_enum() {
+            return Ok(self.tag_val(a, v).into());
+        }
+        let ftys = self.field_tys(t, v);
+        if !self.p.adts[a].is_enum {
+            let mut agg = lt.into_struct_type().get_undef();
+            for (i, f) in fields.iter().enumerate() {
+                let x = match f {
+                    Some(x) => *x,
+                    None => super::undef(self.llty(&ftys[i])),
+                };
+                agg = self
+                    .b
+                    .build_insert_value(agg, x, i as u32, "")?
+                    .into_struct_value();
+            }
+            return Ok(agg.into());
+        }
+        // One variant with data: build the value directly (constants fold).
+        if let Some(dv) = self.single_data_variant(a) {
+            let st = lt.into_struct_type();
+            let mut agg = st.get_undef();
+            agg = self
+                .b
+                .build_insert_value(agg, self.tag_val(a, v), 0, "")?
+                .into_struct_value();
+            let vt = self.variant_ty(t, dv);
+            let payload = if v == dv {
+                let mut pv = vt.get_undef();
+                for (i, f) in fields.iter().enumerate() {
+                    let x = match f {
+                        Some(x) => *x,
+                        None => super::undef(self.llty(&ftys[i])),
+                    };
+                    pv = self
+                        .b
+                        .build_insert_value(pv, x, i as u32, "")?
+                        .into_struct_value();
+                }
+                pv
+            } else {
+                vt.const_zero()
+            };
+            agg = self
+                .b
+                .build_insert_value(agg, payload, 1, "")?
+                .into_struct_value();
+            return Ok(agg.into());
+        }
+        // Enum: through a stack slot (the payload is reinterpreted).
+        let slot = self.alloca_ll(lt, "variant")?;
+        if let Some(st) = lt.into_struct_type().get_field_type_at_index(1) {
+            // Start from zero so padding and unused payload bytes are defined.
+            let zp = self.b.build_struct_gep(slot, 1, "")?;
+            self.b.build_store(zp, super::zero(st))?;
+        }
+        let tp = self.tag_ptr(slot, t)?;
+        self.b.build_store(tp, self.tag_val(a, v))?;
+        for (i, f) in fields.iter().enumerate() {
+            if let Some(x) = f {
+                if ftys[i].is_zst() {
+                    continue;
+                }
+                let fp = self.field_ptr(slot, t, v, i)?;
+                self.b.build_store(fp, *x)?;
+            }
+        }
+        Ok(self.b.build_load(slot, "")?)
     }
 }
 
-fn is_scalar(t: &Ty) -> bool {
-    !matches!(t, Ty::Array(..) | Ty::Struct(_))
+pub(super) fn is_scalar(t: &Ty) -> bool {
+    !matches!(t, Ty::Array(..) | Ty::Adt(..) | Ty::Tuple(_))
 }
 
-fn const_array<'ctx>(
+pub(super) fn const_array<'ctx>(
     et: BasicTypeEnum<'ctx>,
     vals: &[BasicValueEnum<'ctx>],
 ) -> BasicValueEnum<'ctx> {
@@ -1460,9 +1126,4 @@ fn const_array<'ctx>(
             .into(),
         BasicTypeEnum::ScalableVectorType(_) => unreachable!("TRaX has no scalable vectors"),
     }
-}
-
-#[allow(dead_code)]
-fn span_of(e: &Expr) -> Span {
-    e.span()
 }

@@ -1,18 +1,39 @@
 //! Stage 4: lowering of checked bodies to LLVM IR with debug info (inkwell).
 //!
-//! Functions are emitted on demand, starting from `trax_main`, so the object only holds
-//! code reachable from the entry point. Every local lives in an `alloca` described with
-//! `dbg.declare`; LLVM's mem2reg/SROA promote them at -O1 and above.
+//! Function instances are emitted on demand, starting from `trax_main`, so the object
+//! only holds code reachable from the entry point (generic functions once per instance).
+//! Every local lives in an `alloca` described with `dbg.declare`; LLVM's mem2reg/SROA
+//! promote them at -O1 and above.
+//!
+//! - `layout`: LLVM types of structs, enums (tag + payload), tuples and slices;
+//! - `expr`: blocks, statements, expressions, operators, control flow;
+//! - `place`: places (fields, indices, dereferences, slices) and value adjustments;
+//! - `pat`: patterns, `match`, `if let`, `while let`, `let` destructuring;
+//! - `iter`: `for` loops over ranges, arrays, slices and iterator adapters;
+//! - `call`: calls, constructors, derived `clone`/`eq`/`default`, operator impls;
+//! - `closure`: closure environments, closure functions and calls;
+//! - `builtins`: the builtin catalogue's lowering and the TRaX macros;
+//! - `fmt`: formatted prints (argument records and `Debug` type descriptors);
+//! - `panic`: panics and bounds checks with Rust's messages;
+//! - `debug`: DWARF.
 
 mod builtins;
+mod call;
+mod closure;
 mod debug;
 mod expr;
+mod fmt;
+mod iter;
+mod layout;
 mod panic;
+mod pat;
+mod place;
 
-use crate::diag::{Diagnostic, FileId, Loc};
+use crate::consteval::interp::Val;
+use crate::diag::{FileId, Loc};
 use crate::resolve::{FnId, GlobalId, InlineHint, Program};
-use crate::ty::{FloatTy, IntTy, SimdTy, StructId, Ty};
-use crate::typeck::{key, Body, LocalId};
+use crate::ty::{FloatTy, IntTy, SimdTy, Ty};
+use crate::typeck::{key, Body, Checked, LocalId};
 use inkwell::attributes::{Attribute, AttributeLoc};
 use inkwell::basic_block::BasicBlock;
 use inkwell::builder::{Builder, BuilderError};
@@ -26,11 +47,10 @@ use inkwell::AddressSpace;
 use proc_macro2::Span;
 use std::collections::HashMap;
 
-/// Error during lowering.
+/// Error during lowering: always a compiler bug (the type checker and the compile-time
+/// interpreter reject what the lowering cannot handle).
 #[derive(Debug)]
 pub enum LowerError {
-    /// A user error found late (e.g. a non-constant static initializer).
-    Diag(Diagnostic),
     /// A compiler bug.
     Internal(String),
 }
@@ -41,17 +61,23 @@ impl From<BuilderError> for LowerError {
     }
 }
 
-impl From<Diagnostic> for LowerError {
-    fn from(e: Diagnostic) -> Self {
-        LowerError::Diag(e)
-    }
-}
-
 /// Lowering result.
 pub type LResult<T> = Result<T, LowerError>;
 
 /// A lowered value: `None` for `()` and `!`.
 pub type V<'ctx> = Option<BasicValueEnum<'ctx>>;
+
+fn internal(s: impl Into<String>) -> LowerError {
+    LowerError::Internal(s.into())
+}
+
+/// A function to emit.
+enum Work {
+    /// A function instance.
+    Fn(FnId, Vec<Ty>),
+    /// The function of a closure type.
+    Closure(crate::ty::ClosureTy),
+}
 
 struct LoopTarget<'ctx> {
     label: Option<String>,
@@ -69,8 +95,8 @@ struct FnState<'ctx> {
     ret: Ty,
     /// False while evaluating constant initializers (no subprogram to describe).
     debug: bool,
-    /// The function's panic-message argument record and its size in words, shared by
-    /// every panic site (`lower/panic.rs`).
+    /// The function's message argument record and its size in words, shared by every
+    /// panic site and formatted print (`lower/panic.rs`, `lower/fmt.rs`).
     panic_args: Option<(PointerValue<'ctx>, u32)>,
 }
 
@@ -83,17 +109,21 @@ pub struct Lowerer<'ctx, 'p, 'a> {
     cu: DICompileUnit<'ctx>,
     td: TargetData,
     p: &'p Program<'a>,
-    fn_bodies: &'p [Body],
-    global_bodies: &'p [Body],
+    checked: &'p Checked,
+    /// Values of consts and statics from the compile-time interpreter.
+    consts: &'p HashMap<(GlobalId, Vec<Ty>), Val>,
     optimized: bool,
-    fns: HashMap<FnId, FunctionValue<'ctx>>,
-    queue: Vec<FnId>,
-    globals: HashMap<GlobalId, GlobalValue<'ctx>>,
-    structs: HashMap<StructId, StructType<'ctx>>,
+    fns: HashMap<(FnId, Vec<Ty>), FunctionValue<'ctx>>,
+    queue: Vec<Work>,
+    closures: HashMap<crate::ty::ClosureTy, FunctionValue<'ctx>>,
+    globals: HashMap<(GlobalId, Vec<Ty>), GlobalValue<'ctx>>,
+    adt_tys: HashMap<Ty, StructType<'ctx>>,
+    variant_tys: HashMap<(Ty, usize), StructType<'ctx>>,
     di_files: HashMap<FileId, DIFile<'ctx>>,
     di_types: HashMap<Ty, DIType<'ctx>>,
-    di_in_progress: Vec<StructId>,
+    di_in_progress: Vec<Ty>,
     strings: HashMap<String, GlobalValue<'ctx>>,
+    descriptors: HashMap<Ty, GlobalValue<'ctx>>,
     // Current body context.
     body: &'p Body,
     file: FileId,
@@ -104,7 +134,7 @@ pub struct Lowerer<'ctx, 'p, 'a> {
 }
 
 impl<'ctx, 'p, 'a> Lowerer<'ctx, 'p, 'a> {
-    /// Creates a lowerer for `p` whose bodies were checked into `fn_bodies`/`global_bodies`.
+    /// Creates a lowerer for `p` whose bodies were checked into `checked`.
     #[allow(clippy::too_many_arguments)]
     pub fn new(
         ctx: &'ctx Context,
@@ -112,8 +142,8 @@ impl<'ctx, 'p, 'a> Lowerer<'ctx, 'p, 'a> {
         td: TargetData,
         triple: &inkwell::targets::TargetTriple,
         p: &'p Program<'a>,
-        fn_bodies: &'p [Body],
-        global_bodies: &'p [Body],
+        checked: &'p Checked,
+        consts: &'p HashMap<(GlobalId, Vec<Ty>), Val>,
         optimized: bool,
         empty: &'p Body,
     ) -> Self {
@@ -161,17 +191,20 @@ impl<'ctx, 'p, 'a> Lowerer<'ctx, 'p, 'a> {
             cu,
             td,
             p,
-            fn_bodies,
-            global_bodies,
+            checked,
+            consts,
             optimized,
             fns: HashMap::new(),
             queue: Vec::new(),
+            closures: HashMap::new(),
             globals: HashMap::new(),
-            structs: HashMap::new(),
+            adt_tys: HashMap::new(),
+            variant_tys: HashMap::new(),
             di_files: HashMap::new(),
             di_types: HashMap::new(),
             di_in_progress: Vec::new(),
             strings: HashMap::new(),
+            descriptors: HashMap::new(),
             body: empty,
             file: p.modules[p.kernel_root].file,
             module_id: p.kernel_root,
@@ -182,17 +215,16 @@ impl<'ctx, 'p, 'a> Lowerer<'ctx, 'p, 'a> {
 
     /// Lowers `root` and everything it reaches; returns the finished module.
     pub fn run(mut self, root: FnId) -> LResult<Module<'ctx>> {
-        let f = self.declare_fn(root);
+        let f = self.declare_fn(root, &[]);
         f.set_linkage(Linkage::External);
-        while let Some(id) = self.queue.pop() {
-            self.lower_fn(id)?;
+        while let Some(w) = self.queue.pop() {
+            match w {
+                Work::Fn(id, substs) => self.lower_fn(id, substs)?,
+                Work::Closure(c) => self.lower_closure(c)?,
+            }
         }
         self.dib.finalize();
         Ok(self.module)
-    }
-
-    fn err(&self, span: Span, id: &'static str, msg: impl Into<String>) -> LowerError {
-        LowerError::Diag(self.p.err(self.file, span, id, msg))
     }
 
     // ---------------------------------------------------------------- types
@@ -207,19 +239,36 @@ impl<'ctx, 'p, 'a> Lowerer<'ctx, 'p, 'a> {
             Ty::Int(i) => self.int_ty(i.bits()).into(),
             Ty::Float(FloatTy::F32) => c.f32_type().into(),
             Ty::Float(FloatTy::F64) => c.f64_type().into(),
-            Ty::Struct(s) => self.struct_ty(*s).into(),
-            Ty::Array(e, n) => self.llty(e).array_type(*n).into(),
-            Ty::Ref(_, e) | Ty::Ptr(_, e) => {
-                let inner = self.llty(e);
-                inner.ptr_type(AddressSpace::default()).into()
+            Ty::Adt(..) => self.adt_ty(t),
+            Ty::Tuple(ts) => {
+                let fields: Vec<BasicTypeEnum> = ts.iter().map(|x| self.llty(x)).collect();
+                c.struct_type(&fields, false).into()
             }
+            Ty::Array(e, n) => self.llty(e).array_type(*n).into(),
+            Ty::Ref(_, e) | Ty::Ptr(_, e) => match &**e {
+                Ty::Slice(el) => self.slice_ty(el).into(),
+                _ => {
+                    let inner = self.llty(e);
+                    inner.ptr_type(AddressSpace::default()).into()
+                }
+            },
+            // An unsized slice has no value of its own; its element type stands in.
+            Ty::Slice(e) => self.llty(e),
             Ty::Simd(SimdTy::F32x4) => c.f32_type().vec_type(4).into(),
             Ty::Simd(SimdTy::I32x4) => c.i32_type().vec_type(4).into(),
             Ty::Str => c
                 .struct_type(&[c.i32_type().into(), c.i32_type().into()], false)
                 .into(),
-            Ty::Var(_) => c.i32_type().into(),
+            Ty::Closure(cl) => self.closure_ty(cl).into(),
+            Ty::Var(_) | Ty::Param(_) | Ty::Proj(..) | Ty::Infer => c.i32_type().into(),
         }
+    }
+
+    /// `{ T*, i32 }`: a slice reference.
+    pub(crate) fn slice_ty(&mut self, el: &Ty) -> StructType<'ctx> {
+        let p = self.llty(el).ptr_type(AddressSpace::default());
+        self.ctx
+            .struct_type(&[p.into(), self.ctx.i32_type().into()], false)
     }
 
     /// Integer type of a width (1, 8, 16, 32 or 64 bits).
@@ -233,48 +282,35 @@ impl<'ctx, 'p, 'a> Lowerer<'ctx, 'p, 'a> {
         }
     }
 
-    fn struct_ty(&mut self, s: StructId) -> StructType<'ctx> {
-        if let Some(t) = self.structs.get(&s) {
-            return *t;
-        }
-        let def = &self.p.structs[s];
-        let st = self.ctx.opaque_struct_type(&format!(
-            "{}::{}",
-            self.p.modules[def.module].path, def.name
-        ));
-        self.structs.insert(s, st);
-        let fields: Vec<BasicTypeEnum> = def
-            .fields
-            .iter()
-            .map(|(_, t)| t.clone())
-            .collect::<Vec<_>>()
-            .iter()
-            .map(|t| self.llty(t))
-            .collect();
-        st.set_body(&fields, false);
-        st
-    }
-
     // ---------------------------------------------------------------- functions
 
-    fn declare_fn(&mut self, id: FnId) -> FunctionValue<'ctx> {
-        if let Some(f) = self.fns.get(&id) {
+    /// Symbol of a function instance (generic arguments appended).
+    fn inst_name(&self, base: &str, substs: &[Ty]) -> String {
+        if substs.is_empty() {
+            return base.to_string();
+        }
+        let args: Vec<String> = substs.iter().map(|t| self.p.ty_str(t)).collect();
+        format!("{base}::<{}>", args.join(", "))
+    }
+
+    fn declare_fn(&mut self, id: FnId, substs: &[Ty]) -> FunctionValue<'ctx> {
+        let k = (id, substs.to_vec());
+        if let Some(f) = self.fns.get(&k) {
             return *f;
         }
         let fd = &self.p.fns[id];
-        let params: Vec<_> = fd
-            .params
-            .clone()
-            .iter()
-            .map(|t| self.llty(t).into())
-            .collect();
-        let fty = match &fd.ret {
+        let inst = |t: &Ty| self.p.normalize(&t.subst(substs)).unwrap_or(Ty::Unit);
+        let param_tys: Vec<Ty> = fd.params.iter().map(inst).collect();
+        let ret = inst(&fd.ret);
+        let params: Vec<_> = param_tys.iter().map(|t| self.llty(t).into()).collect();
+        let fty = match &ret {
             Ty::Unit | Ty::Never => self.ctx.void_type().fn_type(&params, false),
             t => self.llty(t).fn_type(&params, false),
         };
+        let symbol = self.inst_name(&fd.symbol, substs);
         let f = self
             .module
-            .add_function(&fd.symbol, fty, Some(Linkage::Internal));
+            .add_function(&symbol, fty, Some(Linkage::Internal));
         let attr = |n: &str| Attribute::get_named_enum_kind_id(n);
         let add = |n: &str| {
             f.add_attribute(
@@ -296,33 +332,43 @@ impl<'ctx, 'p, 'a> Lowerer<'ctx, 'p, 'a> {
                 add("optnone");
             }
         }
-        self.fns.insert(id, f);
-        self.queue.push(id);
+        self.fns.insert(k.clone(), f);
+        self.queue.push(Work::Fn(k.0, k.1));
         f
     }
 
-    fn lower_fn(&mut self, id: FnId) -> LResult<()> {
+    fn lower_fn(&mut self, id: FnId, substs: Vec<Ty>) -> LResult<()> {
         let fd = &self.p.fns[id];
-        let f = self.fns[&id];
-        self.body = &self.fn_bodies[id];
+        let f = self.fns[&(id, substs.clone())];
+        self.body = self
+            .checked
+            .fn_body(id, &substs)
+            .ok_or_else(|| internal(format!("no checked body for {}", fd.name)))?;
+        let block = fd
+            .body
+            .ok_or_else(|| internal(format!("{} has no body", fd.name)))?;
         self.file = fd.file;
         self.module_id = fd.module;
         let di_file = self.di_file(fd.file);
         let loc = Loc::of(fd.sig.ident.span());
-        let ret_di = match &fd.ret {
+        let inst = |t: &Ty| self.p.normalize(&t.subst(&substs)).unwrap_or(Ty::Unit);
+        let ret = inst(&fd.ret);
+        let params: Vec<Ty> = fd.params.iter().map(inst).collect();
+        let ret_di = match &ret {
             Ty::Unit | Ty::Never => None,
             t => Some(self.di_type(t)),
         };
-        let params = fd.params.clone();
         let param_di: Vec<DIType> = params.iter().map(|t| self.di_type(t)).collect();
         let sty = self
             .dib
             .create_subroutine_type(di_file, ret_di, &param_di, 0);
         let external = f.get_linkage() == Linkage::External;
+        let name = self.inst_name(&fd.name, &substs);
+        let symbol = self.inst_name(&fd.symbol, &substs);
         let sp = self.dib.create_function(
             di_file.as_debug_info_scope(),
-            &fd.name,
-            Some(&fd.symbol),
+            &name,
+            Some(&symbol),
             di_file,
             loc.line,
             sty,
@@ -344,7 +390,7 @@ impl<'ctx, 'p, 'a> Lowerer<'ctx, 'p, 'a> {
             locals: HashMap::new(),
             loops: Vec::new(),
             scope: sp.as_debug_info_scope(),
-            ret: fd.ret.clone(),
+            ret: ret.clone(),
             debug: true,
             panic_args: None,
         });
@@ -353,36 +399,63 @@ impl<'ctx, 'p, 'a> Lowerer<'ctx, 'p, 'a> {
         // `prologue_end`, is the body's: a debugger's `break FUNC` stops where every
         // argument is already in its slot.
         self.b.position_before(&br);
-        // Parameters.
+        let mut pending_pats = Vec::new();
         for (i, arg) in fd.sig.inputs.iter().enumerate() {
             let ty = params[i].clone();
-            let (name, span, local) = match arg {
-                syn::FnArg::Receiver(r) => ("self".to_string(), r.self_token.span, Some(i)),
-                syn::FnArg::Typed(pt) => match &*pt.pat {
-                    syn::Pat::Ident(pi) => (
-                        pi.ident.to_string(),
-                        pi.ident.span(),
-                        self.body.pat_locals.get(&key(pi)).copied(),
-                    ),
-                    _ => ("_".to_string(), syn::spanned::Spanned::span(pt), None),
-                },
-            };
             let pv = f
                 .get_nth_param(i as u32)
-                .ok_or_else(|| LowerError::Internal("missing parameter".into()))?;
-            let slot = self.alloca(&ty, &name)?;
-            self.b.build_store(slot, pv)?;
-            self.declare_var(slot, &name, &ty, span, Some(i as u32 + 1));
-            if let Some(l) = local {
-                self.fs().locals.insert(l, slot);
+                .ok_or_else(|| internal("missing parameter"))?;
+            match arg {
+                syn::FnArg::Receiver(r) => {
+                    let slot = self.alloca(&ty, "self")?;
+                    self.b.build_store(slot, pv)?;
+                    self.declare_var(slot, "self", &ty, r.self_token.span, Some(i as u32 + 1));
+                    // `self` is local 0 of a method body.
+                    self.fs().locals.insert(0, slot);
+                }
+                syn::FnArg::Typed(pt) => match &*pt.pat {
+                    syn::Pat::Ident(pi) if pi.subpat.is_none() && pi.by_ref.is_none() => {
+                        let name = pi.ident.to_string();
+                        let slot = self.alloca(&ty, &name)?;
+                        self.b.build_store(slot, pv)?;
+                        self.declare_var(slot, &name, &ty, pi.ident.span(), Some(i as u32 + 1));
+                        if let Some((l, _)) = self.body.binds.get(&key(pi)).copied() {
+                            self.fs().locals.insert(l, slot);
+                        }
+                    }
+                    other => {
+                        let slot = self.alloca(&ty, "arg")?;
+                        self.b.build_store(slot, pv)?;
+                        self.declare_var(
+                            slot,
+                            "_",
+                            &ty,
+                            syn::spanned::Spanned::span(pt),
+                            Some(i as u32 + 1),
+                        );
+                        pending_pats.push((other, slot, ty));
+                    }
+                },
             }
         }
         self.b.position_at_end(start);
         self.set_loc(fd.sig.ident.span());
-        let v = self.block(fd.body, false)?;
+        // Destructuring parameters bind their parts at the start of the body.
+        for (pat, slot, ty) in pending_pats {
+            let fail = self.new_block("param.fail");
+            self.match_pat(pat, slot, &ty, fail)?;
+            let cont = self
+                .b
+                .get_insert_block()
+                .ok_or_else(|| internal("no block"))?;
+            self.b.position_at_end(fail);
+            self.b.build_unreachable()?;
+            self.b.position_at_end(cont);
+        }
+        let v = self.block(block, false)?;
         if !self.terminated() {
-            self.set_loc(fd.body.brace_token.span.close());
-            match &fd.ret {
+            self.set_loc(block.brace_token.span.close());
+            match &ret {
                 Ty::Unit | Ty::Never => {
                     self.b.build_return(None)?;
                 }
@@ -443,6 +516,10 @@ impl<'ctx, 'p, 'a> Lowerer<'ctx, 'p, 'a> {
     /// Stack slot in the entry block.
     fn alloca(&mut self, t: &Ty, name: &str) -> LResult<PointerValue<'ctx>> {
         let lt = self.llty(t);
+        self.alloca_ll(lt, name)
+    }
+
+    fn alloca_ll(&mut self, lt: BasicTypeEnum<'ctx>, name: &str) -> LResult<PointerValue<'ctx>> {
         let at = self.fs().alloca_at;
         let tmp = self.ctx.create_builder();
         tmp.position_before(&at);
@@ -475,38 +552,47 @@ impl<'ctx, 'p, 'a> Lowerer<'ctx, 'p, 'a> {
     }
 
     fn string_global(&mut self, s: &str) -> GlobalValue<'ctx> {
-        if let Some(g) = self.strings.get(s) {
+        self.bytes_global(s.as_bytes(), s)
+    }
+
+    /// A private constant byte array (deduplicated by `key`).
+    fn bytes_global(&mut self, bytes: &[u8], k: &str) -> GlobalValue<'ctx> {
+        if let Some(g) = self.strings.get(k) {
             return *g;
         }
-        let bytes = self.ctx.const_string(s.as_bytes(), false);
+        let data = self.ctx.const_string(bytes, false);
         let g = self.module.add_global(
-            bytes.get_type(),
+            data.get_type(),
             None,
             &format!(".str.{}", self.strings.len()),
         );
-        g.set_initializer(&bytes);
+        g.set_initializer(&data);
         g.set_constant(true);
         g.set_linkage(Linkage::Private);
         g.set_unnamed_addr(true);
         g.set_alignment(1);
-        self.strings.insert(s.to_string(), g);
+        self.strings.insert(k.to_string(), g);
         g
     }
 
     /// The address of a static, or of a const aggregate placed in read-only data.
-    fn global(&mut self, g: GlobalId) -> LResult<GlobalValue<'ctx>> {
-        if let Some(v) = self.globals.get(&g) {
+    fn global(&mut self, g: GlobalId, substs: &[Ty]) -> LResult<GlobalValue<'ctx>> {
+        let k = (g, substs.to_vec());
+        if let Some(v) = self.globals.get(&k) {
             return Ok(*v);
         }
         let gd = &self.p.globals[g];
-        let lt = self.llty(&gd.ty);
-        let gv = self.module.add_global(lt, None, &gd.symbol);
+        let ty = self.p.normalize(&gd.ty.subst(substs)).unwrap_or(Ty::Unit);
+        let lt = self.llty(&ty);
+        let gv = self
+            .module
+            .add_global(lt, None, &self.inst_name(&gd.symbol, substs));
         gv.set_linkage(Linkage::Internal);
-        self.globals.insert(g, gv);
-        let init = self.const_init(g)?;
+        self.globals.insert(k, gv);
+        let init = self.const_init(g, substs, &ty)?;
         gv.set_initializer(&init);
         gv.set_constant(gd.is_static != Some(true));
-        let di_ty = self.di_type(&gd.ty);
+        let di_ty = self.di_type(&ty);
         let file = self.di_file(gd.file);
         let line = Loc::of(gd.ty_span).line;
         let expr = self.dib.create_expression(vec![]);
@@ -526,9 +612,19 @@ impl<'ctx, 'p, 'a> Lowerer<'ctx, 'p, 'a> {
         Ok(gv)
     }
 
-    /// Evaluates a global's initializer to an LLVM constant.
-    fn const_init(&mut self, g: GlobalId) -> LResult<BasicValueEnum<'ctx>> {
+    /// Evaluates a global's initializer to an LLVM constant: the interpreter's value, or
+    /// (for what it does not model, such as addresses of statics) the initializer
+    /// lowered and folded.
+    fn const_init(&mut self, g: GlobalId, substs: &[Ty], ty: &Ty) -> LResult<BasicValueEnum<'ctx>> {
+        if let Some(v) = self.consts.get(&(g, substs.to_vec())) {
+            if let Some(c) = self.const_val(ty, v)? {
+                return Ok(c);
+            }
+        }
         let gd = &self.p.globals[g];
+        let expr = gd
+            .expr
+            .ok_or_else(|| internal(format!("const `{}` has no value", gd.name)))?;
         // Lower in a scratch function; constant operands fold in the builder.
         let saved_f = self.f.take();
         let saved_pos = self.b.get_insert_block();
@@ -554,10 +650,10 @@ impl<'ctx, 'p, 'a> Lowerer<'ctx, 'p, 'a> {
             debug: false,
             panic_args: None,
         });
-        let r = self.with_body(g, |l| l.expr(gd.expr));
-        let ty = gd.ty.clone();
+        let r = self.with_body(g, substs, |l| l.expr(expr));
         self.f = saved_f;
-        // SAFETY: the scratch function has no users; nothing refers to it after deletion.
+        // SAFETY: the scratch function's instructions may only be used by each other and
+        // by the constant value we keep, which is a constant (not an instruction).
         unsafe { scratch.delete() };
         if let Some(bb) = saved_pos {
             self.b.position_at_end(bb);
@@ -567,23 +663,110 @@ impl<'ctx, 'p, 'a> Lowerer<'ctx, 'p, 'a> {
             None => self.b.unset_current_debug_location(),
         }
         let v = r?;
-        let v = self.val(v, &ty);
+        let v = self.val(v, ty);
         if !is_const(v) {
-            return Err(LowerError::Diag(self.p.err(
-                gd.file,
-                syn::spanned::Spanned::span(gd.expr),
-                "non-constant-initializer",
-                "initializer of a static or const must be a constant expression",
+            let l = Loc::of(syn::spanned::Spanned::span(expr));
+            return Err(internal(format!(
+                "initializer of `{}` at {}:{} did not fold to a constant",
+                gd.name,
+                self.p.sources.get(gd.file).display.display(),
+                l.line
             )));
         }
         Ok(v)
     }
 
-    /// Runs `f` with the body and file of global `g` as the current context.
-    fn with_body<T>(&mut self, g: GlobalId, f: impl FnOnce(&mut Self) -> T) -> T {
+    /// An LLVM constant of type `t` for an interpreter value (`None`: not expressible
+    /// as a constant of `t`'s LLVM type).
+    pub(super) fn const_val(&mut self, t: &Ty, v: &Val) -> LResult<Option<BasicValueEnum<'ctx>>> {
+        let lt = self.llty(t);
+        Ok(Some(match (t, v) {
+            (_, Val::Unit) => undef(lt),
+            (Ty::Int(_), Val::Int(_, x)) => lt.into_int_type().const_int(*x as u64, true).into(),
+            (Ty::Float(f), Val::Float(_, x)) => self.float_const(*f, *x),
+            (Ty::Bool, Val::Bool(b)) => lt.into_int_type().const_int(*b as u64, false).into(),
+            (Ty::Char, Val::Char(c)) => lt.into_int_type().const_int(*c as u64, false).into(),
+            (Ty::Str, Val::Str(s)) => self.str_value(s),
+            (Ty::Ptr(..), Val::Ptr(a)) => self
+                .ctx
+                .i32_type()
+                .const_int(*a as u64, false)
+                .const_to_pointer(lt.into_pointer_type())
+                .into(),
+            (Ty::Array(el, _), Val::Agg(xs)) => {
+                let mut vals = Vec::new();
+                for x in xs {
+                    match self.const_val(el, x)? {
+                        Some(c) => vals.push(c),
+                        None => return Ok(None),
+                    }
+                }
+                let elt = self.llty(el);
+                expr::const_array(elt, &vals)
+            }
+            (Ty::Tuple(ts), Val::Agg(xs)) => {
+                let mut vals = Vec::new();
+                for (et, x) in ts.iter().zip(xs) {
+                    match self.const_val(et, x)? {
+                        Some(c) => vals.push(c),
+                        None => return Ok(None),
+                    }
+                }
+                lt.into_struct_type().const_named_struct(&vals).into()
+            }
+            (Ty::Adt(a, _), _) => {
+                let a = *a;
+                let def = &self.p.adts[a];
+                let (v, xs) = match v {
+                    Val::Agg(xs) => (0, xs),
+                    Val::Enum(v, xs) => (*v, xs),
+                    _ => return Ok(None),
+                };
+                if def.is_fieldless_enum() {
+                    return Ok(Some(self.tag_val(a, v).into()));
+                }
+                let ftys = self.field_tys(t, v);
+                let mut vals = Vec::new();
+                for (ft, x) in ftys.iter().zip(xs) {
+                    match self.const_val(ft, x)? {
+                        Some(c) => vals.push(c),
+                        None => return Ok(None),
+                    }
+                }
+                if !def.is_enum {
+                    return Ok(Some(lt.into_struct_type().const_named_struct(&vals).into()));
+                }
+                let Some(dv) = self.single_data_variant(a) else {
+                    return Ok(None);
+                };
+                let vt = self.variant_ty(t, dv);
+                let payload = if v == dv {
+                    vt.const_named_struct(&vals)
+                } else {
+                    vt.const_zero()
+                };
+                let tag = self.tag_val(a, v);
+                lt.into_struct_type()
+                    .const_named_struct(&[tag.into(), payload.into()])
+                    .into()
+            }
+            _ => return Ok(None),
+        }))
+    }
+
+    /// Runs `f` with the body and file of global instance `g` as the current context.
+    fn with_body<T>(
+        &mut self,
+        g: GlobalId,
+        substs: &[Ty],
+        f: impl FnOnce(&mut Self) -> LResult<T>,
+    ) -> LResult<T> {
         let gd = &self.p.globals[g];
+        let Some(body) = self.checked.global_body(g, substs) else {
+            return Err(internal(format!("no checked body for const `{}`", gd.name)));
+        };
         let saved = (self.body, self.file, self.module_id);
-        self.body = &self.global_bodies[g];
+        self.body = body;
         self.file = gd.file;
         self.module_id = gd.module;
         let r = f(self);
@@ -591,7 +774,13 @@ impl<'ctx, 'p, 'a> Lowerer<'ctx, 'p, 'a> {
         r
     }
 
+    /// Type of an expression after its coercion.
     fn ty_of(&self, e: &syn::Expr) -> Ty {
+        self.body.ty_of(e)
+    }
+
+    /// Type of an expression before its coercion.
+    fn raw_ty(&self, e: &syn::Expr) -> Ty {
         self.body.tys.get(&key(e)).cloned().unwrap_or(Ty::Unit)
     }
 }
@@ -606,6 +795,19 @@ pub(crate) fn undef(t: BasicTypeEnum<'_>) -> BasicValueEnum<'_> {
         BasicTypeEnum::StructType(t) => t.get_undef().into(),
         BasicTypeEnum::VectorType(t) => t.get_undef().into(),
         BasicTypeEnum::ScalableVectorType(t) => t.get_undef().into(),
+    }
+}
+
+/// The zero value of any basic type.
+pub(crate) fn zero(t: BasicTypeEnum<'_>) -> BasicValueEnum<'_> {
+    match t {
+        BasicTypeEnum::ArrayType(t) => t.const_zero().into(),
+        BasicTypeEnum::FloatType(t) => t.const_zero().into(),
+        BasicTypeEnum::IntType(t) => t.const_zero().into(),
+        BasicTypeEnum::PointerType(t) => t.const_zero().into(),
+        BasicTypeEnum::StructType(t) => t.const_zero().into(),
+        BasicTypeEnum::VectorType(t) => t.const_zero().into(),
+        BasicTypeEnum::ScalableVectorType(t) => t.const_zero().into(),
     }
 }
 

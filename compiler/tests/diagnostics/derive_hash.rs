@@ -1,0 +1,6 @@
+#[derive(Clone, Copy, Hash)]
+struct Key {
+    id: u32,
+}
+
+fn trax_main() {}

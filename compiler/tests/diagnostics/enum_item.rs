@@ -1,6 +1,0 @@
-enum Mode {
-    Fast,
-    Slow,
-}
-
-fn trax_main() {}

@@ -1,5 +1,0 @@
-fn id<T>(x: T) -> T {
-    x
-}
-
-fn trax_main() {}

@@ -1,0 +1,3 @@
+use std::io::Write;
+
+fn trax_main() {}

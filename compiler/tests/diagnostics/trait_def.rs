@@ -1,5 +1,0 @@
-trait Shape {
-    fn area(&self) -> f32;
-}
-
-fn trax_main() {}

@@ -1,3 +1,0 @@
-fn trax_main() {
-    let p = (1, 2);
-}

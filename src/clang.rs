@@ -406,7 +406,7 @@ pub fn host_shim() -> String {
             Op::ProfBegin | Op::ProfEnd | Op::SetPipe => "let _ = sa;".into(),
             Op::BoxTest => "let r = cop2(); trax::host::pipe_box_test([r[0], r[1], r[2]], [r[3], r[4], r[5]], [r[6], r[7], r[8]], [r[9], r[10], r[11]])".into(),
             Op::TriTest => "let r = cop2(); let t = trax::host::pipe_tri_test([r[0], r[1], r[2]], [r[3], r[4], r[5]], [r[12], r[13], r[14]], [r[15], r[16], r[17]], [r[18], r[19], r[20]]); set_cop2(21, trax::host::pipe_tri_u()); set_cop2(22, trax::host::pipe_tri_v()); t".into(),
-            Op::PrintStr | Op::Abort => unsupported("takes a simulated address; use trax_print_str / trax_panic"),
+            Op::PrintStr | Op::Abort | Op::PrintFmt => unsupported("takes a simulated address; use trax_print_str / trax_panic"),
             Op::Halt => unsupported("is not available natively (return from trax_main)"),
             Op::StreamWriteStart
             | Op::StreamWrite

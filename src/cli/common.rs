@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use clap::Args;
-use trax_assembler::image::{MemoryImage, RenderOptions, OPTIONAL_COMPONENTS};
+use trax_assembler::image::{on_demand_components, RenderOptions, SceneImage};
 use trax_assembler::scene::LoadOptions;
 use trax_emulator::timing::ChipConfig;
 
@@ -111,17 +111,16 @@ pub fn chip_config(
 
 /// The optional scene components the image leaves out: the kernel never references them
 /// (components are linked on demand, see `trax_assembler::image`).
-pub fn left_out(image: &MemoryImage) -> Vec<&'static str> {
-    OPTIONAL_COMPONENTS
-        .iter()
-        .copied()
+pub fn left_out(image: &SceneImage) -> Vec<&'static str> {
+    on_demand_components()
+        .into_iter()
         .filter(|c| image.component(c).is_none())
         .collect()
 }
 
 /// The scene-data lines of a run summary: every placed component's bytes, then what was
 /// left out.
-pub fn scene_report(image: &MemoryImage) -> String {
+pub fn scene_report(image: &SceneImage) -> String {
     let mut s = format!(
         "scene data: {} bytes in {} components\n",
         image.scene_bytes(),
@@ -147,7 +146,7 @@ pub fn scene_report(image: &MemoryImage) -> String {
 
 /// The scene data as JSON: `{"bytes", "components": [{"name", "addr", "count", "bytes"}],
 /// "left_out": [names]}`.
-pub fn scene_json(image: &MemoryImage) -> serde_json::Value {
+pub fn scene_json(image: &SceneImage) -> serde_json::Value {
     serde_json::json!({
         "bytes": image.scene_bytes(),
         "components": image

@@ -13,7 +13,7 @@
 //! an rlib named `trax`; (2) the kernel is compiled from stdin with the current directory
 //! set to the kernel's directory (so `mod x;` files resolve), with
 //! `fn main() { trax::host::host_main(trax_main) }` appended; (3) a memory image (format:
-//! `trax_runtime::host`) is written, the program runs over it and writes the framebuffer
+//! `trax_runtime::image`, segments with permissions) is written, the program runs over it and writes the framebuffer
 //! back; (4) the framebuffer becomes a PNG. Builds are cached in `$TRAX_CACHE_DIR` (default
 //! `~/.cache/trax`) keyed by a hash of the sources and the rustc version. Diagnostics
 //! and panic locations name the kernel file (rustc calls stdin `<anon>`; we rewrite it).
@@ -27,12 +27,12 @@ use clap::Args;
 
 use super::common::{self, RenderArgs};
 use super::prepare::build_executable;
-use trax_assembler::image::{
-    build_image_from_symbols, read_program, MemoryImage as SceneImage, OPTIONAL_COMPONENTS,
-};
+use trax_assembler::image::{build_image_from_symbols, on_demand_components, SceneImage};
 use trax_assembler::scene::load_scene;
 use trax_emulator::timing::DEFAULT_CHIP;
-use trax_runtime::host::{framebuffer_rgb8, ImageError, MemoryImage, Segment};
+use trax_runtime::exe::Executable;
+use trax_runtime::host::framebuffer_rgb8;
+use trax_runtime::image::{ImageError, MemoryImage};
 use trax_runtime::prelude::{self, Fnv1a};
 
 /// Arguments of `trax native`.
@@ -138,14 +138,9 @@ fn native(a: &NativeArgs) -> Result<(), NativeError> {
     let rlib = build_prelude(&rustc, &cache)?;
     let exe = build_kernel(&rustc, &a.kernel, &rlib, &cache)?;
     let scene_image = scene_image(a)?;
-    let image = host_image(&scene_image)?;
-    let fb = run_kernel(&exe, &a.kernel, &image, tms, threads, &cache)?;
+    let fb = run_kernel(&exe, &a.kernel, &scene_image.memory, tms, threads, &cache)?;
     eprint!("{}", common::scene_report(&scene_image));
-    let bytes = fb
-        .segments
-        .first()
-        .map(|s| s.bytes.as_slice())
-        .unwrap_or(&[]);
+    let bytes = fb.segments.first().map(|s| s.data.as_slice()).unwrap_or(&[]);
     if let Some(out) = &a.output {
         let (w, h) = (a.render.width, a.render.height);
         write_png(out, w, h, &framebuffer_rgb8(bytes, w, h))?;
@@ -184,7 +179,7 @@ const RUN_OPT_LEVEL: u8 = 2;
 fn referenced_fields(kernel: &Path) -> Vec<String> {
     let built = build_executable(kernel, RUN_OPT_LEVEL)
         .map_err(|e| e.to_string())
-        .and_then(|elf| read_program(&elf).map_err(|e| e.to_string()));
+        .and_then(|elf| Executable::parse("program ELF", &elf).map_err(|e| e.to_string()));
     match built {
         Ok(p) => p.referenced,
         Err(e) => {
@@ -193,7 +188,10 @@ fn referenced_fields(kernel: &Path) -> Vec<String> {
                 "warning: {}: the trax compiler cannot build this kernel ({first}); laying out every scene component",
                 kernel.display()
             );
-            OPTIONAL_COMPONENTS.iter().map(|s| s.to_string()).collect()
+            on_demand_components()
+                .into_iter()
+                .map(String::from)
+                .collect()
         }
     }
 }
@@ -214,25 +212,6 @@ fn scene_image(a: &NativeArgs) -> Result<SceneImage, NativeError> {
         &scene,
         &opts,
     )?)
-}
-
-/// The scene image in the host runner's file format.
-fn host_image(img: &SceneImage) -> Result<MemoryImage, NativeError> {
-    let segments = img
-        .segments
-        .iter()
-        .map(|s| {
-            let mut bytes = s.data.clone();
-            bytes.resize((s.size as usize).next_multiple_of(4), 0);
-            Segment {
-                addr: s.addr,
-                bytes,
-            }
-        })
-        .collect();
-    let image = MemoryImage { segments };
-    image.validate()?;
-    Ok(image)
 }
 
 /// The build cache directory: `$TRAX_CACHE_DIR`, else the user's cache directory
@@ -487,7 +466,7 @@ fn run_in(
 ) -> Result<MemoryImage, NativeError> {
     let input = tmp.join("image.bin");
     let output = tmp.join("framebuffer.bin");
-    image.write(&input)?;
+    image.write_file(&input)?;
     let mut child = Command::new(exe)
         .arg(&input)
         .arg(&output)
@@ -513,7 +492,7 @@ fn run_in(
             status: status.code().unwrap_or(-1),
         });
     }
-    Ok(MemoryImage::read(&output)?)
+    Ok(MemoryImage::read_file(&output)?)
 }
 
 /// Writes 8-bit RGB pixels (`width*height*3` bytes, top row first) as a PNG file.

@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use trax_assembler::image::{build_image, MemoryImage};
+use trax_assembler::image::{build_image, SceneImage};
 use trax_assembler::link::{link, Input, LinkOptions};
 use trax_assembler::scene::load_scene;
 use trax_compiler::{compile_file, CompileError, CompileOptions, Emit, Prelude};
@@ -17,7 +17,7 @@ pub struct Prepared {
     /// The linked executable (kept for debug information).
     pub elf: Vec<u8>,
     /// The initial memory (program segments, scene header, components, framebuffer).
-    pub image: MemoryImage,
+    pub image: SceneImage,
 }
 
 /// Why a program could not be prepared; the message names the file or flag at fault.

@@ -21,6 +21,7 @@ use trax_emulator::profile::{profile_run, Profile};
 use trax_emulator::session::{self, load_debug, RunRequest};
 use trax_emulator::timing::{self, ChipConfig, TimingRequest, DEFAULT_CHIP};
 use trax_emulator::{crash, gdb, Outcome};
+use trax_runtime::abi::PIXEL_BYTES;
 use trax_runtime::host::framebuffer_rgb8;
 
 use super::common::{self, RenderArgs};
@@ -252,17 +253,7 @@ pub fn execute(a: &ExecArgs, extras: &Extras) -> Result<Executed, String> {
         }
     };
     let fb = prepared.image.header.framebuffer;
-    let segments: Vec<Segment> = prepared
-        .image
-        .segments
-        .iter()
-        .map(|g| Segment {
-            addr: g.addr,
-            data: g.data.clone(),
-            mem_size: g.size,
-            writable: true,
-        })
-        .collect();
+    let segments: Vec<Segment> = prepared.image.memory.segments.clone();
     let stdout = std::io::stdout();
     let mut out = stdout.lock();
     let start = std::time::Instant::now();
@@ -380,7 +371,7 @@ pub fn execute(a: &ExecArgs, extras: &Extras) -> Result<Executed, String> {
         let bytes = machine
             .shared
             .mem
-            .read_bytes(&[], fb.addr, fb.count * 12)
+            .read_bytes(&[], fb.addr, fb.count * PIXEL_BYTES)
             .unwrap_or_default();
         if let Some(path) = &a.output {
             let (w, h) = (a.render.width, a.render.height);

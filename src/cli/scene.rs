@@ -8,7 +8,7 @@ use std::time::Instant;
 
 use clap::{Args, Subcommand};
 use trax_assembler::bvh::{Bvh, BvhOptions, TreeletOptions};
-use trax_assembler::image::{build_image_from_symbols, RenderOptions, OPTIONAL_COMPONENTS};
+use trax_assembler::image::{build_image_from_symbols, on_demand_components, RenderOptions};
 use trax_assembler::scene::{load_scene, LoadOptions};
 use trax_runtime::abi;
 
@@ -129,7 +129,7 @@ fn info(a: &InfoArgs) -> Result<(), Box<dyn std::error::Error>> {
             let fill: f64 = t
                 .node_ranges
                 .iter()
-                .map(|r| (r.end - r.start) as f64 * 32.0)
+                .map(|r| (r.end - r.start) as f64 * std::mem::size_of::<abi::BvhNode>() as f64)
                 .sum::<f64>()
                 / (t.node_ranges.len() as f64 * t.options.budget_bytes as f64);
             outln!(
@@ -153,7 +153,7 @@ fn info(a: &InfoArgs) -> Result<(), Box<dyn std::error::Error>> {
     let image = build_image_from_symbols(
         Vec::new(),
         abi::TEXT_BASE,
-        &OPTIONAL_COMPONENTS,
+        &on_demand_components(),
         &scene,
         &opts,
     )?;

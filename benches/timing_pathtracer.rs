@@ -18,14 +18,10 @@
 use std::path::Path;
 use std::time::Instant;
 
-use trax_assembler::image::{build_image, RenderOptions};
-use trax_assembler::link::{link, Input, LinkOptions};
-use trax_assembler::scene::{load_scene, LoadOptions};
-use trax_compiler::{compile_file, CompileOptions, Emit, Prelude};
-use trax_emulator::memory::Segment;
+use trax::pipeline::{prepare, Prepared, Request};
 use trax_emulator::memsys::DramModel;
-use trax_emulator::timing::{self, ChipConfig, TimingRequest, TimingStats};
-use trax_emulator::Outcome;
+use trax_emulator::timing::{ChipConfig, TimingStats};
+use trax_emulator::{run, Limits, Mode};
 
 /// Original simtrax, one simulation thread, raycast on the Cornell box, 4 TMs x 32 threads,
 /// USIMM GDDR5 (anchors.md): 1.09 M instructions per host second. (Its instruction counts
@@ -45,47 +41,6 @@ fn env_u64(name: &str, default: u64) -> u64 {
     }
 }
 
-/// Compiles and links the path tracer as `trax build` does.
-fn build_pathtracer(path: &Path) -> Vec<u8> {
-    let opts = CompileOptions {
-        opt_level: 2,
-        emit: Emit::Obj,
-        prelude: Some(Prelude::runtime()),
-    };
-    let obj =
-        compile_file(path, &opts).unwrap_or_else(|e| panic!("compiling {}: {e}", path.display()));
-    let input = Input {
-        name: path.display().to_string(),
-        bytes: obj.bytes,
-    };
-    link(&[input], &LinkOptions::default())
-        .unwrap_or_else(|e| panic!("linking {}: {e}", path.display()))
-        .elf
-}
-
-/// The machine's initial memory: program, Cornell box, header, framebuffer.
-fn memory_image(elf: &[u8], size: u32) -> Vec<Segment> {
-    let scene = load_scene("cornell", &LoadOptions::default()).expect("embedded scene");
-    let opts = RenderOptions {
-        width: size,
-        height: size,
-        spp: 1,
-        max_depth: 4,
-        ..RenderOptions::default()
-    };
-    let image = build_image(elf, &scene, &opts).expect("memory image");
-    image
-        .segments
-        .iter()
-        .map(|g| Segment {
-            addr: g.addr,
-            data: g.data.clone(),
-            mem_size: g.size,
-            writable: true,
-        })
-        .collect()
-}
-
 /// CPU seconds this process has used so far (all its threads, live or finished), from
 /// `/proc/self/stat` (Linux; `None` elsewhere). Fields 14 and 15 count user and system
 /// time in USER_HZ ticks, which Linux fixes at 100 per second for user space.
@@ -102,30 +57,28 @@ fn process_cpu_seconds() -> Option<f64> {
 
 /// One measured run: statistics, host wall seconds and CPU seconds (if known).
 fn simulate(
-    name: &str,
-    elf: &[u8],
-    segments: &[Segment],
+    prepared: &Prepared,
     chip: &ChipConfig,
     host_threads: usize,
     max_cycles: u64,
 ) -> (TimingStats, f64, Option<f64>) {
-    let req = TimingRequest {
-        elf_path: name,
-        elf,
-        segments: Some(segments.to_vec()),
-        host_threads,
+    let mut req = prepared.run_request(chip, Mode::Timing);
+    req.host_threads = Some(host_threads);
+    req.limits = Limits {
         max_cycles: Some(max_cycles),
+        ..Limits::default()
     };
     let cpu0 = process_cpu_seconds();
     let t = Instant::now();
-    let r = timing::run(req, chip, &mut std::io::sink()).expect("timing run starts");
+    let r = run(req, &mut std::io::sink()).expect("timing run starts");
     let secs = t.elapsed().as_secs_f64();
     let cpu = cpu0.zip(process_cpu_seconds()).map(|(a, b)| b - a);
-    if !matches!(r.outcome, Outcome::Finished) {
-        println!("{}", r.stats.summary());
-        panic!("path tracer did not finish: {:?}", r.report);
+    let stats = r.timing.clone().expect("timing statistics");
+    if !r.finished() {
+        println!("{}", stats.summary());
+        panic!("path tracer did not finish: {:?}", r.failure);
     }
-    (r.stats, secs, cpu)
+    (stats, secs, cpu)
 }
 
 fn main() {
@@ -138,15 +91,19 @@ fn main() {
     let size = env_u64("TRAX_BENCH_SIZE", 128).clamp(1, 4096) as u32;
     let max_cycles = env_u64("TRAX_BENCH_MAX_CYCLES", 50_000_000);
     let repeat = env_u64("TRAX_BENCH_REPEAT", 5).max(1);
-    let kernel = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/pathtracer.rs");
-    let name = kernel.display().to_string();
-    let elf = build_pathtracer(&kernel);
-    let segments = memory_image(&elf, size);
-
     let mut chip = ChipConfig::preset("baseline").expect("baseline preset");
     chip.tms = 4;
     chip.tms_per_l2 = 4;
     chip.name = "baseline, 4 TMs".into();
+    // The path tracer on the Cornell box, built and laid out as `trax run` does.
+    let mut request =
+        Request::new(Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/pathtracer.rs"));
+    request.render.width = size;
+    request.render.height = size;
+    request.render.spp = 1;
+    request.render.max_depth = 4;
+    request.chip = chip.clone();
+    let prepared = prepare(&request).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(chip.memory.dram.model, DramModel::Detailed);
     println!(
         "timing_pathtracer: path tracer, Cornell box {size}x{size}, 1 spp, depth 4; {} TMs x {} threads; thesis GDDR5 (detailed DRAM, {:.0} GB/s peak)",
@@ -163,7 +120,7 @@ fn main() {
     for _ in 0..repeat {
         let mut secs = Vec::new();
         for (b, &host_threads) in best.iter_mut().zip(&counts) {
-            let run = simulate(&name, &elf, &segments, &chip, host_threads, max_cycles);
+            let run = simulate(&prepared, &chip, host_threads, max_cycles);
             secs.push(run.1);
             if b.as_ref().is_none_or(|b| run.1 < b.1) {
                 *b = Some(run);
@@ -195,9 +152,9 @@ fn main() {
             s.issue_rate * 100.0,
         );
         rates.push(rate);
-        // Same inputs, same statistics for any number of host threads (the JSON form
+        // Same inputs, same statistics for any number of host threads (the debug form
         // covers every counter).
-        let json = serde_json::to_string(&s).expect("stats serialize");
+        let json = format!("{s:?}");
         match &first {
             None => first = Some(json),
             Some(f) if *f != json => deterministic = false,

@@ -7,8 +7,8 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use trax_emulator::decode::decode;
-use trax_emulator::elf::Executable;
+use trax_emulator::decode;
+use trax_emulator::Executable;
 
 /// Mnemonics of MIPS32r6 control transfers with a delay slot.
 const DELAYED: &[&str] = &[

@@ -11,13 +11,8 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use trax_assembler::image::{build_image, RenderOptions};
-use trax_assembler::link::{link, Input, LinkOptions};
-use trax_assembler::scene::{load_scene, LoadOptions};
-use trax_compiler::{compile_file, CompileOptions, Emit, Prelude};
-use trax_emulator::machine::{MachineConfig, Outcome};
-use trax_emulator::memory::Segment;
-use trax_emulator::session::{run, RunRequest};
+use trax::pipeline::{prepare, Request};
+use trax_emulator::{run, Mode};
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -41,72 +36,28 @@ struct Setup<'a> {
 }
 
 fn emulate(s: &Setup) -> Frame {
-    let path = root().join(s.kernel);
-    let copts = CompileOptions {
-        opt_level: s.opt_level,
-        emit: Emit::Obj,
-        prelude: Some(Prelude::runtime()),
-    };
-    let obj = compile_file(&path, &copts).unwrap_or_else(|e| panic!("{}: {e}", s.kernel));
-    let linked = link(
-        &[Input {
-            name: s.kernel.to_string(),
-            bytes: obj.bytes,
-        }],
-        &LinkOptions::default(),
-    )
-    .unwrap_or_else(|e| panic!("{}: link: {e}", s.kernel));
-    let scene = load_scene("cornell", &LoadOptions::default()).unwrap();
-    let opts = RenderOptions {
-        width: s.width,
-        height: s.height,
-        spp: s.spp,
-        max_depth: s.depth,
-        ..RenderOptions::default()
-    };
-    let image = build_image(&linked.elf, &scene, &opts).unwrap();
-    let fb = image.header.framebuffer;
-    let segments = image
-        .segments
-        .iter()
-        .map(|g| Segment {
-            addr: g.addr,
-            data: g.data.clone(),
-            mem_size: g.size,
-            writable: true,
-        })
-        .collect();
+    let mut req = Request::new(root().join(s.kernel));
+    req.opt_level = s.opt_level;
+    req.render.width = s.width;
+    req.render.height = s.height;
+    req.render.spp = s.spp;
+    req.render.max_depth = s.depth;
+    req.chip.tms = s.tms;
+    req.chip.threads_per_tm = s.threads;
+    let prepared = prepare(&req).unwrap_or_else(|e| panic!("{}: {e}", s.kernel));
     let mut out = Vec::new();
-    let result = run(
-        RunRequest {
-            elf_path: s.kernel,
-            elf: &linked.elf,
-            segments: Some(segments),
-            config: MachineConfig {
-                tms: s.tms,
-                threads_per_tm: s.threads,
-                ..MachineConfig::default()
-            },
-        },
-        &mut out,
-    )
-    .unwrap_or_else(|e| panic!("{}: {e}", s.kernel));
+    let result = run(prepared.run_request(&req.chip, Mode::Functional), &mut out)
+        .unwrap_or_else(|e| panic!("{}: {e}", s.kernel));
     assert!(
-        matches!(result.summary.outcome, Outcome::Finished),
+        result.finished(),
         "{}: {:?}\n{}",
         s.kernel,
-        result.summary.outcome,
-        result.report.unwrap_or_default()
+        result.outcome,
+        result.failure.clone().unwrap_or_default()
     );
-    let framebuffer = result
-        .machine
-        .shared
-        .mem
-        .read_bytes(&[], fb.addr, fb.count * 12)
-        .unwrap();
     Frame {
         stdout: String::from_utf8(out).unwrap(),
-        framebuffer,
+        framebuffer: prepared.framebuffer(&result).unwrap(),
     }
 }
 

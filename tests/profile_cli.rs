@@ -133,7 +133,7 @@ fn timing_profile_total_is_the_live_thread_cycles() {
         "{stdout}"
     );
     let st = json(&stats);
-    let tc = st["thread_cycles"].as_object().unwrap();
+    let tc = st["timing"]["thread_cycles"].as_object().unwrap();
     // Every thread-cycle is charged except those of threads that already halted.
     let live: u64 = tc
         .iter()

@@ -39,13 +39,11 @@
 
 use std::path::PathBuf;
 
-use trax_assembler::image::{build_image, RenderOptions};
-use trax_assembler::link::{link, Input, LinkOptions};
+use trax::pipeline::{build_executable, lay_out};
+use trax_assembler::image::RenderOptions;
 use trax_assembler::scene::{load_scene, LoadOptions, Material, PointLight, Scene, View};
-use trax_compiler::{compile_file, CompileOptions, Emit, Prelude};
-use trax_emulator::machine::{MachineConfig, Outcome};
-use trax_emulator::memory::Segment;
-use trax_emulator::session::{run, RunRequest};
+use trax_emulator::timing::{ChipConfig, DEFAULT_CHIP};
+use trax_emulator::{run, Mode};
 
 const W: u32 = 64;
 const H: u32 = 64;
@@ -56,22 +54,7 @@ fn root() -> PathBuf {
 }
 
 fn compile(kernel: &str) -> Vec<u8> {
-    let copts = CompileOptions {
-        opt_level: 2,
-        emit: Emit::Obj,
-        prelude: Some(Prelude::runtime()),
-    };
-    let obj =
-        compile_file(&root().join(kernel), &copts).unwrap_or_else(|e| panic!("{kernel}: {e}"));
-    link(
-        &[Input {
-            name: kernel.into(),
-            bytes: obj.bytes,
-        }],
-        &LinkOptions::default(),
-    )
-    .unwrap_or_else(|e| panic!("{kernel}: link: {e}"))
-    .elf
+    build_executable(&root().join(kernel), 2).unwrap_or_else(|e| panic!("{kernel}: {e}"))
 }
 
 /// Renders `scene` with the linked kernel `elf`; returns the framebuffer (row 0 at the top).
@@ -84,46 +67,21 @@ fn render(elf: &[u8], scene: &Scene, k: &Kernel) -> Vec<[f32; 3]> {
         background: k.background,
         ..RenderOptions::default()
     };
-    let image = build_image(elf, scene, &opts).unwrap();
-    let fb = image.header.framebuffer;
-    let segments = image
-        .segments
-        .iter()
-        .map(|g| Segment {
-            addr: g.addr,
-            data: g.data.clone(),
-            mem_size: g.size,
-            writable: true,
-        })
-        .collect();
+    let prepared = lay_out("kernel", elf.to_vec(), scene, &opts).unwrap();
+    let mut chip = ChipConfig::preset(DEFAULT_CHIP).unwrap();
+    chip.tms = 2;
+    chip.threads_per_tm = 4;
     let mut out = Vec::new();
-    let result = run(
-        RunRequest {
-            elf_path: "kernel",
-            elf,
-            segments: Some(segments),
-            config: MachineConfig {
-                tms: 2,
-                threads_per_tm: 4,
-                ..MachineConfig::default()
-            },
-        },
-        &mut out,
-    )
-    .unwrap();
+    let result = run(prepared.run_request(&chip, Mode::Functional), &mut out).unwrap();
     assert!(
-        matches!(result.summary.outcome, Outcome::Finished),
+        result.finished(),
         "{:?}\n{}",
-        result.summary.outcome,
-        result.report.unwrap_or_default()
+        result.outcome,
+        result.failure.clone().unwrap_or_default()
     );
-    let bytes = result
-        .machine
-        .shared
-        .mem
-        .read_bytes(&[], fb.addr, fb.count * 12)
-        .unwrap();
-    bytes
+    prepared
+        .framebuffer(&result)
+        .unwrap()
         .chunks(12)
         .map(|p| [0, 1, 2].map(|c| f32::from_le_bytes(p[c * 4..c * 4 + 4].try_into().unwrap())))
         .collect()

@@ -29,10 +29,10 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use trax_assembler::link::{link, Input, LinkOptions};
-use trax_compiler::{compile_file, CompileOptions, Emit, Prelude};
-use trax_emulator::machine::{MachineConfig, Outcome};
-use trax_emulator::session::{run, RunRequest};
+use ::trax::pipeline::{build_executable, compile_object};
+use trax_compiler::Emit;
+use trax_emulator::timing::{ChipConfig, DEFAULT_CHIP};
+use trax_emulator::{run, Mode, RunRequest};
 
 /// What `runtime/prelude/simd.rs` reaches as `super::hw`.
 mod hw {
@@ -739,36 +739,21 @@ fn compare(what: &str, stdout: &str, exp: &[Expect]) -> Vec<String> {
 // ------------------------------------------------------------------ running
 
 fn emulate(kernel: &Path, opt: u8) -> String {
-    let copts = CompileOptions {
-        opt_level: opt,
-        emit: Emit::Obj,
-        prelude: Some(Prelude::runtime()),
-    };
-    let obj = compile_file(kernel, &copts).unwrap_or_else(|e| panic!("-O{opt}: {e}"));
-    let linked = link(
-        &[Input {
-            name: "simd_kernel.rs".into(),
-            bytes: obj.bytes,
-        }],
-        &LinkOptions::default(),
-    )
-    .unwrap_or_else(|e| panic!("link: {e}"));
+    let elf = build_executable(kernel, opt).unwrap_or_else(|e| panic!("-O{opt}: {e}"));
+    let mut chip = ChipConfig::preset(DEFAULT_CHIP).unwrap();
+    chip.tms = 1;
+    chip.threads_per_tm = 1;
     let mut out = Vec::new();
     let result = run(
-        RunRequest {
-            elf_path: "simd_kernel.elf",
-            elf: &linked.elf,
-            segments: None,
-            config: MachineConfig::default(),
-        },
+        RunRequest::new("simd_kernel.elf", &elf, &chip, Mode::Functional),
         &mut out,
     )
     .unwrap_or_else(|e| panic!("-O{opt}: {e}"));
     assert!(
-        matches!(result.summary.outcome, Outcome::Finished),
+        result.finished(),
         "-O{opt}: {:?}\n{}",
-        result.summary.outcome,
-        result.report.unwrap_or_default()
+        result.outcome,
+        result.failure.unwrap_or_default()
     );
     String::from_utf8(out).unwrap()
 }
@@ -916,12 +901,7 @@ fn compiles(dir: &Path, n: usize, ty: &str, stmt: &str) -> bool {
     );
     let path = dir.join(format!("probe{n}.rs"));
     std::fs::write(&path, src).unwrap();
-    let copts = CompileOptions {
-        opt_level: 0,
-        emit: Emit::Obj,
-        prelude: Some(Prelude::runtime()),
-    };
-    compile_file(&path, &copts).is_ok()
+    compile_object(&path, 0, Emit::Obj).is_ok()
 }
 
 /// Every public SIMD method and operator (host prelude, compiler method table, operators

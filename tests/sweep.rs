@@ -72,6 +72,21 @@ fn sha256sum(path: &Path) -> String {
         .to_string()
 }
 
+/// Runs the sweep file `body` in `dir` (results in `dir/results`): the process output, the
+/// results directory and the rows of its `results.csv`.
+fn sweep_rows(dir: &Path, body: &str) -> (Output, PathBuf, Vec<BTreeMap<String, String>>) {
+    let f = sweep_file(dir, body);
+    let out_dir = dir.join("results");
+    let out = trax(&[
+        "sweep",
+        f.to_str().unwrap(),
+        "-o",
+        out_dir.to_str().unwrap(),
+    ]);
+    let (_, rows) = read_csv(&out_dir.join("results.csv"));
+    (out, out_dir, rows)
+}
+
 #[test]
 fn bad_sweep_files_name_the_field_and_line() {
     let dir = scratch("errors");
@@ -337,9 +352,9 @@ where = {{ mode = "timing" }}
         if r["mode"] == "timing" {
             assert_eq!(r["cycles"], stats["cycles"].to_string());
             let e: f64 = r["energy_j"].parse().unwrap();
-            assert_eq!(e, stats["energy"]["total"].as_f64().unwrap());
+            assert_eq!(e, stats["timing"]["energy"]["total"].as_f64().unwrap());
             let dram: f64 = r["energy_dram_j"].parse().unwrap();
-            assert_eq!(dram, stats["energy"]["dram"].as_f64().unwrap());
+            assert_eq!(dram, stats["timing"]["energy"]["dram"].as_f64().unwrap());
         } else {
             assert_eq!(r["cycles"], "", "functional runs have no cycles");
         }
@@ -349,7 +364,15 @@ where = {{ mode = "timing" }}
                 .unwrap(),
         )
         .unwrap();
-        assert_eq!(rec["stats"], stats);
+        // The same document but for the inputs: the point ran the sweep's prebuilt ELF.
+        let without_inputs = |v: &serde_json::Value| {
+            let mut v = v.clone();
+            v.as_object_mut().unwrap().remove("inputs");
+            v
+        };
+        assert_eq!(without_inputs(&rec["stats"]), without_inputs(&stats));
+        assert_eq!(rec["stats"]["inputs"]["kernel"], rec["command"][2]);
+        assert_eq!(rec["stats"]["inputs"]["opt_level"], serde_json::Value::Null);
         assert_eq!(rec["config"]["tms"].to_string(), r["tms"]);
         assert_eq!(rec["config"]["name"], "tiny");
         assert_eq!(rec["trax"]["version"], env!("CARGO_PKG_VERSION"));
@@ -379,19 +402,12 @@ where = {{ mode = "timing" }}
 fn a_failed_point_is_recorded_and_the_sweep_goes_on() {
     let dir = scratch("failed");
     let k = gradient();
-    let f = sweep_file(
+    let (out, out_dir, rows) = sweep_rows(
         &dir,
         &format!(
             "kernel = {k:?}\nwidth = 8\nheight = 8\nmode = \"functional\"\n[axes]\nmax_instructions = [50, 1000000]\ntms = [1, 2]\n"
         ),
     );
-    let out_dir = dir.join("results");
-    let out = trax(&[
-        "sweep",
-        f.to_str().unwrap(),
-        "-o",
-        out_dir.to_str().unwrap(),
-    ]);
     assert!(
         !out.status.success(),
         "a sweep with failed points exits non-zero"
@@ -401,7 +417,6 @@ fn a_failed_point_is_recorded_and_the_sweep_goes_on() {
         "{}",
         text(&out.stderr)
     );
-    let (_, rows) = read_csv(&out_dir.join("results.csv"));
     assert_eq!(rows.len(), 4);
     for r in &rows {
         if r["max_instructions"] == "50" {
@@ -421,6 +436,7 @@ fn a_failed_point_is_recorded_and_the_sweep_goes_on() {
         }
     }
     // Failed points keep their record on a re-run, unless asked to retry.
+    let f = dir.join("sweep.toml");
     let again = trax(&[
         "sweep",
         f.to_str().unwrap(),
@@ -920,4 +936,33 @@ threads = 4
         "threads",
     ]);
     assert!(out.status.success(), "{}", text(&out.stderr));
+}
+
+/// `scene = "icosphere:N"` is a built-in scene (sweep plans took it for a file name and
+/// refused it), and `max_cycles` is a knob: timing points stop at that cycle.
+#[test]
+fn icosphere_scenes_and_cycle_limits_are_sweep_parameters() {
+    let dir = scratch("icosphere");
+    let k = gradient();
+    let (out, _, rows) = sweep_rows(
+        &dir,
+        &format!(
+            "kernel = {k:?}\nwidth = 8\nheight = 8\nscene = \"icosphere:1\"\n[axes]\nmax_cycles = [100, 100000000]\n"
+        ),
+    );
+    assert!(!out.status.success(), "the 100-cycle point fails");
+    assert_eq!(rows.len(), 2, "{}", text(&out.stderr));
+    for r in &rows {
+        assert_eq!(r["scene"], "icosphere:1");
+        if r["max_cycles"] == "100" {
+            assert_eq!(r["status"], "failed", "{r:?}");
+            assert!(
+                r["error"].contains("cycle limit reached after 100 cycles"),
+                "{r:?}"
+            );
+        } else {
+            assert_eq!(r["status"], "ok", "{r:?}");
+            assert!(r["cycles"].parse::<u64>().unwrap() > 100);
+        }
+    }
 }

@@ -93,11 +93,16 @@ fn simulate(f: &Frame) -> Value {
     );
     let v: Value = serde_json::from_str(&std::fs::read_to_string(&json).expect("stats json"))
         .expect("stats json parses");
-    assert_eq!(v["tms"].as_u64(), Some(u64::from(f.tms)), "{}", f.name);
+    assert_eq!(
+        v["chip"]["tms"].as_u64(),
+        Some(u64::from(f.tms)),
+        "{}",
+        f.name
+    );
     v
 }
 
-/// A number from the stats, by JSON pointer (`/memory/dram/reads`).
+/// A number from the stats, by JSON pointer (`/timing/memory/dram/reads`).
 fn num(v: &Value, ptr: &str) -> f64 {
     v.pointer(ptr)
         .and_then(Value::as_f64)
@@ -155,12 +160,15 @@ fn more_tms_plateau_when_dram_saturates() {
         .collect();
     let cycles: Vec<f64> = frames.iter().map(|v| num(v, "/cycles")).collect();
     let speedup: Vec<f64> = cycles.iter().map(|c| cycles[0] / c).collect();
-    let gbps: Vec<f64> = frames.iter().map(|v| num(v, "/dram_gbps")).collect();
+    let gbps: Vec<f64> = frames.iter().map(|v| num(v, "/timing/dram_gbps")).collect();
     let latency: Vec<f64> = frames
         .iter()
-        .map(|v| num(v, "/memory/dram/avg_read_latency_cycles"))
+        .map(|v| num(v, "/timing/memory/dram/avg_read_latency_cycles"))
         .collect();
-    let issue: Vec<f64> = frames.iter().map(|v| num(v, "/issue_rate")).collect();
+    let issue: Vec<f64> = frames
+        .iter()
+        .map(|v| num(v, "/timing/issue_rate"))
+        .collect();
     let report = format!(
         "cycles {cycles:?}\nspeedup {speedup:?}\nDRAM GB/s {gbps:?}\nlatency {latency:?}\nissue {issue:?}"
     );
@@ -217,10 +225,13 @@ fn larger_l2_raises_the_l2_hit_rate() {
             })
         })
         .collect();
-    let hit: Vec<f64> = frames.iter().map(|v| num(v, "/l2_hit_rate")).collect();
+    let hit: Vec<f64> = frames
+        .iter()
+        .map(|v| num(v, "/timing/l2_hit_rate"))
+        .collect();
     let reads: Vec<f64> = frames
         .iter()
-        .map(|v| num(v, "/memory/dram/reads"))
+        .map(|v| num(v, "/timing/memory/dram/reads"))
         .collect();
     let cycles: Vec<f64> = frames.iter().map(|v| num(v, "/cycles")).collect();
     let report =
@@ -292,11 +303,11 @@ fn shared_execution_units_cut_area_more_than_performance() {
         a["instructions"], b["instructions"],
         "same program, same work"
     );
-    let area = (num(&a, "/area/total"), num(&b, "/area/total"));
+    let area = (num(&a, "/timing/area/total"), num(&b, "/timing/area/total"));
     let cycles = (num(&a, "/cycles"), num(&b, "/cycles"));
     let conflicts = (
-        num(&a, "/thread_cycles/unit_conflict"),
-        num(&b, "/thread_cycles/unit_conflict"),
+        num(&a, "/timing/thread_cycles/unit_conflict"),
+        num(&b, "/timing/thread_cycles/unit_conflict"),
     );
     let area_saved = 1.0 - area.1 / area.0;
     let slowdown = cycles.1 / cycles.0 - 1.0;

@@ -593,4 +593,3 @@ fn check_program(program: &[Segment], limit: u64) -> Result<(), ImageError> {
     }
     Ok(())
 }
-

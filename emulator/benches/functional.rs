@@ -14,8 +14,8 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
 
-use trax_emulator::machine::{Machine, MachineConfig};
 use trax_emulator::Outcome;
+use trax_emulator::{Machine, MachineConfig};
 
 const KERNEL: &str = r#"
 typedef struct { float mn[3], mx[3]; } Box;
@@ -83,7 +83,7 @@ fn main() {
         return;
     };
     let data = std::fs::read(&elf).unwrap();
-    let exe = trax_emulator::elf::Executable::parse("bench", &data).unwrap();
+    let exe = trax_emulator::Executable::parse("bench", &data).unwrap();
     let config = MachineConfig {
         quantum: 1_000_000,
         ..MachineConfig::default()
@@ -91,14 +91,7 @@ fn main() {
     let mut best = f64::MAX;
     let mut instructions = 0;
     for _ in 0..3 {
-        let mut m = Machine::new(
-            &exe.segments,
-            exe.text_start,
-            exe.text_end,
-            exe.entry,
-            config,
-        )
-        .unwrap();
+        let mut m = Machine::load(&exe, None, config).unwrap();
         let t = Instant::now();
         let s = m.run(&mut std::io::sink());
         let secs = t.elapsed().as_secs_f64();

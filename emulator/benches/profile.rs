@@ -10,10 +10,10 @@ mod common;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use trax_emulator::debuginfo::DebugInfo;
-use trax_emulator::machine::{Machine, MachineConfig};
 use trax_emulator::profile::{profile_run, Profile};
+use trax_emulator::DebugInfo;
 use trax_emulator::Outcome;
+use trax_emulator::{Machine, MachineConfig};
 
 /// A ray/box slab test with real calls (a call per box), branches and FP work.
 const KERNEL: &str = r#"
@@ -75,21 +75,12 @@ fn main() {
         return;
     };
     let data = std::fs::read(&elf).unwrap();
-    let exe = trax_emulator::elf::Executable::parse("bench", &data).unwrap();
+    let exe = trax_emulator::Executable::parse("bench", &data).unwrap();
     let config = MachineConfig {
         threads_per_tm: 4,
         ..MachineConfig::default()
     };
-    let new = || {
-        Machine::new(
-            &exe.segments,
-            exe.text_start,
-            exe.text_end,
-            exe.entry,
-            config,
-        )
-        .unwrap()
-    };
+    let new = || Machine::load(&exe, None, config).unwrap();
     let (mut plain, mut profiled) = (f64::MAX, f64::MAX);
     let mut instructions = 0;
     let mut last = None;

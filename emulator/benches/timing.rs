@@ -11,8 +11,8 @@ mod common;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use trax_emulator::timing::{self, ChipConfig, TimingRequest};
-use trax_emulator::Outcome;
+use trax_emulator::timing::ChipConfig;
+use trax_emulator::{run, Limits, Mode, Outcome, RunReport, RunRequest};
 
 const KERNEL: &str = r#"
 typedef struct { float mn[3], mx[3]; } Box;
@@ -100,6 +100,24 @@ fn build(dir: &Path) -> PathBuf {
     .expect("clang-14 and ld.lld-14 build the kernel")
 }
 
+/// A timing run of the kernel on `chip` with `host_threads`, stopped at `cap` cycles.
+fn simulate(
+    elf: &Path,
+    data: &[u8],
+    chip: &ChipConfig,
+    host_threads: usize,
+    cap: u64,
+) -> RunReport {
+    let path = elf.display().to_string();
+    let mut req = RunRequest::new(&path, data, chip, Mode::Timing);
+    req.host_threads = Some(host_threads);
+    req.limits = Limits {
+        max_cycles: Some(cap),
+        ..Limits::default()
+    };
+    run(req, &mut std::io::sink()).unwrap()
+}
+
 fn probe_detailed(c: &ChipConfig) -> bool {
     c.memory.dram.model == trax_emulator::memsys::DramModel::Detailed
 }
@@ -118,42 +136,24 @@ fn main() {
         .ok()
         .and_then(|v| v.parse().ok())
         .unwrap_or(5_000_000u64);
-    let probe = {
-        let path = elf.display().to_string();
-        let req = TimingRequest {
-            elf_path: &path,
-            elf: &data,
-            segments: None,
-            host_threads: 1,
-            max_cycles: Some(cap),
-        };
-        timing::run(req, &chip, &mut std::io::sink()).unwrap()
-    };
+    let probe = simulate(&elf, &data, &chip, 1, cap);
     if !matches!(probe.outcome, Outcome::Finished) {
         println!(
             "timing: detailed DRAM run did not finish within {cap} cycles ({:?}); measuring with the simple DRAM",
-            probe.report
+            probe.failure
         );
         chip.memory.dram = trax_emulator::memsys::DramConfig::preset("simple").unwrap();
     }
     let mut first = None;
     for host_threads in [1usize, 2] {
-        let path = elf.display().to_string();
-        let req = TimingRequest {
-            elf_path: &path,
-            elf: &data,
-            segments: None,
-            host_threads,
-            max_cycles: Some(cap),
-        };
         let t = Instant::now();
-        let r = timing::run(req, &chip, &mut std::io::sink()).unwrap();
+        let r = simulate(&elf, &data, &chip, host_threads, cap);
         let secs = t.elapsed().as_secs_f64();
+        let s = r.timing.as_ref().expect("timing statistics");
         if !matches!(r.outcome, Outcome::Finished) {
-            println!("{}", r.stats.summary());
-            panic!("{:?}", r.report);
+            println!("{}", s.summary());
+            panic!("{:?}", r.failure);
         }
-        let s = &r.stats;
         println!(
             "timing: {} DRAM, {} host thread(s): {} thread-instructions, {} cycles in {:.3} s = {:.2} M thread-instr/s (issue rate {:.1}%, {} DRAM reads)",
             if probe_detailed(&chip) { "detailed" } else { "simple" },
@@ -166,12 +166,8 @@ fn main() {
             s.memory.dram.reads
         );
         match &first {
-            None => first = Some(format!("{:?}", r.stats)),
-            Some(f) => assert_eq!(
-                *f,
-                format!("{:?}", r.stats),
-                "host threads changed the stats"
-            ),
+            None => first = Some(format!("{s:?}")),
+            Some(f) => assert_eq!(*f, format!("{s:?}"), "host threads changed the stats"),
         }
     }
     let _ = std::fs::remove_dir_all(&dir);

@@ -383,12 +383,6 @@ fn boff(w: u32, bits: u32) -> i32 {
     (((w << (32 - bits)) as i32) >> (32 - bits)) << 2
 }
 
-/// True if the word's major opcode or COP1 sub-format belongs to MSA.
-pub fn is_msa_word(w: u32) -> bool {
-    let op = w >> 26;
-    op == 0x1E || (op == 0x11 && matches!(rs(w), 0x0B | 0x0F | 0x18..=0x1F))
-}
-
 /// Decodes one instruction word.
 pub fn decode(w: u32) -> Inst {
     use Inst::*;

@@ -10,9 +10,10 @@
 
 use std::io::Write;
 
+use crate::elf::Executable;
 use crate::memory::{LayoutError, Memory, Segment};
-use crate::profile::sched::{Driven, Executor, PlainExec, Scheduler};
 use crate::program::Program;
+use crate::sched::{Driven, Executor, PlainExec, Scheduler};
 use crate::thread::{CallFrame, ChipShape, Fault, Shared, Thread};
 use crate::RegFile;
 use trax_runtime::abi;
@@ -112,6 +113,8 @@ pub enum Outcome {
     },
     /// The instruction limit was reached.
     InstructionLimit,
+    /// The cycle limit was reached (timing mode).
+    CycleLimit,
 }
 
 /// Summary of a run.
@@ -193,6 +196,17 @@ impl Machine {
             threads,
             config,
         })
+    }
+
+    /// A machine running the executable `exe` on every thread, with memory `segments`
+    /// (`None`: the executable's own segments).
+    pub fn load(
+        exe: &Executable,
+        segments: Option<&[Segment]>,
+        config: MachineConfig,
+    ) -> Result<Machine, SetupError> {
+        let segments = segments.unwrap_or(&exe.segments);
+        Machine::new(segments, exe.text_start, exe.text_end, exe.entry, config)
     }
 
     /// Runs to completion, writing print output to `out` as it is produced.

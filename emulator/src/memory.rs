@@ -225,8 +225,8 @@ impl Memory {
                     (if read { PERM_R } else { 0 }) | if write { PERM_W } else { 0 }
                 } else {
                     let (a, b) = (start.max(lo) - lo, end.min(hi) - lo - 1);
-                    let perm = (if read { PERM_PART } else { 0 })
-                        | if write { PERM_PART_W } else { 0 };
+                    let perm =
+                        (if read { PERM_PART } else { 0 }) | if write { PERM_PART_W } else { 0 };
                     page_entry(perm, a as u32, b as u32)
                 };
                 touched[p as usize] = true;
@@ -292,9 +292,17 @@ impl Memory {
             MemFaultKind::Misaligned
         } else if addr < self.stack_base && addr >= self.stack_base.saturating_sub(STACK_GUARD) {
             MemFaultKind::StackOverflow
-        } else if write && self.region(addr, size as u32).is_some_and(|r| !r.perms.write()) {
+        } else if write
+            && self
+                .region(addr, size as u32)
+                .is_some_and(|r| !r.perms.write())
+        {
             MemFaultKind::ReadOnly
-        } else if !write && self.region(addr, size as u32).is_some_and(|r| !r.perms.read()) {
+        } else if !write
+            && self
+                .region(addr, size as u32)
+                .is_some_and(|r| !r.perms.read())
+        {
             MemFaultKind::NotReadable
         } else {
             MemFaultKind::BadAddress
@@ -599,12 +607,7 @@ mod tests {
 
     #[test]
     fn rejects_bad_layouts() {
-        let s = |addr, n| Segment {
-            addr,
-            data: vec![0; n],
-            mem_size: n as u32,
-            writable: true,
-        };
+        let s = |addr, n| Segment::new("data", addr, vec![0; n], Perms::RW);
         assert!(matches!(
             Memory::new(&[s(0x100, 4)], 4096),
             Err(LayoutError::NullGuard { .. })

@@ -4,8 +4,8 @@
 
 mod common;
 use common::*;
-use trax_emulator::elf::Executable;
-use trax_emulator::machine::{Machine, MachineConfig};
+use trax_emulator::Executable;
+use trax_emulator::{Machine, MachineConfig};
 
 const SRC: &str = "#include \"trax.h\"\nvoid trax_main(void) { trax_printi(7); }\n";
 

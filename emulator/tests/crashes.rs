@@ -2,7 +2,7 @@
 
 mod common;
 use common::*;
-use trax_emulator::thread::Fault;
+use trax_emulator::Fault;
 use trax_emulator::Outcome;
 
 /// Builds and runs `src`; returns the fault and the report. `marker` is a comment on the
@@ -15,8 +15,8 @@ fn crash(name: &str, src: &str, opt: &str) -> (Fault, String, u32) {
         + 1;
     let elf = build_c(name, src, opt);
     let (r, _) = run_elf(&elf, 1, 1);
-    let report = r.report.clone().unwrap_or_default();
-    match r.summary.outcome {
+    let report = r.failure.clone().unwrap_or_default();
+    match r.outcome {
         Outcome::Crashed(c) => (c.fault, report, line),
         o => panic!("{name}: expected a crash, got {o:?}"),
     }
@@ -35,7 +35,7 @@ fn null_dereference() {
     let src = "#include \"trax.h\"\nint *volatile p = 0;\nint get(void) {\n  return *p; // CRASH\n}\nvoid trax_main(void) { trax_printi(get()); }\n";
     let (f, report, line) = crash("null", src, "-O1");
     assert!(
-        matches!(f, Fault::Memory { fault, .. } if fault.kind == trax_emulator::memory::MemFaultKind::Null),
+        matches!(f, Fault::Memory { fault, .. } if fault.kind == trax_emulator::MemFaultKind::Null),
         "{f:?}"
     );
     assert!(report.contains("null pointer dereference"), "{report}");
@@ -162,26 +162,17 @@ fn timing_crash_names_the_line_and_cycle() {
     let chip = trax_emulator::timing::ChipConfig::preset("tiny").unwrap();
     let mut chip1 = chip.clone();
     chip1.threads_per_tm = 1;
-    let r = trax_emulator::timing::run(
-        trax_emulator::timing::TimingRequest {
-            elf_path: &path,
-            elf: &data,
-            segments: None,
-            host_threads: 1,
-            max_cycles: None,
-        },
-        &chip1,
-        &mut std::io::sink(),
-    )
-    .unwrap();
-    let report = r.report.clone().unwrap_or_default();
+    let mut req = trax_emulator::RunRequest::new(&path, &data, &chip1, trax_emulator::Mode::Timing);
+    req.host_threads = Some(1);
+    let r = trax_emulator::run(req, &mut std::io::sink()).unwrap();
+    let report = r.failure.clone().unwrap_or_default();
     let Outcome::Crashed(c) = &r.outcome else {
         panic!("expected a crash:\n{report}");
     };
     assert!(c.in_slot, "{report}");
     assert!(report.contains("(in a delay/forbidden slot)"), "{report}");
     assert_line("slotstore_timing", &report, line);
-    let cycles = r.stats.cycles;
+    let cycles = r.cycles.unwrap();
     assert!(
         report.contains(&format!("at cycle {cycles}")),
         "the report names the cycle of the fault ({cycles}):\n{report}"

@@ -11,9 +11,9 @@ use std::process::Command;
 use std::sync::mpsc;
 use std::time::Duration;
 
-use trax_emulator::elf::Executable;
 use trax_emulator::gdb;
-use trax_emulator::machine::{Machine, MachineConfig, Outcome};
+use trax_emulator::Executable;
+use trax_emulator::{Machine, MachineConfig, Outcome};
 
 fn line_of(src: &str, marker: &str) -> usize {
     src.lines()
@@ -31,14 +31,7 @@ fn session(elf: &Path, threads: u32, cmds: &[String]) -> (String, Option<Outcome
         threads_per_tm: threads,
         ..MachineConfig::default()
     };
-    let mut m = Machine::new(
-        &exe.segments,
-        exe.text_start,
-        exe.text_end,
-        exe.entry,
-        config,
-    )
-    .unwrap();
+    let mut m = Machine::load(&exe, None, config).unwrap();
     let listener: TcpListener = gdb::bind("127.0.0.1:0", false).unwrap();
     let port = listener.local_addr().unwrap().port();
     let (tx, rx) = mpsc::channel();
@@ -173,27 +166,12 @@ fn refuses_non_loopback() {
 /// on the signature line, before the parameters were stored, and showed garbage).
 #[test]
 fn rust_kernel_base_types_and_break_on_function() {
-    use trax_assembler::link::{link, Input, LinkOptions};
-    use trax_compiler::{compile_file, CompileOptions, Emit, Prelude};
     let kernel =
         Path::new(env!("CARGO_MANIFEST_DIR")).join("../compiler/tests/kernels/basetypes.rs");
     let src = std::fs::read_to_string(&kernel).unwrap();
-    let copts = CompileOptions {
-        opt_level: 0,
-        emit: Emit::Obj,
-        prelude: Some(Prelude::runtime()),
-    };
-    let obj = compile_file(&kernel, &copts).unwrap_or_else(|e| panic!("compile: {e}"));
-    let linked = link(
-        &[Input {
-            name: "basetypes.rs".into(),
-            bytes: obj.bytes,
-        }],
-        &LinkOptions::default(),
-    )
-    .unwrap_or_else(|e| panic!("link: {e}"));
+    let linked_elf = build_rust(&kernel, 0);
     let elf = scratch("gdbtypes").join("basetypes.elf");
-    std::fs::write(&elf, &linked.elf).unwrap();
+    std::fs::write(&elf, &linked_elf).unwrap();
     let call = line_of(&src, "// CALL");
     let body = line_of(&src, "// BODY");
     let cmds: Vec<String> = vec![

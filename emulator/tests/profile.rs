@@ -6,10 +6,10 @@
 mod common;
 use common::*;
 
-use trax_emulator::debuginfo::DebugInfo;
-use trax_emulator::elf::Executable;
-use trax_emulator::machine::{Machine, MachineConfig, Outcome};
 use trax_emulator::profile::{profile_run, Profile};
+use trax_emulator::DebugInfo;
+use trax_emulator::Executable;
+use trax_emulator::{Machine, MachineConfig, Outcome};
 
 const SRC: &str = r#"#include "trax.h"
 volatile int seed = 3;
@@ -44,14 +44,7 @@ fn machine(elf: &std::path::Path, threads: u32) -> (Machine, Executable, DebugIn
         quantum: 37,
         ..MachineConfig::default()
     };
-    let m = Machine::new(
-        &exe.segments,
-        exe.text_start,
-        exe.text_end,
-        exe.entry,
-        config,
-    )
-    .unwrap();
+    let m = Machine::load(&exe, None, config).unwrap();
     let dbg = DebugInfo::parse(&path, &data).unwrap();
     (m, exe, dbg)
 }
@@ -67,7 +60,7 @@ fn check(opt: &str) {
     assert!(matches!(outcome, Outcome::Finished), "{outcome:?}");
     assert_eq!(String::from_utf8(out).unwrap(), plain_out);
     // Same scheduling as an ordinary run (quantum differs: counts do not depend on it).
-    assert_eq!(retired, plain.summary.instructions);
+    assert_eq!(retired, plain.instructions);
     let p = Profile::build(&prof, Some(&dbg), Some(&exe));
     let tree = p.render_tree(0.0);
     eprintln!("{opt}:\n{tree}\n{}", p.annotate(Some(&dbg)));
@@ -158,10 +151,10 @@ fn known_ratio_o0() {
 /// tree as the block-chunked functional profiler, in cycle mode with a breakdown.
 #[test]
 fn charge_api_matches_chunked_profile() {
-    use trax_emulator::exec::Stop;
-    use trax_emulator::profile::sched::{Driven, Executor, Scheduler};
     use trax_emulator::profile::{CostKind, Profiler};
-    use trax_emulator::thread::{Shared, Thread};
+    use trax_emulator::Stop;
+    use trax_emulator::{Driven, Executor, Scheduler};
+    use trax_emulator::{Shared, Thread};
 
     struct PerCycle<'a>(&'a mut Profiler);
     impl Executor for PerCycle<'_> {

@@ -3,12 +3,12 @@
 //! the calls of `Work::light` (always inlined) to the same `Work::step`, so their
 //! inclusive costs are in a 2:1 ratio within 1%, at -O2 and -O0.
 
-use trax_assembler::link::{link, Input, LinkOptions};
-use trax_compiler::{compile_file, CompileOptions, Emit, Prelude};
-use trax_emulator::debuginfo::DebugInfo;
-use trax_emulator::elf::Executable;
-use trax_emulator::machine::{Machine, MachineConfig, Outcome};
+mod common;
+use common::build_rust;
 use trax_emulator::profile::{profile_run, Profile};
+use trax_emulator::DebugInfo;
+use trax_emulator::Executable;
+use trax_emulator::{Machine, MachineConfig, Outcome};
 
 const KERNEL: &str = r#"
 struct Work {
@@ -64,37 +64,17 @@ fn check(opt: u8) {
     std::fs::create_dir_all(&dir).unwrap();
     let src = dir.join("work.rs");
     std::fs::write(&src, KERNEL).unwrap();
-    let copts = CompileOptions {
-        opt_level: opt,
-        emit: Emit::Obj,
-        prelude: Some(Prelude::runtime()),
-    };
-    let obj = compile_file(&src, &copts).unwrap_or_else(|e| panic!("compile: {e}"));
-    let linked = link(
-        &[Input {
-            name: "work.rs".into(),
-            bytes: obj.bytes,
-        }],
-        &LinkOptions::default(),
-    )
-    .unwrap_or_else(|e| panic!("link: {e}"));
-    let exe = Executable::parse("work", &linked.elf).unwrap();
+    let elf = build_rust(&src, opt);
+    let exe = Executable::parse("work", &elf).unwrap();
     let config = MachineConfig {
         threads_per_tm: 2,
         ..MachineConfig::default()
     };
-    let mut m = Machine::new(
-        &exe.segments,
-        exe.text_start,
-        exe.text_end,
-        exe.entry,
-        config,
-    )
-    .unwrap();
+    let mut m = Machine::load(&exe, None, config).unwrap();
     let (summary, prof) = profile_run(&mut m, &mut std::io::sink());
     let (outcome, retired) = (summary.outcome, summary.instructions);
     assert!(matches!(outcome, Outcome::Finished), "{outcome:?}");
-    let dbg = DebugInfo::parse("work", &linked.elf).unwrap();
+    let dbg = DebugInfo::parse("work", &elf).unwrap();
     let p = Profile::build(&prof, Some(&dbg), Some(&exe));
     let tree = p.render_tree(0.0);
     eprintln!("-O{opt}:\n{tree}");

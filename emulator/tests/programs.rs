@@ -29,11 +29,7 @@ void trax_main(void) {
 "#;
     let elf = build_c("hello", src, "-O2");
     let (r, out) = run_elf(&elf, 1, 1);
-    assert!(
-        matches!(r.summary.outcome, Outcome::Finished),
-        "{:?}",
-        r.report
-    );
+    assert!(matches!(r.outcome, Outcome::Finished), "{:?}", r.failure);
     let f: f32 = [1.5f32, 2.25, -3.0, 0.1].iter().fold(0.0, |a, x| a + x * x);
     let expect = format!(
         "330\n610\n{f}\n{} {} {}\n0.1\nhéllo\ntrue\n",
@@ -74,11 +70,7 @@ void trax_main(void) {
 "#;
     let elf = build_c("threads", src, "-O2");
     let (r, out) = run_elf(&elf, 3, 4);
-    assert!(
-        matches!(r.summary.outcome, Outcome::Finished),
-        "{:?}",
-        r.report
-    );
+    assert!(matches!(r.outcome, Outcome::Finished), "{:?}", r.failure);
     // sum of 2g+1 for g in 0..12 = 144; 12 increments; 3 TMs; 12 * 10.
     assert_eq!(out, "144 12 3\n120\n");
 }
@@ -97,11 +89,7 @@ void trax_main(void) {
 "#;
     let elf = build_c("halting", src, "-O2");
     let (r, out) = run_elf(&elf, 2, 3);
-    assert!(
-        matches!(r.summary.outcome, Outcome::Finished),
-        "{:?}",
-        r.report
-    );
+    assert!(matches!(r.outcome, Outcome::Finished), "{:?}", r.failure);
     assert_eq!(out, "3\n");
 }
 
@@ -116,11 +104,11 @@ void trax_main(void) {
     let elf = build_c("deadlock", src, "-O2");
     let (r, _) = run_elf(&elf, 1, 2);
     assert!(
-        matches!(r.summary.outcome, Outcome::Deadlock { waiting: 2 }),
+        matches!(r.outcome, Outcome::Deadlock { waiting: 2 }),
         "{:?}",
-        r.summary.outcome
+        r.outcome
     );
-    assert!(r.report.unwrap().contains("deadlock"));
+    assert!(r.failure.unwrap().contains("deadlock"));
 }
 
 #[test]
@@ -141,11 +129,7 @@ void trax_main(void) {
 "#;
     let elf = build_c("sem", src, "-O2");
     let (r, out) = run_elf(&elf, 1, 2);
-    assert!(
-        matches!(r.summary.outcome, Outcome::Finished),
-        "{:?}",
-        r.report
-    );
+    assert!(matches!(r.outcome, Outcome::Finished), "{:?}", r.failure);
     assert_eq!(out, "AB");
 }
 
@@ -174,11 +158,7 @@ void trax_main(void) {
 "#;
     let elf = build_c("seed", src, "-O2");
     let (r, out) = run_elf(&elf, 1, 3);
-    assert!(
-        matches!(r.summary.outcome, Outcome::Finished),
-        "{:?}",
-        r.report
-    );
+    assert!(matches!(r.outcome, Outcome::Finished), "{:?}", r.failure);
     use trax_runtime::rng::Rng;
     let mut s = Rng::for_sample(0, 1000, 3);
     let (a, b) = (s.next_f32(), s.next_f32());
@@ -211,11 +191,7 @@ void trax_main(void) {
 "#;
     let elf = build_c("randfops", src, "-O2");
     let (r, out) = run_elf(&elf, 1, 1);
-    assert!(
-        matches!(r.summary.outcome, Outcome::Finished),
-        "{:?}",
-        r.report
-    );
+    assert!(matches!(r.outcome, Outcome::Finished), "{:?}", r.failure);
     let mut rng = trax_runtime::rng::Rng::new(0, 0);
     let (a, b) = (rng.next_f32(), rng.next_f32());
     // The clock counts retired instructions: the two reads are 1-3 instructions apart
@@ -224,6 +200,37 @@ void trax_main(void) {
     assert_eq!(head, format!("{a} {b} -0 3.5 0.5"));
     let delta: u32 = delta.parse().unwrap();
     assert!((1..=3).contains(&delta), "{delta}");
-    assert_eq!(r.summary.stats[0], 2);
-    assert_eq!(r.summary.stats[3], 1);
+    assert_eq!(r.counters[0], 2);
+    assert_eq!(r.counters[3], 1);
+}
+
+/// ARCHITECTURE invariant: every thread sees its own stack at the same addresses; stack
+/// data is never shared. 12 threads keep a local at one address, each with its own value
+/// across a barrier (while the others write theirs there).
+#[test]
+fn every_thread_has_its_own_stack_at_the_same_addresses() {
+    let src = r#"
+#include "trax.h"
+unsigned addrs[64];
+void trax_main(void) {
+  unsigned gid = trax_gid();
+  volatile unsigned local = gid * 7 + 1;
+  addrs[gid] = (unsigned)&local;
+  trax_barrier(1);
+  if (local != gid * 7 + 1) trax_abort(0, 0, 0);
+  if (gid == 0) {
+    unsigned same = 1;
+    for (unsigned i = 1; i < trax_nthreads(); i++) same &= addrs[i] == addrs[0];
+    trax_printu(same); trax_printc(' ');
+    trax_printu(addrs[0] >= 0x7f000000u); trax_printc('\n');
+  }
+}
+"#;
+    let elf = build_c("ownstack", src, "-O2");
+    let (r, out) = run_elf(&elf, 3, 4);
+    assert!(matches!(r.outcome, Outcome::Finished), "{:?}", r.failure);
+    assert_eq!(
+        out, "1 1\n",
+        "same address on every thread, in the stack window"
+    );
 }

@@ -436,7 +436,10 @@ fn build_machine(image: &Image, num_tms: u32, threads_per_tm: u32) -> Result<Mac
         .cloned()
         .collect();
     segments.sort_by_key(|s| s.addr);
-    if let Some(s) = segments.first().filter(|s| s.addr < layout::SCENE_HEADER_ADDR) {
+    if let Some(s) = segments
+        .first()
+        .filter(|s| s.addr < layout::SCENE_HEADER_ADDR)
+    {
         return Err(format!(
             "memory image segment `{}` at {:#010x} overlaps the null guard",
             s.name, s.addr

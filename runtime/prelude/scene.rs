@@ -230,7 +230,8 @@ pub fn triangle_count() -> u32 {
 
 /// Triangle `i`.
 pub fn triangle(i: u32) -> Triangle {
-    let a = hw::load_u32(hw::hdr_triangles() + layout::COMPONENT_ADDR) + i * layout::TRIANGLES_STRIDE;
+    let a =
+        hw::load_u32(hw::hdr_triangles() + layout::COMPONENT_ADDR) + i * layout::TRIANGLES_STRIDE;
     Triangle {
         v0: load_vec3(a),
         v1: load_vec3(a + layout::TRI_V1),
@@ -389,14 +390,16 @@ pub fn bvh_node(i: u32) -> BvhNode {
 /// Parent node index of BVH node `i` (`0xFFFFFFFF` for the root).
 pub fn bvh_parent(i: u32) -> u32 {
     hw::load_u32(
-        hw::load_u32(hw::hdr_bvh_parents() + layout::COMPONENT_ADDR) + i * layout::BVH_PARENTS_STRIDE,
+        hw::load_u32(hw::hdr_bvh_parents() + layout::COMPONENT_ADDR)
+            + i * layout::BVH_PARENTS_STRIDE,
     )
 }
 
 /// Treelet id of BVH node `i`.
 pub fn treelet_id(i: u32) -> u32 {
     hw::load_u32(
-        hw::load_u32(hw::hdr_treelet_ids() + layout::COMPONENT_ADDR) + i * layout::TREELET_IDS_STRIDE,
+        hw::load_u32(hw::hdr_treelet_ids() + layout::COMPONENT_ADDR)
+            + i * layout::TREELET_IDS_STRIDE,
     )
 }
 
@@ -410,7 +413,8 @@ pub fn texcoords_count() -> u32 {
 /// Interpolated texture coordinates of triangle `i` at barycentrics `(u, v)`, as
 /// `(s, t, 0)`.
 pub fn texcoord(i: u32, u: f32, v: f32) -> Vec3 {
-    let a = hw::load_u32(hw::hdr_texcoords() + layout::COMPONENT_ADDR) + i * layout::TEXCOORDS_STRIDE;
+    let a =
+        hw::load_u32(hw::hdr_texcoords() + layout::COMPONENT_ADDR) + i * layout::TEXCOORDS_STRIDE;
     let w = 1.0 - u - v;
     // Each vertex's `(s, t)` is two f32: `s` at the vertex's offset, `t` 4 bytes after.
     let t1 = a + layout::TEXCOORDS_T1;

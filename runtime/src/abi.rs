@@ -458,12 +458,21 @@ mod tests {
         assert_eq!(h.magic, word(offset_of!(SceneHeader, magic)));
         assert_eq!(h.seed, word(offset_of!(SceneHeader, seed)));
         assert_eq!(h.camera, word(offset_of!(SceneHeader, camera)));
-        assert_eq!(h.framebuffer.count, word(offset_of!(SceneHeader, framebuffer) + 4));
-        assert_eq!(h.treelet_ids.addr, word(offset_of!(SceneHeader, treelet_ids)));
+        assert_eq!(
+            h.framebuffer.count,
+            word(offset_of!(SceneHeader, framebuffer) + 4)
+        );
+        assert_eq!(
+            h.treelet_ids.addr,
+            word(offset_of!(SceneHeader, treelet_ids))
+        );
         assert_eq!(h.reserved[7], word(offset_of!(SceneHeader, reserved) + 28));
         let (c, bytes) = distinct::<Camera>(0x4000_0000);
         assert_eq!(c.to_bytes(), bytes);
-        assert_eq!(c.right.to_bits(), 0x4000_0000 + offset_of!(Camera, right) as u32 / 4);
+        assert_eq!(
+            c.right.to_bits(),
+            0x4000_0000 + offset_of!(Camera, right) as u32 / 4
+        );
         let (m, bytes) = distinct::<Material>(7);
         assert_eq!(m.to_bytes(), bytes);
         assert_eq!(m.flags, 7 + offset_of!(Material, flags) as u32 / 4);
@@ -483,15 +492,30 @@ mod tests {
                 Slot::Range => size_of::<Component>(),
             };
             assert_eq!(f.size, slot, "{}", c.name);
-            assert!(c.element_bytes % 4 == 0 && c.element_bytes > 0, "{}", c.name);
+            assert!(
+                c.element_bytes % 4 == 0 && c.element_bytes > 0,
+                "{}",
+                c.name
+            );
             // get and set address the component's own field.
             let mut h = SceneHeader::default();
-            (c.set)(&mut h, Component { addr: 0x40, count: 3 });
+            (c.set)(
+                &mut h,
+                Component {
+                    addr: 0x40,
+                    count: 3,
+                },
+            );
             let b = h.to_bytes();
             let off = c.header_offset as usize;
             assert_eq!(u32::get(&b[off..]), 0x40, "{}", c.name);
             let nonzero = b.iter().filter(|&&x| x != 0).count();
-            assert_eq!(nonzero, if c.slot == Slot::Range { 2 } else { 1 }, "{}", c.name);
+            assert_eq!(
+                nonzero,
+                if c.slot == Slot::Range { 2 } else { 1 },
+                "{}",
+                c.name
+            );
             let back = (c.get)(&h);
             assert_eq!(back.addr, 0x40);
             assert_eq!(back.count, if c.slot == Slot::Range { 3 } else { 1 });

@@ -46,7 +46,9 @@ pub enum ExeError {
     #[error("{path}: symbol `{symbol}` names no scene header field (see trax_runtime::abi::SceneHeader)")]
     UnknownSceneField { path: String, symbol: String },
     /// A `__trax_scene_*` symbol has the wrong address.
-    #[error("{path}: symbol `{symbol}` is at {found:#x}, but the header field is at {expected:#x}")]
+    #[error(
+        "{path}: symbol `{symbol}` is at {found:#x}, but the header field is at {expected:#x}"
+    )]
     SceneSymbolMismatch {
         path: String,
         symbol: String,
@@ -306,10 +308,7 @@ fn check_scene_symbol(
     field: &str,
     sym: &object::Symbol,
 ) -> Result<(), ExeError> {
-    let Some(&(_, off)) = abi::scene_header_fields()
-        .iter()
-        .find(|(f, _)| *f == field)
-    else {
+    let Some(&(_, off)) = abi::scene_header_fields().iter().find(|(f, _)| *f == field) else {
         return Err(ExeError::UnknownSceneField {
             path: path.into(),
             symbol: name.into(),

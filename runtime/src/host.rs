@@ -185,7 +185,10 @@ mod tests {
         let img = header_only_image(&HeaderParams::default()).unwrap();
         let back = MemoryImage::parse(&img.to_bytes()).unwrap();
         assert_eq!(back, img);
-        assert_eq!(back.read_u32(abi::SCENE_HEADER_ADDR), Some(abi::SCENE_MAGIC));
+        assert_eq!(
+            back.read_u32(abi::SCENE_HEADER_ADDR),
+            Some(abi::SCENE_MAGIC)
+        );
         assert_eq!(back.read_u32(abi::SCENE_HEADER_ADDR + 8), Some(128));
         assert_eq!(back.read_u32(0x20), None);
         let fb = back.segment("framebuffer").unwrap();

@@ -192,7 +192,10 @@ impl fmt::Display for ImageError {
                 "not a trax memory image (bad magic; this trax reads version 2, `TRAXIMG2`)"
             ),
             ImageError::Truncated { offset, what } => {
-                write!(f, "memory image truncated at byte {offset} (reading {what})")
+                write!(
+                    f,
+                    "memory image truncated at byte {offset} (reading {what})"
+                )
             }
             ImageError::BadSegment {
                 index,

@@ -113,7 +113,11 @@ pub fn render_layout() -> String {
     let _ = writeln!(out, "/// Value of the header's `magic` field (\"TRAX\").");
     let _ = writeln!(out, "pub const SCENE_MAGIC: u32 = {:#x};", abi::SCENE_MAGIC);
     let _ = writeln!(out, "/// Value of the header's `version` field.");
-    let _ = writeln!(out, "pub const SCENE_VERSION: u32 = {};", abi::SCENE_VERSION);
+    let _ = writeln!(
+        out,
+        "pub const SCENE_VERSION: u32 = {};",
+        abi::SCENE_VERSION
+    );
     let mut structs: Vec<StructLayout> = vec![abi::SceneHeader::layout(), abi::Component::layout()];
     for c in abi::SCENE_COMPONENTS {
         if let Kind::Struct(l) = c.element {

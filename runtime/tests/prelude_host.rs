@@ -262,7 +262,9 @@ fn prelude_reads_every_component_as_the_runtime_encodes_it() {
     // The framebuffer the kernel wrote decodes as the runtime's pixels.
     let fb = img.segment("framebuffer").unwrap().addr;
     for i in 0..8u32 {
-        let b = out.read(fb + i * abi::PIXEL_BYTES, abi::PIXEL_BYTES).unwrap();
+        let b = out
+            .read(fb + i * abi::PIXEL_BYTES, abi::PIXEL_BYTES)
+            .unwrap();
         let p: abi::Pixel = abi::decode(&b).unwrap();
         assert_eq!(p.rgb, [i as f32, 0.5, -2.0]);
     }

@@ -1,11 +1,11 @@
 //! `trax build`: compile a TRaX-Rust kernel and link it with the runtime start-up code into a
 //! MIPS32r6 executable (or stop at an object, assembly or LLVM IR).
 
-use super::prepare::{build_executable, PrepareError};
 use clap::{Args, ValueEnum};
 use std::path::PathBuf;
 use std::process::ExitCode;
-use trax_compiler::{compile_file, CompileOptions, Emit, Prelude};
+use trax::pipeline::{build_executable, compile_object, DEFAULT_OPT_LEVEL};
+use trax_compiler::Emit;
 
 /// Output kind of `trax build`.
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -29,7 +29,7 @@ pub struct BuildArgs {
     #[arg(short = 'o', long = "output")]
     pub output: PathBuf,
     /// Optimisation level 0-3 (`-O0` .. `-O3`); inlining from -O2.
-    #[arg(short = 'O', default_value_t = 2, value_parser = clap::value_parser!(u8).range(0..=3))]
+    #[arg(short = 'O', default_value_t = DEFAULT_OPT_LEVEL, value_parser = clap::value_parser!(u8).range(0..=3))]
     pub opt_level: u8,
     /// What to emit.
     #[arg(long, value_enum, default_value_t = EmitKind::Exe)]
@@ -41,18 +41,12 @@ pub fn run(a: BuildArgs) -> ExitCode {
     let result = match a.emit {
         EmitKind::Exe => build_executable(&a.kernel, a.opt_level),
         other => {
-            let opts = CompileOptions {
-                opt_level: a.opt_level,
-                emit: match other {
-                    EmitKind::Asm => Emit::Asm,
-                    EmitKind::LlvmIr => Emit::LlvmIr,
-                    EmitKind::Exe | EmitKind::Obj => Emit::Obj,
-                },
-                prelude: Some(Prelude::runtime()),
+            let emit = match other {
+                EmitKind::Asm => Emit::Asm,
+                EmitKind::LlvmIr => Emit::LlvmIr,
+                EmitKind::Exe | EmitKind::Obj => Emit::Obj,
             };
-            compile_file(&a.kernel, &opts)
-                .map(|out| out.bytes)
-                .map_err(PrepareError::Compile)
+            compile_object(&a.kernel, a.opt_level, emit)
         }
     };
     match result {

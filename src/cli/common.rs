@@ -1,11 +1,27 @@
-//! Flag groups shared by the subcommands that run kernels (`trax run`, `trax native`).
+//! Flag groups shared by the subcommands that run kernels (`trax run`, `trax annotate`,
+//! `trax native`).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::Args;
-use trax_assembler::image::{on_demand_components, RenderOptions, SceneImage};
+use trax::pipeline::Request;
+use trax_assembler::image::RenderOptions;
 use trax_assembler::scene::LoadOptions;
-use trax_emulator::timing::ChipConfig;
+use trax_emulator::timing::{ChipConfig, DEFAULT_CHIP};
+
+/// The chip and its thread shape.
+#[derive(Args, Debug, Clone)]
+pub struct ShapeArgs {
+    /// Chip configuration: a preset (`tiny`, `baseline`, `strata`) or a TOML file.
+    #[arg(long, default_value = DEFAULT_CHIP)]
+    pub config: String,
+    /// Thread multiprocessors (overrides the config).
+    #[arg(long)]
+    pub tms: Option<u32>,
+    /// Threads per TM (overrides the config).
+    #[arg(long)]
+    pub threads: Option<u32>,
+}
 
 /// Scene and image parameters.
 #[derive(Args, Debug, Clone)]
@@ -45,6 +61,18 @@ pub struct RenderArgs {
 }
 
 impl RenderArgs {
+    /// The pipeline request for `kernel` built at `opt_level`, to run on `chip`.
+    pub fn request(&self, kernel: &Path, opt_level: u8, chip: &ChipConfig) -> Request {
+        Request {
+            kernel: kernel.to_path_buf(),
+            opt_level,
+            scene: self.scene.clone(),
+            load: self.load_options(),
+            render: self.render_options(),
+            chip: chip.clone(),
+        }
+    }
+
     /// Scene loader options.
     pub fn load_options(&self) -> LoadOptions {
         LoadOptions {
@@ -65,100 +93,4 @@ impl RenderArgs {
             ..RenderOptions::default()
         }
     }
-
-    /// Rejects zero-sized images.
-    pub fn validate(&self) -> Result<(), String> {
-        for (flag, v) in [("width", self.width), ("height", self.height)] {
-            if v == 0 {
-                return Err(format!("--{flag} must be at least 1"));
-            }
-        }
-        Ok(())
-    }
-}
-
-/// The chip: preset or TOML file `config` with the command-line overrides applied (`l2s`:
-/// number of L2s, TMs split evenly among them).
-pub fn chip_config(
-    config: &str,
-    sets: &[(String, toml::Value)],
-    tms: Option<u32>,
-    threads: Option<u32>,
-    l2s: Option<u32>,
-) -> Result<ChipConfig, String> {
-    let mut chip = ChipConfig::load(config).map_err(|e| e.to_string())?;
-    chip.apply_overrides(sets).map_err(|e| e.to_string())?;
-    for (flag, v) in [("tms", tms), ("threads", threads), ("l2s", l2s)] {
-        if v == Some(0) {
-            return Err(format!("--{flag} must be at least 1"));
-        }
-    }
-    if let Some(t) = tms {
-        chip.tms = t;
-    }
-    if let Some(t) = threads {
-        chip.threads_per_tm = t;
-    }
-    if let Some(l2s) = l2s {
-        if l2s > chip.tms {
-            return Err(format!("--l2s {l2s} is more than the {} TMs", chip.tms));
-        }
-        chip.tms_per_l2 = chip.tms.div_ceil(l2s);
-    }
-    chip.validate().map_err(|e| e.to_string())?;
-    Ok(chip)
-}
-
-/// The optional scene components the image leaves out: the kernel never references them
-/// (components are linked on demand, see `trax_assembler::image`).
-pub fn left_out(image: &SceneImage) -> Vec<&'static str> {
-    on_demand_components()
-        .into_iter()
-        .filter(|c| image.component(c).is_none())
-        .collect()
-}
-
-/// The scene-data lines of a run summary: every placed component's bytes, then what was
-/// left out.
-pub fn scene_report(image: &SceneImage) -> String {
-    let mut s = format!(
-        "scene data: {} bytes in {} components\n",
-        image.scene_bytes(),
-        image.components.len()
-    );
-    for c in &image.components {
-        s += &format!(
-            "   {:<13} {:>12} bytes {:>10} elements\n",
-            c.name, c.bytes, c.count
-        );
-    }
-    let out = left_out(image);
-    if out.is_empty() {
-        s += "   left out: none (the kernel references every component)\n";
-    } else {
-        s += &format!(
-            "   left out (never referenced by the kernel): {}\n",
-            out.join(", ")
-        );
-    }
-    s
-}
-
-/// The scene data as JSON: `{"bytes", "components": [{"name", "addr", "count", "bytes"}],
-/// "left_out": [names]}`.
-pub fn scene_json(image: &SceneImage) -> serde_json::Value {
-    serde_json::json!({
-        "bytes": image.scene_bytes(),
-        "components": image
-            .components
-            .iter()
-            .map(|c| serde_json::json!({
-                "name": c.name,
-                "addr": c.addr,
-                "count": c.count,
-                "bytes": c.bytes,
-            }))
-            .collect::<Vec<_>>(),
-        "left_out": left_out(image),
-    })
 }

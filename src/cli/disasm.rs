@@ -6,9 +6,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::Args;
-use trax_emulator::crash::demangle;
-use trax_emulator::debuginfo::DebugInfo;
-use trax_emulator::elf::Executable;
+use trax_emulator::{demangle, DebugInfo, Executable};
 
 /// Arguments of `trax disasm`.
 #[derive(Args, Debug)]

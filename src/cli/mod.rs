@@ -8,7 +8,6 @@ mod common;
 mod disasm;
 mod native;
 mod plot;
-mod prepare;
 mod progress;
 mod run;
 mod scene;

@@ -3,7 +3,7 @@
 //! functional reference for the emulator.
 //!
 //! The machine matches `trax run`'s: the thread shape comes from the same chip config
-//! (`--config`, default [`DEFAULT_CHIP`], with `--tms`/`--threads` overrides), and the
+//! (`--config`, default `trax_emulator::timing::DEFAULT_CHIP`, with `--tms`/`--threads` overrides), and the
 //! memory image holds the scene components `trax run` would lay out — the kernel is also
 //! built with the trax compiler (as `trax run` does, at `-O2`) to learn which header
 //! fields it references — so per-triangle data is in the same order (BVH leaf order only
@@ -25,12 +25,8 @@ use std::process::{Command, ExitCode, Stdio};
 
 use clap::Args;
 
-use super::common::{self, RenderArgs};
-use super::prepare::build_executable;
-use trax_assembler::image::{build_image_from_symbols, on_demand_components, SceneImage};
-use trax_assembler::scene::load_scene;
-use trax_emulator::timing::DEFAULT_CHIP;
-use trax_runtime::exe::Executable;
+use super::common::{RenderArgs, ShapeArgs};
+use trax::pipeline::{self, chip_config, scene_report, PrepareError, DEFAULT_OPT_LEVEL};
 use trax_runtime::host::framebuffer_rgb8;
 use trax_runtime::image::{ImageError, MemoryImage};
 use trax_runtime::prelude::{self, Fnv1a};
@@ -43,16 +39,9 @@ pub struct NativeArgs {
     /// Scene and image parameters.
     #[command(flatten)]
     pub render: RenderArgs,
-    /// Chip configuration whose thread shape (TMs x threads) to run: a preset (`tiny`,
-    /// `baseline`, `strata`) or a TOML file, as for `trax run`.
-    #[arg(long, default_value = DEFAULT_CHIP)]
-    pub config: String,
-    /// Thread multiprocessors (overrides the config).
-    #[arg(long)]
-    pub tms: Option<u32>,
-    /// Threads per TM (overrides the config).
-    #[arg(long)]
-    pub threads: Option<u32>,
+    /// The chip whose thread shape (TMs x threads) to run, as for `trax run`.
+    #[command(flatten)]
+    pub shape: ShapeArgs,
     /// Write the framebuffer as PNG (clamped, top row first).
     #[arg(short = 'o', long = "output")]
     pub output: Option<PathBuf>,
@@ -81,9 +70,7 @@ pub enum NativeError {
     #[error("{kernel}: compilation failed")]
     KernelBuild { kernel: String },
     #[error("{0}")]
-    Scene(#[from] trax_assembler::scene::SceneError),
-    #[error("{0}")]
-    SceneImage(#[from] trax_assembler::image::ImageError),
+    Prepare(#[from] PrepareError),
     #[error("{0}")]
     Image(#[from] ImageError),
     #[error("--{flag} must be at least 1")]
@@ -122,8 +109,8 @@ fn native(a: &NativeArgs) -> Result<(), NativeError> {
             return Err(NativeError::BadFlag { flag });
         }
     }
-    let chip =
-        common::chip_config(&a.config, &[], a.tms, a.threads, None).map_err(NativeError::Chip)?;
+    let s = &a.shape;
+    let chip = chip_config(&s.config, &[], s.tms, s.threads, None).map_err(NativeError::Chip)?;
     let (tms, threads) = (chip.tms, chip.threads_per_tm);
     let total = tms as u64 * threads as u64;
     if total > 4096 {
@@ -137,10 +124,18 @@ fn native(a: &NativeArgs) -> Result<(), NativeError> {
     let rustc = Rustc::find()?;
     let rlib = build_prelude(&rustc, &cache)?;
     let exe = build_kernel(&rustc, &a.kernel, &rlib, &cache)?;
-    let scene_image = scene_image(a)?;
+    let request = a.render.request(&a.kernel, DEFAULT_OPT_LEVEL, &chip);
+    let (scene_image, warnings) = pipeline::scene_image(&request)?;
+    for w in &warnings {
+        eprintln!("warning: {w}");
+    }
     let fb = run_kernel(&exe, &a.kernel, &scene_image.memory, tms, threads, &cache)?;
-    eprint!("{}", common::scene_report(&scene_image));
-    let bytes = fb.segments.first().map(|s| s.data.as_slice()).unwrap_or(&[]);
+    eprint!("{}", scene_report(&scene_image));
+    let bytes = fb
+        .segments
+        .first()
+        .map(|s| s.data.as_slice())
+        .unwrap_or(&[]);
     if let Some(out) = &a.output {
         let (w, h) = (a.render.width, a.render.height);
         write_png(out, w, h, &framebuffer_rgb8(bytes, w, h))?;
@@ -166,52 +161,6 @@ fn check_writable(out: &Path) -> Result<(), NativeError> {
         }
     }
     Ok(())
-}
-
-/// The optimisation level `trax run` builds kernels at by default (it decides which scene
-/// components survive dead-code elimination).
-const RUN_OPT_LEVEL: u8 = 2;
-
-/// The header fields the kernel references, as `trax run` would see them: the kernel is
-/// built with the trax compiler and linked, and its `__trax_scene_*` symbols are read.
-/// If the trax compiler cannot build it, every component is laid out (with a warning:
-/// there is no `trax run` image to match then).
-fn referenced_fields(kernel: &Path) -> Vec<String> {
-    let built = build_executable(kernel, RUN_OPT_LEVEL)
-        .map_err(|e| e.to_string())
-        .and_then(|elf| Executable::parse("program ELF", &elf).map_err(|e| e.to_string()));
-    match built {
-        Ok(p) => p.referenced,
-        Err(e) => {
-            let first = e.lines().next().unwrap_or("").trim();
-            eprintln!(
-                "warning: {}: the trax compiler cannot build this kernel ({first}); laying out every scene component",
-                kernel.display()
-            );
-            on_demand_components()
-                .into_iter()
-                .map(String::from)
-                .collect()
-        }
-    }
-}
-
-/// The scene's memory image, with the components the kernel references (no program).
-fn scene_image(a: &NativeArgs) -> Result<SceneImage, NativeError> {
-    let scene = load_scene(&a.render.scene, &a.render.load_options())?;
-    for w in &scene.warnings {
-        eprintln!("warning: {w}");
-    }
-    let opts = a.render.render_options();
-    let referenced = referenced_fields(&a.kernel);
-    let referenced: Vec<&str> = referenced.iter().map(String::as_str).collect();
-    Ok(build_image_from_symbols(
-        Vec::new(),
-        trax_runtime::abi::TEXT_BASE,
-        &referenced,
-        &scene,
-        &opts,
-    )?)
 }
 
 /// The build cache directory: `$TRAX_CACHE_DIR`, else the user's cache directory

@@ -4,8 +4,7 @@
 use std::time::{Duration, Instant};
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use trax_emulator::session;
-use trax_emulator::timing::Progress;
+use trax_emulator::Progress;
 
 /// A live progress line.
 pub struct ProgressLine {
@@ -30,25 +29,12 @@ impl ProgressLine {
         }
     }
 
-    /// Shows a timing run's progress.
-    pub fn timing(&self, p: &Progress) {
+    /// Shows a run's progress (the cycle in timing mode).
+    pub fn show(&self, p: &Progress) {
         let secs = self.start.elapsed().as_secs_f64().max(1e-9);
+        let cycle = p.cycles.map_or(String::new(), |c| format!("cycle {c} | "));
         self.bar.set_message(format!(
-            "cycle {} | {:.1} M instr ({:.1} M/s) | {} rays | {}/{} live",
-            p.cycles,
-            p.instructions as f64 / 1e6,
-            p.instructions as f64 / secs / 1e6,
-            p.rays,
-            p.live_threads,
-            self.threads
-        ));
-    }
-
-    /// Shows a functional run's progress.
-    pub fn functional(&self, p: &session::Progress) {
-        let secs = self.start.elapsed().as_secs_f64().max(1e-9);
-        self.bar.set_message(format!(
-            "{:.1} M instr ({:.1} M/s) | {} rays | {}/{} live",
+            "{cycle}{:.1} M instr ({:.1} M/s) | {} rays | {}/{} live",
             p.instructions as f64 / 1e6,
             p.instructions as f64 / secs / 1e6,
             p.rays,

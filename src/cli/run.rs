@@ -2,31 +2,25 @@
 //! with the scene, runs it on the simulated chip (cycle-level by default, `--functional` for
 //! execution only), reports statistics and writes the framebuffer as PNG.
 //!
-//! The work is in [`super::prepare`] (build + memory image), [`trax_emulator::timing::run`]
-//! and [`trax_emulator::session::run`] (execution); this module parses arguments and reports.
-//! `--profile` charges every instruction (functional) or thread-cycle (timing) to its call
-//! stack ([`trax_emulator::profile`]); `--gdb ADDR` serves the run to gdb-multiarch
-//! ([`trax_emulator::gdb`]). [`execute`] is shared with `trax annotate`.
+//! The work is in [`trax::pipeline`] (build + memory image) and [`trax_emulator::run()`]
+//! (execution: functional or timing, with `--profile` every instruction or thread-cycle
+//! charged to its call stack, with `--gdb ADDR` served to gdb-multiarch); this module
+//! parses arguments and reports. [`execute`] is shared with `trax annotate`.
 
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Args, ValueEnum};
-use trax_emulator::debuginfo::DebugInfo;
-use trax_emulator::elf::Executable;
-use trax_emulator::machine::{Machine, MachineConfig};
-use trax_emulator::memory::Segment;
-use trax_emulator::profile::{profile_run, Profile};
-use trax_emulator::session::{self, load_debug, RunRequest};
-use trax_emulator::timing::{self, ChipConfig, TimingRequest, DEFAULT_CHIP};
-use trax_emulator::{crash, gdb, Outcome};
-use trax_runtime::abi::PIXEL_BYTES;
+use trax::pipeline::{self, prepare, scene_report};
+use trax::stats::StatsDocument;
+use trax_emulator::profile::Profile;
+use trax_emulator::timing::ChipConfig;
+use trax_emulator::{gdb, DebugInfo, Limits, Mode, DEFAULT_QUANTUM};
 use trax_runtime::host::framebuffer_rgb8;
 
-use super::common::{self, RenderArgs};
+use super::common::{RenderArgs, ShapeArgs};
 use super::native::write_png;
-use super::prepare::prepare;
 use super::progress::ProgressLine;
 
 /// Arguments of `trax run`.
@@ -89,20 +83,14 @@ pub struct ExecArgs {
     /// The kernel: TRaX-Rust source (`.rs`, built first) or a linked executable (ELF).
     pub kernel: PathBuf,
     /// Optimisation level when building from source (`-O0` .. `-O3`).
-    #[arg(short = 'O', default_value_t = 2, value_parser = clap::value_parser!(u8).range(0..=3))]
+    #[arg(short = 'O', default_value_t = pipeline::DEFAULT_OPT_LEVEL, value_parser = clap::value_parser!(u8).range(0..=3))]
     pub opt_level: u8,
     /// Scene and image parameters.
     #[command(flatten)]
     pub render: RenderArgs,
-    /// Chip configuration: a preset (`tiny`, `baseline`, `strata`) or a TOML file.
-    #[arg(long, default_value = DEFAULT_CHIP)]
-    pub config: String,
-    /// Thread multiprocessors (overrides the config).
-    #[arg(long)]
-    pub tms: Option<u32>,
-    /// Threads per TM (overrides the config).
-    #[arg(long)]
-    pub threads: Option<u32>,
+    /// Chip and thread shape.
+    #[command(flatten)]
+    pub shape: ShapeArgs,
     /// Number of L2 caches; TMs are split evenly among them (overrides the config).
     #[arg(long)]
     pub l2s: Option<u32>,
@@ -118,15 +106,21 @@ pub struct ExecArgs {
     /// TM). Results are identical for any value.
     #[arg(long)]
     pub host_threads: Option<usize>,
-    /// Write the statistics as JSON to this file.
+    /// Write the statistics as JSON to this file (one shape for both modes, `schema: 1`;
+    /// fields in docs/STATS.md).
     #[arg(long)]
     pub stats_json: Option<PathBuf>,
     /// Functional mode: instructions each thread runs per turn of the interleaving.
-    #[arg(long, default_value_t = 1000)]
+    #[arg(long, default_value_t = DEFAULT_QUANTUM)]
     pub quantum: u32,
-    /// Stop after this many instructions in total (functional) or cycles (timing).
-    #[arg(long)]
+    /// Stop once the threads have executed this many instructions in total. Timing mode
+    /// counts issued instructions plus zero-cost debug ops and stops at the end of the
+    /// quantum (L1 + L2 hit latency cycles) in which the count reaches N.
+    #[arg(long, value_name = "N")]
     pub max_instructions: Option<u64>,
+    /// Timing mode: stop at this core cycle.
+    #[arg(long, value_name = "N", conflicts_with = "functional")]
+    pub max_cycles: Option<u64>,
     /// Write the framebuffer as PNG (clamped, top row first).
     #[arg(short = 'o', long = "output")]
     pub output: Option<PathBuf>,
@@ -214,7 +208,8 @@ pub fn parse_set(s: &str) -> Result<(String, toml::Value), String> {
 
 /// The chip: the named config with the command-line overrides applied.
 fn chip_config(a: &ExecArgs) -> Result<ChipConfig, String> {
-    common::chip_config(&a.config, &a.set, a.tms, a.threads, a.l2s)
+    let s = &a.shape;
+    pipeline::chip_config(&s.config, &a.set, s.tms, s.threads, a.l2s)
 }
 
 /// Prepares and runs the kernel, reports statistics, writes the PNG; with `extras`,
@@ -242,7 +237,8 @@ pub fn execute(a: &ExecArgs, extras: &Extras) -> Result<Executed, String> {
         }
     }
     let chip = chip_config(a)?;
-    let prepared = match prepare(&a.kernel, a.opt_level, &a.render) {
+    let request = a.render.request(&a.kernel, a.opt_level, &chip);
+    let prepared = match prepare(&request) {
         Ok(p) => p,
         Err(e) => {
             eprint!("{}", e.render());
@@ -252,127 +248,82 @@ pub fn execute(a: &ExecArgs, extras: &Extras) -> Result<Executed, String> {
             });
         }
     };
-    let fb = prepared.image.header.framebuffer;
-    let segments: Vec<Segment> = prepared.image.memory.segments.clone();
+    for w in &prepared.warnings {
+        eprintln!("warning: {w}");
+    }
+    let mode = if a.functional {
+        Mode::Functional
+    } else {
+        Mode::Timing
+    };
+    let limits = Limits {
+        max_instructions: a.max_instructions,
+        max_cycles: a.max_cycles,
+    };
+    let mut req = prepared.run_request(&chip, mode);
+    req.quantum = a.quantum;
+    req.limits = limits;
+    req.host_threads = a.host_threads;
+    req.profile = extras.profile;
+    if let Some((addr, allow_remote)) = &extras.gdb {
+        let listener = gdb::bind(addr, *allow_remote).map_err(|e| e.to_string())?;
+        let local = listener.local_addr().map_err(|e| e.to_string())?;
+        eprintln!("waiting for gdb on {local}");
+        req.gdb = Some(listener);
+    }
+    // A functional run under the profiler or the debugger reports no progress.
+    let line = (mode == Mode::Timing || !(extras.profile || extras.gdb.is_some()))
+        .then(|| ProgressLine::start(chip.tms * chip.threads_per_tm));
+    let mut show = |p: &trax_emulator::Progress| {
+        if let Some(l) = &line {
+            l.show(p)
+        }
+    };
+    if line.is_some() {
+        req.progress = Some(&mut show);
+    }
     let stdout = std::io::stdout();
     let mut out = stdout.lock();
     let start = std::time::Instant::now();
-    let threads = chip.tms * chip.threads_per_tm;
-    let mut profile = None;
-    let (outcome, report, machine) = if a.functional {
-        let config = MachineConfig {
-            tms: chip.tms,
-            threads_per_tm: chip.threads_per_tm,
-            stack_size: prepared.image.stack.size,
-            quantum: a.quantum,
-            max_instructions: a.max_instructions,
-        };
-        let r = if extras.profile || extras.gdb.is_some() {
-            run_functional_extra(
-                &prepared.name,
-                &prepared.elf,
-                segments,
-                config,
-                extras,
-                &mut out,
-            )?
-        } else {
-            let req = RunRequest {
-                elf_path: &prepared.name,
-                elf: &prepared.elf,
-                segments: Some(segments),
-                config,
-            };
-            let line = ProgressLine::start(threads);
-            let mut show = |p: &session::Progress| line.functional(p);
-            let r = session::run_with(req, &mut out, Some(&mut show));
-            line.finish();
-            let r = r.map_err(|e| format!("{}: {e}", prepared.name))?;
-            FunctionalRun {
-                outcome: r.summary.outcome,
-                instructions: r.summary.instructions,
-                rays: r.summary.stats.first().copied().unwrap_or(0),
-                report: r.report,
-                machine: r.machine,
-                profile: None,
-            }
-        };
-        let _ = out.flush();
-        profile = r.profile;
-        let secs = start.elapsed().as_secs_f64();
-        let n = r.instructions;
-        eprintln!(
-            "{n} instructions in {secs:.3} s ({:.1} M instr/s), {threads} thread(s), functional",
-            n as f64 / secs.max(1e-9) / 1e6,
-        );
-        if r.rays > 0 {
-            eprintln!("rays: {}", r.rays);
-        }
-        eprint!("{}", common::scene_report(&prepared.image));
-        if let Some(path) = &a.stats_json {
-            let json = serde_json::json!({
-                "mode": "functional",
-                "threads": threads,
-                "instructions": n,
-                "rays": r.rays,
-                "scene": common::scene_json(&prepared.image),
-            });
-            write_json(path, &json)?;
-        }
-        (r.outcome, r.report, r.machine)
-    } else {
-        // One host thread per TM at most; profiling runs on one (same results).
-        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-        let host_threads = if extras.profile {
-            1
-        } else {
-            a.host_threads
-                .unwrap_or(cores)
-                .min(chip.tms as usize)
-                .max(1)
-        };
-        if host_threads > cores {
+    let r = trax_emulator::run(req, &mut out);
+    if let Some(l) = &line {
+        l.finish();
+    }
+    let mut r = r.map_err(|e| format!("{}: {e}", prepared.name))?;
+    let _ = out.flush();
+    let secs = start.elapsed().as_secs_f64();
+    for w in &r.warnings {
+        eprintln!("warning: {w}");
+    }
+    match &r.timing {
+        None => {
+            let n = r.instructions;
             eprintln!(
-                "warning: {host_threads} host threads on {cores} available core(s): host threads work in lock-step rounds, so more of them than cores makes the run slower (results are the same)"
+                "{n} instructions in {secs:.3} s ({:.1} M instr/s), {} thread(s), functional",
+                n as f64 / secs.max(1e-9) / 1e6,
+                r.threads
+            );
+            if r.rays() > 0 {
+                eprintln!("rays: {}", r.rays());
+            }
+            eprint!("{}", scene_report(&prepared.image));
+        }
+        Some(stats) => {
+            eprint!("{}", with_newline(stats.summary()));
+            eprint!("{}", scene_report(&prepared.image));
+            eprintln!(
+                "simulated in {secs:.3} s on {} host thread(s)",
+                r.host_threads
             );
         }
-        let req = TimingRequest {
-            elf_path: &prepared.name,
-            elf: &prepared.elf,
-            segments: Some(segments),
-            host_threads,
-            max_cycles: a.max_instructions,
-        };
-        let line = ProgressLine::start(chip.tms * chip.threads_per_tm);
-        let mut show = |p: &timing::Progress| line.timing(p);
-        let res = timing::run_with(req, &chip, &mut out, extras.profile, Some(&mut show));
-        line.finish();
-        let (r, prof) = res.map_err(|e| format!("{}: {e}", prepared.name))?;
-        let _ = out.flush();
-        if let Some(prof) = prof {
-            let dbg = load_debug(&prepared.name, &prepared.elf).ok();
-            profile = Some((Profile::build(&prof, dbg.as_ref(), Some(&r.exe)), dbg));
-        }
-        let secs = start.elapsed().as_secs_f64();
-        eprint!("{}", with_newline(r.stats.summary()));
-        eprint!("{}", common::scene_report(&prepared.image));
-        eprintln!("simulated in {secs:.3} s on {host_threads} host thread(s)");
-        if let Some(path) = &a.stats_json {
-            let mut json = serde_json::to_value(&r.stats).map_err(|e| e.to_string())?;
-            if let Some(obj) = json.as_object_mut() {
-                obj.insert("scene".into(), common::scene_json(&prepared.image));
-            }
-            write_json(path, &json)?;
-        }
-        (r.outcome, r.report, r.machine)
-    };
-    let finished = matches!(outcome, Outcome::Finished);
-    if finished && (a.output.is_some() || a.raw_framebuffer.is_some()) {
-        let bytes = machine
-            .shared
-            .mem
-            .read_bytes(&[], fb.addr, fb.count * PIXEL_BYTES)
-            .unwrap_or_default();
+    }
+    if let Some(path) = &a.stats_json {
+        let doc = StatsDocument::new(&request, &prepared.image, &r, &chip, a.quantum, limits);
+        let text = serde_json::to_string_pretty(&doc).map_err(|e| e.to_string())?;
+        std::fs::write(path, text + "\n").map_err(|e| format!("{}: {e}", path.display()))?;
+    }
+    if r.finished() && (a.output.is_some() || a.raw_framebuffer.is_some()) {
+        let bytes = prepared.framebuffer(&r).unwrap_or_default();
         if let Some(path) = &a.output {
             let (w, h) = (a.render.width, a.render.height);
             write_png(path, w, h, &framebuffer_rgb8(&bytes, w, h)).map_err(|e| e.to_string())?;
@@ -382,92 +333,15 @@ pub fn execute(a: &ExecArgs, extras: &Extras) -> Result<Executed, String> {
             std::fs::write(path, &bytes).map_err(|e| format!("{}: {e}", path.display()))?;
         }
     }
-    let code = match (&outcome, &report) {
-        (Outcome::Finished, _) => ExitCode::SUCCESS,
-        (_, Some(report)) => {
-            eprint!("{}", with_newline(report.clone()));
+    let code = match &r.failure {
+        None => ExitCode::SUCCESS,
+        Some(text) => {
+            eprint!("{}", with_newline(text.clone()));
             ExitCode::FAILURE
         }
-        (outcome, None) => return Err(format!("{}: {outcome:?}", prepared.name)),
     };
+    let profile = r.profile.take().map(|p| (p, r.debug.take()));
     Ok(Executed { code, profile })
-}
-
-/// A functional run's results, however it was driven.
-struct FunctionalRun {
-    outcome: Outcome,
-    instructions: u64,
-    rays: u64,
-    report: Option<String>,
-    machine: Machine,
-    profile: Option<(Profile, Option<DebugInfo>)>,
-}
-
-/// A functional run with profiling or under GDB (the plain one is
-/// [`trax_emulator::session::run`]).
-fn run_functional_extra(
-    name: &str,
-    elf: &[u8],
-    segments: Vec<Segment>,
-    config: MachineConfig,
-    extras: &Extras,
-    out: &mut dyn Write,
-) -> Result<FunctionalRun, String> {
-    let exe = Executable::parse(name, elf).map_err(|e| format!("{name}: {e}"))?;
-    let mut machine = Machine::new(&segments, exe.text_start, exe.text_end, exe.entry, config)
-        .map_err(|e| format!("{name}: {e}"))?;
-    let mut profile = None;
-    let (outcome, instructions) = if let Some((addr, allow_remote)) = &extras.gdb {
-        let listener = gdb::bind(addr, *allow_remote).map_err(|e| e.to_string())?;
-        let local = listener.local_addr().map_err(|e| e.to_string())?;
-        eprintln!("waiting for gdb on {local}");
-        let outcome =
-            gdb::serve_listener(&mut machine, listener, out).map_err(|e| e.to_string())?;
-        match outcome {
-            Some(o) => (o, retired(&machine)),
-            None => {
-                eprintln!("gdb detached before the program ended; running it to completion");
-                let s = machine.run(out);
-                (s.outcome, retired(&machine))
-            }
-        }
-    } else {
-        let (summary, prof) = profile_run(&mut machine, out);
-        let dbg = load_debug(name, elf).ok();
-        profile = Some((Profile::build(&prof, dbg.as_ref(), Some(&exe)), dbg));
-        (summary.outcome, summary.instructions)
-    };
-    let report = match &outcome {
-        Outcome::Finished => None,
-        Outcome::Crashed(c) => {
-            let dbg = load_debug(name, elf).ok();
-            Some(crash::report(c, &machine.shared, Some(&exe), dbg.as_ref()))
-        }
-        Outcome::Deadlock { waiting } => Some(format!(
-            "error: deadlock: {waiting} live thread(s) are all waiting at barriers or semaphores"
-        )),
-        Outcome::InstructionLimit => Some(format!(
-            "error: instruction limit reached after {instructions} instructions"
-        )),
-    };
-    Ok(FunctionalRun {
-        outcome,
-        instructions,
-        rays: machine.shared.stats.first().copied().unwrap_or(0),
-        report,
-        machine,
-        profile,
-    })
-}
-
-/// Instructions retired by every thread so far.
-fn retired(m: &Machine) -> u64 {
-    m.threads.iter().map(|t| t.retired).sum()
-}
-
-fn write_json(path: &std::path::Path, value: &serde_json::Value) -> Result<(), String> {
-    let text = serde_json::to_string_pretty(value).map_err(|e| e.to_string())?;
-    std::fs::write(path, text + "\n").map_err(|e| format!("{}: {e}", path.display()))
 }
 
 fn with_newline(mut s: String) -> String {

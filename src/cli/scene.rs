@@ -7,10 +7,10 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use clap::{Args, Subcommand};
+use trax::pipeline::lay_out_scene;
 use trax_assembler::bvh::{Bvh, BvhOptions, TreeletOptions};
-use trax_assembler::image::{build_image_from_symbols, on_demand_components, RenderOptions};
+use trax_assembler::image::{on_demand_components, RenderOptions};
 use trax_assembler::scene::{load_scene, LoadOptions};
-use trax_runtime::abi;
 
 /// Arguments of `trax scene`.
 #[derive(Args, Debug)]
@@ -129,7 +129,7 @@ fn info(a: &InfoArgs) -> Result<(), Box<dyn std::error::Error>> {
             let fill: f64 = t
                 .node_ranges
                 .iter()
-                .map(|r| (r.end - r.start) as f64 * std::mem::size_of::<abi::BvhNode>() as f64)
+                .map(|r| (r.end - r.start) as f64 * 32.0)
                 .sum::<f64>()
                 / (t.node_ranges.len() as f64 * t.options.budget_bytes as f64);
             outln!(
@@ -150,13 +150,7 @@ fn info(a: &InfoArgs) -> Result<(), Box<dyn std::error::Error>> {
         ..RenderOptions::default()
     };
     let t2 = Instant::now();
-    let image = build_image_from_symbols(
-        Vec::new(),
-        abi::TEXT_BASE,
-        &on_demand_components(),
-        &scene,
-        &opts,
-    )?;
+    let image = lay_out_scene(&scene, &on_demand_components(), &opts)?;
     let image_time = t2.elapsed();
     outln!("memory (all components referenced):");
     for c in &image.components {

@@ -20,7 +20,7 @@
 //! instruction; the end of the program is reported as an exit (status 0).
 //!
 //! Threads are interleaved exactly as in an ordinary run (see
-//! [`crate::profile::sched`]); a single step runs only the stepped thread.
+//! [`crate::sched`]); a single step runs only the stepped thread.
 
 pub mod arch;
 pub mod target;

@@ -23,7 +23,7 @@ use crate::exec::Stop;
 use crate::machine::{Machine, Outcome};
 use crate::memory::MemFaultKind;
 use crate::profile::collect::BlockTable;
-use crate::profile::sched::{Driven, Executor, Scheduler};
+use crate::sched::{Driven, Executor, Scheduler};
 use crate::thread::{Fault, RunState, Shared, Thread};
 
 /// Instructions run between checks for a GDB interrupt (Ctrl-C).
@@ -92,7 +92,9 @@ impl<'a> DebugTarget<'a> {
                 }
             }
             Outcome::Deadlock { .. } => MultiThreadStopReason::Terminated(Signal::SIGABRT),
-            Outcome::InstructionLimit => MultiThreadStopReason::Terminated(Signal::SIGXCPU),
+            Outcome::InstructionLimit | Outcome::CycleLimit => {
+                MultiThreadStopReason::Terminated(Signal::SIGXCPU)
+            }
         }
     }
 

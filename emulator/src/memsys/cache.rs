@@ -7,10 +7,8 @@
 
 use super::config::BankInterleave;
 use super::Cycle;
-use serde::Serialize;
-
 /// Counters of one cache (or a sum of several).
-#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize)]
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct CacheStats {
     /// Accepted accesses (loads + stores); refused (bank-conflicted) attempts are not counted.
     pub accesses: u64,

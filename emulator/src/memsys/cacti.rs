@@ -7,10 +7,8 @@
 //! energy with its square root, as Cacti's trends for these sizes) and is reported as
 //! [`Source::Scaled`].
 
-use serde::Serialize;
-
 /// Where a figure came from.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Source {
     /// Given in the configuration.
     Config,
@@ -21,7 +19,7 @@ pub enum Source {
 }
 
 /// Area and read energy of one cache instance.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CacheCost {
     /// Area in mm².
     pub area_mm2: f64,

@@ -3,7 +3,6 @@
 use super::dram_config::{DramConfig, DramEnergyConfig, DramModel, DramTiming, SimpleDramConfig};
 use super::dram_detailed::DetailedDram;
 use super::{Completion, Cycle, MemSysError};
-use serde::Serialize;
 use std::collections::VecDeque;
 
 /// Fixed latency plus a bandwidth limit: requests share one pipe of
@@ -76,7 +75,7 @@ pub enum Dram {
 }
 
 /// DRAM energy by category, in nJ.
-#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct DramEnergy {
     /// Standby (active or precharged) over the simulated time.
     pub background_nj: f64,
@@ -98,7 +97,7 @@ impl DramEnergy {
 }
 
 /// DRAM statistics (totals over all channels).
-#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct DramStats {
     /// Read requests served (including ones answered from the write queue).
     pub reads: u64,

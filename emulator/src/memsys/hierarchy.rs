@@ -11,7 +11,6 @@ use super::cacti::{self, CacheCost};
 use super::config::MemSysConfig;
 use super::dram::{Dram, DramStats};
 use super::{AccessKind, Completion, Cycle, MemRequest, MemSysError};
-use serde::Serialize;
 
 /// Outcome of [`MemSystem::access`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -26,7 +25,7 @@ pub enum Access {
 }
 
 /// Why an access was refused.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Stall {
     /// The L1 bank was used by another access this cycle.
     L1Bank,
@@ -35,7 +34,7 @@ pub enum Stall {
 }
 
 /// Statistics of the whole memory system.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct MemStats {
     /// Sum over all L1s.
     pub l1: CacheStats,

@@ -15,7 +15,7 @@ use crate::exec::Stop;
 use crate::program::Program;
 use crate::thread::{CallFrame, Shared, Thread};
 
-use super::sched::Executor;
+use crate::sched::Executor;
 
 /// What a unit of cost is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]

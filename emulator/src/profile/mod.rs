@@ -3,7 +3,7 @@
 //! Library API (the `trax run --profile` / `trax annotate` CLI wires these):
 //!
 //! - [`profile_run`]`(&mut machine, out) -> (RunSummary, Profiler)` is a drop-in for
-//!   [`crate::Machine::run`] (same thread interleaving, see [`sched`], same summary) that
+//!   [`crate::Machine::run`] (same thread interleaving, see [`crate::sched`], same summary) that
 //!   also charges every retired instruction to its thread's interned shadow call stack
 //!   and pc.
 //! - Timing runs: create [`Profiler::new`]`(&machine.shared.program, threads)` and call
@@ -20,7 +20,6 @@
 
 pub mod collect;
 pub mod report;
-pub mod sched;
 
 use std::io::Write;
 
@@ -28,7 +27,7 @@ pub use collect::{CostKind, ProfileExec, Profiler, KINDS};
 pub use report::{Frame, Profile, TreeNode};
 
 use crate::machine::{Machine, RunSummary};
-use sched::{Driven, Scheduler};
+use crate::sched::{Driven, Scheduler};
 
 /// Runs `m` to the end like [`Machine::run`], with every retired instruction charged to
 /// its call stack. Returns the run summary and the collected profile.

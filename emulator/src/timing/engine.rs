@@ -38,13 +38,14 @@ use crate::exec::Stop;
 use crate::machine::{drain, release_barriers, Crash, Machine, Outcome};
 use crate::memsys::MemSystem;
 use crate::profile::Profiler;
+use crate::run::{Limits, Progress};
 use crate::thread::{Shared, Thread};
 
 /// Number of `UnitClass` values (array index bound).
 pub const NUM_CLASSES: usize = 24;
 
 /// Thread-cycle accounting (each live thread lands in exactly one bucket per cycle).
-#[derive(Clone, Debug, Default, PartialEq, Eq, serde::Serialize)]
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct ThreadCycles {
     /// Issued an instruction.
     pub issued: u64,
@@ -90,19 +91,6 @@ pub struct Counters {
     pub fetches: u64,
     /// Debug-class ops (zero cost).
     pub debug_ops: u64,
-}
-
-/// How far a run has got (for progress displays).
-#[derive(Clone, Copy, Debug, Default)]
-pub struct Progress {
-    /// Cycles simulated.
-    pub cycles: u64,
-    /// Instructions issued (including zero-cost debug ops).
-    pub instructions: u64,
-    /// Rays counted so far (`trax.stat 0`).
-    pub rays: u64,
-    /// Threads not yet halted.
-    pub live_threads: u32,
 }
 
 /// Receives a [`Progress`] report every few host milliseconds.
@@ -180,7 +168,7 @@ pub struct Engine<'c> {
     pub c: Counters,
     /// Current cycle.
     pub now: u64,
-    max_cycles: Option<u64>,
+    limits: Limits,
     host_threads: usize,
     /// When set, every live thread-cycle (issue or stall) is charged to the thread's
     /// call stack and pc: issue, data-dependence (on a non-load producer), resource
@@ -195,11 +183,11 @@ pub struct Engine<'c> {
 
 impl<'c> Engine<'c> {
     /// Prepares the model for `machine` (already built with the chip's shape), to be
-    /// simulated with `host_threads` host threads.
+    /// simulated with `host_threads` host threads until the end or a limit.
     pub fn new(
         cfg: &'c ChipConfig,
         machine: &Machine,
-        max_cycles: Option<u64>,
+        limits: Limits,
         host_threads: usize,
     ) -> Result<Self, String> {
         let tms = cfg.tms as usize;
@@ -243,7 +231,7 @@ impl<'c> Engine<'c> {
                 ..Counters::default()
             },
             now: 0,
-            max_cycles,
+            limits,
             host_threads: host_threads.clamp(1, tms),
             profiler: None,
             progress: None,
@@ -297,10 +285,10 @@ impl<'c> Engine<'c> {
                 shape,
                 mem,
                 now,
-                max_cycles,
+                limits,
                 ..
             } = self;
-            let (cfg, shape, max_cycles) = (*cfg, &*shape, *max_cycles);
+            let (cfg, shape, limits) = (*cfg, &*shape, *limits);
             // Host thread `w` simulates TM `k` over the window `from..to`.
             let job = |w: usize, k: usize, (from, to): (u64, u64), prof: Option<&mut Profiler>| {
                 // SAFETY: a round job; the chip state is only read during rounds.
@@ -328,7 +316,7 @@ impl<'c> Engine<'c> {
                     cfg,
                     mem,
                     now,
-                    max_cycles,
+                    limits,
                     halted_excess: &mut halted_excess,
                     progress: progress.as_deref_mut(),
                     fx: Effects::default(),
@@ -368,7 +356,7 @@ struct Driver<'a, 'p> {
     cfg: &'a ChipConfig,
     mem: &'a mut MemSystem,
     now: &'a mut u64,
-    max_cycles: Option<u64>,
+    limits: Limits,
     /// Halted thread-cycles counted after the end of the run (subtracted at the end).
     halted_excess: &'a mut u64,
     progress: Option<&'a mut (dyn FnMut(&Progress) + 'p)>,
@@ -413,9 +401,9 @@ impl Driver<'_, '_> {
                 return Outcome::Finished;
             }
             let from = *self.now;
-            let max = self.max_cycles.unwrap_or(u64::MAX);
+            let max = self.limits.max_cycles.unwrap_or(u64::MAX);
             if from >= max {
-                return Outcome::InstructionLimit;
+                return Outcome::CycleLimit;
             }
             let to = (from + q).min(max);
             // Phase 1: the TMs, in parallel. While the L2s and DRAM owe the L1s nothing
@@ -428,7 +416,12 @@ impl Driver<'_, '_> {
                 to,
                 step: q,
                 free_flags: idle.then_some(Summary::PROGRESSED),
-                until: max.min(from + q * MAX_FREE_ROUNDS),
+                // Under an instruction limit, one round per serial phase (where the
+                // count is checked); skipping serial phases does not change results.
+                until: match self.limits.max_instructions {
+                    Some(_) => to,
+                    None => max.min(from + q * MAX_FREE_ROUNDS),
+                },
             };
             let Some(end) = rounds.run(crew, &batch, leader_job) else {
                 // A host thread died; the scope re-raises its panic.
@@ -576,20 +569,18 @@ impl Driver<'_, '_> {
                 idle_cycles = if end.rounds > 1 { 0 } else { idle_cycles } + (to - from);
             }
             *self.now = to;
+            if let Some(limit) = self.limits.max_instructions {
+                if executed(parts) >= limit {
+                    return Outcome::InstructionLimit;
+                }
+            }
             if crossed(PROGRESS_EVERY) {
                 if let Some(report) = self.progress.as_deref_mut() {
                     if last_report.elapsed().as_millis() >= 100 {
                         last_report = std::time::Instant::now();
-                        let instructions = parts
-                            .iter()
-                            .map(|p| {
-                                let p = p.lock().unwrap_or_else(|e| e.into_inner());
-                                p.c.tc.issued + p.c.debug_ops
-                            })
-                            .sum();
                         report(&Progress {
-                            cycles: to,
-                            instructions,
+                            cycles: Some(to),
+                            instructions: executed(parts),
                             rays: sh.stats[0]
                                 + self.fx.stats[0]
                                 + sims.iter().map(|t| t.fx.stats[0]).sum::<u64>(),
@@ -610,6 +601,17 @@ impl Driver<'_, '_> {
             }
         }
     }
+}
+
+/// Instructions executed so far: issued plus zero-cost debug ops, over every host thread.
+fn executed(parts: &[Mutex<Part>]) -> u64 {
+    parts
+        .iter()
+        .map(|p| {
+            let p = p.lock().unwrap_or_else(|e| e.into_inner());
+            p.c.tc.issued + p.c.debug_ops
+        })
+        .sum()
 }
 
 impl Counters {

@@ -8,6 +8,7 @@ use trax_runtime::isa::UnitClass;
 
 use super::config::{class_name, ChipConfig, UNIT_NAMES};
 use super::engine::{Counters, ThreadCycles};
+use super::stats_doc;
 use crate::memsys::{CacheStats, MemStats};
 use crate::program::Program;
 
@@ -51,28 +52,37 @@ pub struct AreaBreakdown {
     pub total: f64,
 }
 
-/// Everything a timing run reports (`--stats-json`).
+/// Everything a timing run reports. Serialized as the `timing` object of the statistics
+/// document (`--stats-json`, see `docs/STATS.md`); the fields marked `skip` are there at
+/// the top level (`chip`, `cycles`, `instructions`, `rays`, `counters`).
 #[derive(Clone, Debug, Serialize)]
 pub struct TimingStats {
     /// Chip config name.
+    #[serde(skip)]
     pub chip: String,
     /// TMs.
+    #[serde(skip)]
     pub tms: u32,
     /// Threads per TM.
+    #[serde(skip)]
     pub threads_per_tm: u32,
     /// Core clock, GHz.
+    #[serde(skip)]
     pub clock_ghz: f64,
     /// Core cycles until the last thread halted.
+    #[serde(skip)]
     pub cycles: u64,
     /// Simulated seconds.
     pub seconds: f64,
     /// Frames per second (one run = one frame).
     pub fps: f64,
     /// Thread-instructions issued (Debug-class ops excluded).
+    #[serde(skip)]
     pub instructions: u64,
     /// Debug-class ops executed at zero cost.
     pub debug_ops: u64,
     /// Rays (statistics counter 0).
+    #[serde(skip)]
     pub rays: u64,
     /// Million rays per second.
     pub mrps: f64,
@@ -81,6 +91,7 @@ pub struct TimingStats {
     /// Average threads issuing per cycle.
     pub avg_threads_issuing: f64,
     /// Where every thread-cycle went.
+    #[serde(serialize_with = "stats_doc::thread_cycles")]
     pub thread_cycles: ThreadCycles,
     /// Data-dependence stalls by the mnemonic of the producing instruction.
     pub data_stalls_by_producer: BTreeMap<String, u64>,
@@ -101,6 +112,7 @@ pub struct TimingStats {
     /// DRAM -> L2 bandwidth, GB/s.
     pub dram_gbps: f64,
     /// Memory-system statistics (caches and DRAM).
+    #[serde(serialize_with = "stats_doc::memory")]
     pub memory: MemStats,
     /// Energy, joules.
     pub energy: EnergyBreakdown,
@@ -111,6 +123,7 @@ pub struct TimingStats {
     /// MRPS per mm².
     pub mrps_per_mm2: f64,
     /// The `trax.stat` counters.
+    #[serde(skip)]
     pub counters: Vec<u64>,
 }
 

@@ -8,8 +8,8 @@ pub mod qemu;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use trax_emulator::machine::MachineConfig;
-use trax_emulator::session::{run, RunRequest, RunResult};
+use trax_emulator::timing::{ChipConfig, DEFAULT_CHIP};
+use trax_emulator::{run, Mode, RunReport, RunRequest};
 use trax_runtime::isa::{Field, OperandKind, TraxOp, TRAX_INSTRUCTIONS};
 
 /// Scratch directory for one test.
@@ -173,23 +173,45 @@ pub fn build_c(name: &str, src: &str, opt: &str) -> PathBuf {
     elf
 }
 
-/// Runs an ELF with `tms` x `threads`; returns the result and the printed output.
-pub fn run_elf(elf: &Path, tms: u32, threads: u32) -> (RunResult, String) {
+/// Compiles a TRaX-Rust kernel at `opt` and links it with the runtime start-up code, as
+/// `trax build` does; returns the executable.
+pub fn build_rust(kernel: &Path, opt: u8) -> Vec<u8> {
+    use trax_assembler::link::{link, Input, LinkOptions};
+    use trax_compiler::{compile_file, CompileOptions, Emit, Prelude};
+    let copts = CompileOptions {
+        opt_level: opt,
+        emit: Emit::Obj,
+        prelude: Some(Prelude::runtime()),
+    };
+    let obj = compile_file(kernel, &copts)
+        .unwrap_or_else(|e| panic!("compile {}: {e}", kernel.display()));
+    let input = Input {
+        name: kernel.file_name().unwrap().to_string_lossy().into_owned(),
+        bytes: obj.bytes,
+    };
+    link(&[input], &LinkOptions::default())
+        .unwrap_or_else(|e| panic!("link {}: {e}", kernel.display()))
+        .elf
+}
+
+/// The default chip reshaped to `tms` x `threads` (one L2 for all).
+pub fn chip(tms: u32, threads: u32) -> ChipConfig {
+    let mut c = ChipConfig::preset(DEFAULT_CHIP).unwrap();
+    c.tms = tms;
+    c.threads_per_tm = threads;
+    c.tms_per_l2 = tms;
+    c
+}
+
+/// Runs an ELF functionally with `tms` x `threads`; returns the report and the printed
+/// output.
+pub fn run_elf(elf: &Path, tms: u32, threads: u32) -> (RunReport, String) {
     let data = std::fs::read(elf).unwrap();
     let path = elf.display().to_string();
-    let config = MachineConfig {
-        tms,
-        threads_per_tm: threads,
-        ..MachineConfig::default()
-    };
+    let chip = chip(tms, threads);
     let mut out = Vec::new();
     let r = run(
-        RunRequest {
-            elf_path: &path,
-            elf: &data,
-            segments: None,
-            config,
-        },
+        RunRequest::new(&path, &data, &chip, Mode::Functional),
         &mut out,
     )
     .unwrap();

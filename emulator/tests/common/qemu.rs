@@ -5,9 +5,9 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use trax_emulator::machine::{Machine, MachineConfig};
-use trax_emulator::thread::Fault;
+use trax_emulator::Fault;
 use trax_emulator::Outcome;
+use trax_emulator::{Machine, MachineConfig};
 
 /// The FPU format conversions (`cvt`, `round`, `trunc`, `ceil`, `floor`); the source
 /// format is the last letter.
@@ -125,7 +125,7 @@ pub fn run_qemu(elf: &Path) -> Vec<u8> {
 /// `syscall`; returns the `len` bytes at the address in `$25` then.
 pub fn run_emulator(elf: &Path, len: u32) -> Result<Vec<u8>, String> {
     let data = std::fs::read(elf).unwrap();
-    let exe = trax_emulator::elf::Executable::parse("diff", &data).map_err(|e| e.to_string())?;
+    let exe = trax_emulator::Executable::parse("diff", &data).map_err(|e| e.to_string())?;
     let mut m = Machine::new(
         &exe.segments,
         exe.text_start,

@@ -1,7 +1,7 @@
 //! The headline metrics of a run: the columns of `results.csv` after the parameters, and the
 //! y axes of `trax plot`. This is the one place that knows where they are in the statistics
-//! JSON of `trax run --stats-json` (timing runs: `emulator/src/timing/stats.rs`; functional
-//! runs: `{"mode": "functional", "instructions", "rays", "threads"}`).
+//! document of `trax run --stats-json` (schema 1, `docs/STATS.md`: one shape for both modes;
+//! what functional runs do not measure is `null` there, an empty cell here).
 
 use serde_json::Value;
 
@@ -14,106 +14,108 @@ pub struct Metric {
     pub label: &'static str,
     /// Unit (empty: a count or a ratio).
     pub unit: &'static str,
-    /// Dotted path in a timing run's statistics.
-    pub timing: &'static str,
-    /// Dotted path in a functional run's statistics (none: timing only).
-    pub functional: Option<&'static str>,
+    /// Dotted path in the statistics document.
+    pub path: &'static str,
     /// A component of the energy per frame (stacked in energy charts).
     pub energy_part: bool,
+}
+
+impl Metric {
+    /// Whether functional runs report it (everything but cycles and the `timing` object).
+    pub fn functional(&self) -> bool {
+        self.path != "cycles" && !self.path.starts_with("timing.")
+    }
 }
 
 const fn m(
     column: &'static str,
     label: &'static str,
     unit: &'static str,
-    timing: &'static str,
-    functional: Option<&'static str>,
+    path: &'static str,
 ) -> Metric {
     Metric {
         column,
         label,
         unit,
-        timing,
-        functional,
+        path,
         energy_part: false,
     }
 }
 
-const fn e(column: &'static str, label: &'static str, timing: &'static str) -> Metric {
+const fn e(column: &'static str, label: &'static str, path: &'static str) -> Metric {
     Metric {
-        column,
-        label,
-        unit: "J",
-        timing,
-        functional: None,
         energy_part: true,
+        ..m(column, label, "J", path)
     }
 }
 
 /// The metrics, in table order.
 pub const METRICS: &[Metric] = &[
-    m(
-        "instructions",
-        "Instructions",
-        "",
-        "instructions",
-        Some("instructions"),
-    ),
-    m("rays", "Rays", "", "rays", Some("rays")),
-    m("cycles", "Run time", "cycles", "cycles", None),
-    m("seconds", "Simulated time", "s", "seconds", None),
-    m("fps", "Frame rate", "frames/s", "fps", None),
-    m("mrps", "Ray throughput", "Mrays/s", "mrps", None),
+    m("instructions", "Instructions", "", "instructions"),
+    m("rays", "Rays", "", "rays"),
+    m("cycles", "Run time", "cycles", "cycles"),
+    m("seconds", "Simulated time", "s", "timing.seconds"),
+    m("fps", "Frame rate", "frames/s", "timing.fps"),
+    m("mrps", "Ray throughput", "Mrays/s", "timing.mrps"),
     m(
         "issue_rate",
         "Issue rate",
         "issued / thread-cycle",
-        "issue_rate",
-        None,
+        "timing.issue_rate",
     ),
-    m("l1_hit_rate", "L1 hit rate", "", "l1_hit_rate", None),
-    m("l2_hit_rate", "L2 hit rate", "", "l2_hit_rate", None),
-    m("dram_gbps", "DRAM bandwidth", "GB/s", "dram_gbps", None),
-    m("dram_reads", "DRAM reads", "", "memory.dram.reads", None),
-    m("dram_writes", "DRAM writes", "", "memory.dram.writes", None),
+    m("l1_hit_rate", "L1 hit rate", "", "timing.l1_hit_rate"),
+    m("l2_hit_rate", "L2 hit rate", "", "timing.l2_hit_rate"),
+    m("dram_gbps", "DRAM bandwidth", "GB/s", "timing.dram_gbps"),
+    m("dram_reads", "DRAM reads", "", "timing.memory.dram.reads"),
+    m(
+        "dram_writes",
+        "DRAM writes",
+        "",
+        "timing.memory.dram.writes",
+    ),
     m(
         "dram_row_hit_rate",
         "DRAM row-buffer hit rate",
         "",
-        "memory.dram.row_hit_rate",
-        None,
+        "timing.memory.dram.row_hit_rate",
     ),
     m(
         "dram_read_latency",
         "DRAM read latency",
         "cycles",
-        "memory.dram.avg_read_latency_cycles",
-        None,
+        "timing.memory.dram.avg_read_latency_cycles",
     ),
-    m("power_w", "Power", "W", "power_w", None),
-    m("energy_j", "Energy per frame", "J", "energy.total", None),
+    m("power_w", "Power", "W", "timing.power_w"),
+    m("energy_j", "Energy per frame", "J", "timing.energy.total"),
     e(
         "energy_units_j",
         "Execution units",
-        "energy.execution_units",
+        "timing.energy.execution_units",
     ),
-    e("energy_regs_j", "Register files", "energy.register_files"),
+    e(
+        "energy_regs_j",
+        "Register files",
+        "timing.energy.register_files",
+    ),
     e(
         "energy_icache_j",
         "Instruction caches",
-        "energy.instruction_caches",
+        "timing.energy.instruction_caches",
     ),
-    e("energy_local_j", "Local stores", "energy.local_stores"),
-    e("energy_l1_j", "L1", "energy.l1"),
-    e("energy_l2_j", "L2", "energy.l2"),
-    e("energy_dram_j", "DRAM", "energy.dram"),
-    m("area_mm2", "Chip area", "mm²", "area.total", None),
+    e(
+        "energy_local_j",
+        "Local stores",
+        "timing.energy.local_stores",
+    ),
+    e("energy_l1_j", "L1", "timing.energy.l1"),
+    e("energy_l2_j", "L2", "timing.energy.l2"),
+    e("energy_dram_j", "DRAM", "timing.energy.dram"),
+    m("area_mm2", "Chip area", "mm²", "timing.area.total"),
     m(
         "mrps_per_mm2",
         "Ray throughput per area",
         "Mrays/s/mm²",
-        "mrps_per_mm2",
-        None,
+        "timing.mrps_per_mm2",
     ),
 ];
 
@@ -131,20 +133,14 @@ pub fn axis_label(m: &Metric) -> String {
     }
 }
 
-/// Whether statistics JSON comes from a functional run.
-pub fn is_functional(stats: &Value) -> bool {
-    stats.get("mode").and_then(Value::as_str) == Some("functional")
-}
-
-/// A metric's value in a run's statistics (none where the run does not report it).
+/// A metric's value in a run's statistics document (none where the run does not report
+/// it: `null`, or a document of another schema).
 pub fn extract(m: &Metric, stats: &Value) -> Option<f64> {
-    let path = if is_functional(stats) {
-        m.functional?
-    } else {
-        m.timing
-    };
+    if stats.get("schema").and_then(Value::as_u64) != Some(u64::from(trax::stats::SCHEMA)) {
+        return None;
+    }
     let mut v = stats;
-    for k in path.split('.') {
+    for k in m.path.split('.') {
         v = v.get(k)?;
     }
     v.as_f64()
@@ -154,6 +150,6 @@ pub fn extract(m: &Metric, stats: &Value) -> Option<f64> {
 pub fn columns_for(functional: bool, timing: bool) -> Vec<&'static Metric> {
     METRICS
         .iter()
-        .filter(|m| timing || (functional && m.functional.is_some()))
+        .filter(|m| timing || (functional && m.functional()))
         .collect()
 }

@@ -11,7 +11,7 @@ use sha2::{Digest, Sha256};
 use trax_emulator::timing::ChipConfig;
 
 use super::spec::{self, PVal, PlotSpec, Point, SpecError, SweepSpec, KNOBS};
-use crate::cli::common::chip_config;
+use trax::pipeline::chip_config;
 
 /// Format tag of `plan.json`.
 pub const PLAN_FORMAT: &str = "trax-sweep-plan/1";
@@ -242,7 +242,10 @@ pub fn make_plan(spec: &SweepSpec, points: &[Point], build_dir: &Path) -> Result
             args.push(format!("{k}={}", v.to_toml()));
         }
         let scene = s("scene").unwrap_or_else(|| "cornell".into());
-        let scene_arg = if scene == "cornell" || scene.starts_with("procedural:") {
+        let scene_arg = if scene == "cornell"
+            || scene.starts_with("procedural:")
+            || scene.starts_with("icosphere:")
+        {
             scene
         } else {
             let path = resolve_path(spec, &scene);
@@ -281,6 +284,7 @@ pub fn make_plan(spec: &SweepSpec, points: &[Point], build_dir: &Path) -> Result
             "l2s",
             "quantum",
             "max_instructions",
+            "max_cycles",
         ] {
             if let Some(v) = int(k) {
                 args.extend([format!("--{}", k.replace('_', "-")), v.to_string()]);

@@ -203,6 +203,7 @@ pub const KNOBS: &[Knob] = &[
     knob("l2s", U32, None),
     knob("quantum", U32, None),
     knob("max_instructions", KnobKind::Int(1, i64::MAX), None),
+    knob("max_cycles", KnobKind::Int(1, i64::MAX), None),
 ];
 
 const fn knob(name: &'static str, kind: KnobKind, default: Option<DefaultVal>) -> Knob {

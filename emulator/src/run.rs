@@ -1,0 +1,446 @@
+//! The one way to run a program: a [`RunRequest`] (executable, initial memory, chip, mode,
+//! limits, profiling, GDB, progress) in, a [`RunReport`] out. `trax run`, `trax annotate`,
+//! the tests and the benchmarks all come through [`run`].
+//!
+//! - Functional mode executes on the [`Machine`] with the fixed round-robin interleaving of
+//!   [`crate::sched`] (`quantum` instructions per turn); with `profile` every retired
+//!   instruction is charged to its call stack, with `gdb` the run is served to a debugger.
+//! - Timing mode simulates the chip cycle by cycle ([`crate::timing`]) on host threads
+//!   chosen by [`host_threads`]; with `profile` every thread-cycle is charged.
+//!
+//! A run that does not finish (a crash, a deadlock, a limit) is described once, by the text
+//! in [`RunReport::failure`].
+
+use std::io::Write;
+use std::net::TcpListener;
+
+use crate::crash;
+use crate::debuginfo::DebugInfo;
+use crate::elf::{ElfError, Executable};
+use crate::exec::Stop;
+use crate::gdb::{self, GdbError};
+use crate::machine::{Machine, MachineConfig, Outcome, SetupError};
+use crate::memory::Segment;
+use crate::profile::{profile_run, Profile, Profiler};
+use crate::sched::Executor;
+use crate::thread::{Shared, Thread};
+use crate::timing::{self, ChipConfig, ConfigError, TimingStats};
+
+/// Instructions a thread runs per turn of the functional interleaving by default.
+pub const DEFAULT_QUANTUM: u32 = 1000;
+
+/// Functional (execution only) or timing (cycle-level chip model).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mode {
+    /// Execute without the timing model: no cycles, no memory-system statistics.
+    Functional,
+    /// Simulate the chip cycle by cycle.
+    Timing,
+}
+
+impl Mode {
+    /// `functional` or `timing`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Mode::Functional => "functional",
+            Mode::Timing => "timing",
+        }
+    }
+}
+
+/// Where a run stops early.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Limits {
+    /// Stop once the threads have executed this many instructions in total. Functional
+    /// mode stops exactly there; timing mode counts issued instructions plus zero-cost
+    /// debug ops (the same count) and stops at the end of the quantum (the L1 plus L2 hit
+    /// latency in cycles) in which the total reaches the limit, whatever the host threads.
+    pub max_instructions: Option<u64>,
+    /// Stop at this core cycle (timing mode only: functional runs have no cycles).
+    pub max_cycles: Option<u64>,
+}
+
+/// What to run, and how.
+pub struct RunRequest<'a> {
+    /// Path of the ELF (for messages and DWARF source paths).
+    pub elf_path: &'a str,
+    /// ELF bytes.
+    pub elf: &'a [u8],
+    /// The complete initial memory (program and scene); `None` loads the ELF's segments.
+    pub segments: Option<Vec<Segment>>,
+    /// The chip: its shape (TMs x threads, local-store bytes = stack size) in both modes,
+    /// all of it in timing mode.
+    pub chip: &'a ChipConfig,
+    /// Functional or timing.
+    pub mode: Mode,
+    /// Functional mode: instructions each thread runs per turn of the interleaving.
+    pub quantum: u32,
+    /// Early stops.
+    pub limits: Limits,
+    /// Timing mode: host threads to simulate with (see [`host_threads`]); results are
+    /// identical for any value.
+    pub host_threads: Option<usize>,
+    /// Charge every instruction (functional) or thread-cycle (timing) to its call stack.
+    pub profile: bool,
+    /// Functional mode: serve the run to one GDB connection on this listener.
+    pub gdb: Option<TcpListener>,
+    /// Called with the run's [`Progress`] about every 100 ms of host time.
+    pub progress: Option<&'a mut dyn FnMut(&Progress)>,
+}
+
+impl<'a> RunRequest<'a> {
+    /// A plain run of `elf` (its own segments) on `chip` in `mode`: default quantum, no
+    /// limits, no profile, no debugger, automatic host threads.
+    pub fn new(elf_path: &'a str, elf: &'a [u8], chip: &'a ChipConfig, mode: Mode) -> Self {
+        RunRequest {
+            elf_path,
+            elf,
+            segments: None,
+            chip,
+            mode,
+            quantum: DEFAULT_QUANTUM,
+            limits: Limits::default(),
+            host_threads: None,
+            profile: false,
+            gdb: None,
+            progress: None,
+        }
+    }
+}
+
+/// How far a run has got (for progress displays).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Progress {
+    /// Cycles simulated (timing mode).
+    pub cycles: Option<u64>,
+    /// Instructions executed by all threads (timing: issued plus zero-cost debug ops).
+    pub instructions: u64,
+    /// Rays counted so far (`trax.stat 0`).
+    pub rays: u64,
+    /// Threads not yet halted.
+    pub live_threads: u32,
+}
+
+/// Errors before the program starts.
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    /// The executable is unusable.
+    #[error(transparent)]
+    Elf(#[from] ElfError),
+    /// The machine could not be set up.
+    #[error(transparent)]
+    Setup(#[from] SetupError),
+    /// The chip configuration is inconsistent.
+    #[error(transparent)]
+    Config(#[from] ConfigError),
+    /// The memory system rejected the configuration.
+    #[error("memory system: {0}")]
+    Memory(String),
+    /// The GDB server failed.
+    #[error(transparent)]
+    Gdb(#[from] GdbError),
+    /// The request asks for something its mode cannot do.
+    #[error("{0}")]
+    Request(String),
+}
+
+/// A finished run (finished or stopped early).
+#[derive(Debug)]
+pub struct RunReport {
+    /// The mode it ran in.
+    pub mode: Mode,
+    /// How it ended.
+    pub outcome: Outcome,
+    /// Functional: instructions retired by all threads. Timing: instructions issued, not
+    /// counting zero-cost debug ops (`TimingStats::debug_ops`).
+    pub instructions: u64,
+    /// Core cycles (timing mode).
+    pub cycles: Option<u64>,
+    /// The `trax.stat` counters (counter 0 counts rays).
+    pub counters: Vec<u64>,
+    /// Timing statistics (timing mode).
+    pub timing: Option<TimingStats>,
+    /// The resolved profile, when asked for.
+    pub profile: Option<Profile>,
+    /// The DWARF, when a profile or a crash report needed it.
+    pub debug: Option<DebugInfo>,
+    /// Hardware threads (TMs x threads per TM).
+    pub threads: u32,
+    /// Host threads the simulation ran on.
+    pub host_threads: usize,
+    /// Things the caller should tell the user (an oversubscribed host, a debugger that
+    /// detached early).
+    pub warnings: Vec<String>,
+    /// The text describing a run that did not finish (crash report, deadlock, limit).
+    pub failure: Option<String>,
+    /// The machine after the run (memory can be read back, e.g. the framebuffer).
+    pub machine: Machine,
+    /// The parsed executable.
+    pub exe: Executable,
+}
+
+impl RunReport {
+    /// Rays counted (`trax.stat 0`).
+    pub fn rays(&self) -> u64 {
+        self.counters.first().copied().unwrap_or(0)
+    }
+
+    /// Whether every thread halted.
+    pub fn finished(&self) -> bool {
+        matches!(self.outcome, Outcome::Finished)
+    }
+
+    /// `len` bytes of global memory at `addr` (e.g. the framebuffer), if mapped.
+    pub fn read_memory(&self, addr: u32, len: u32) -> Option<Vec<u8>> {
+        self.machine.shared.mem.read_bytes(&[], addr, len).ok()
+    }
+}
+
+/// The host-thread policy of timing runs: the requested number, else the host's cores;
+/// never more than one per TM; one when profiling (same results). Returns the number
+/// and, when it is more than the host's cores, a warning.
+pub fn host_threads(requested: Option<usize>, tms: u32, profile: bool) -> (usize, Option<String>) {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let n = if profile {
+        1
+    } else {
+        requested.unwrap_or(cores).min(tms as usize).max(1)
+    };
+    let warning = (n > cores).then(|| {
+        format!(
+            "{n} host threads on {cores} available core(s): host threads work in lock-step rounds, so more of them than cores makes the run slower (results are the same)"
+        )
+    });
+    (n, warning)
+}
+
+/// Loads and runs a program; print output goes to `out` as it is produced.
+pub fn run(req: RunRequest<'_>, out: &mut dyn Write) -> Result<RunReport, RunError> {
+    if req.quantum == 0 {
+        return Err(RunError::Request("the quantum must be at least 1".into()));
+    }
+    if req.host_threads == Some(0) {
+        return Err(RunError::Request(
+            "at least one host thread is needed".into(),
+        ));
+    }
+    match req.mode {
+        Mode::Functional if req.limits.max_cycles.is_some() => Err(RunError::Request(
+            "a cycle limit needs timing mode (functional runs count no cycles)".into(),
+        )),
+        Mode::Timing if req.gdb.is_some() => Err(RunError::Request(
+            "the debugger needs functional mode (it drives the functional core)".into(),
+        )),
+        Mode::Functional => run_functional(req, out),
+        Mode::Timing => run_timing(req, out),
+    }
+}
+
+/// The executable and the machine of a request, ready to run.
+fn load(req: &RunRequest<'_>, quantum: u32) -> Result<(Executable, Machine), RunError> {
+    let exe = Executable::parse(req.elf_path, req.elf)?;
+    let config = MachineConfig {
+        tms: req.chip.tms,
+        threads_per_tm: req.chip.threads_per_tm,
+        stack_size: req.chip.local_store.bytes,
+        quantum,
+        max_instructions: match req.mode {
+            Mode::Functional => req.limits.max_instructions,
+            Mode::Timing => None,
+        },
+    };
+    let machine = Machine::load(&exe, req.segments.as_deref(), config)?;
+    Ok((exe, machine))
+}
+
+fn run_functional(mut req: RunRequest<'_>, out: &mut dyn Write) -> Result<RunReport, RunError> {
+    let (exe, mut machine) = load(&req, req.quantum)?;
+    let mut warnings = Vec::new();
+    let mut profiler = None;
+    let (outcome, instructions) = if let Some(listener) = req.gdb.take() {
+        match gdb::serve_listener(&mut machine, listener, out)? {
+            Some(o) => (o, retired(&machine)),
+            None => {
+                warnings.push("gdb detached before the program ended; ran it to completion".into());
+                let s = machine.run(out);
+                (s.outcome, retired(&machine))
+            }
+        }
+    } else if req.profile {
+        let (s, p) = profile_run(&mut machine, out);
+        profiler = Some(p);
+        (s.outcome, s.instructions)
+    } else {
+        let s = match req.progress.take() {
+            Some(report) => machine.run_with(
+                out,
+                &mut Watched {
+                    report,
+                    retired: 0,
+                    turns: 0,
+                    last: std::time::Instant::now(),
+                },
+            ),
+            None => machine.run(out),
+        };
+        (s.outcome, s.instructions)
+    };
+    finish(
+        &req,
+        Ended {
+            outcome,
+            instructions,
+            cycles: None,
+            timing: None,
+            profiler,
+            host_threads: 1,
+            warnings,
+        },
+        machine,
+        exe,
+    )
+}
+
+fn run_timing(mut req: RunRequest<'_>, out: &mut dyn Write) -> Result<RunReport, RunError> {
+    let chip = req.chip;
+    chip.validate()?;
+    let (exe, mut machine) = load(&req, 1)?;
+    let (host_threads, warning) = host_threads(req.host_threads, chip.tms, req.profile);
+    let mut engine = timing::engine::Engine::new(chip, &machine, req.limits, host_threads)
+        .map_err(RunError::Memory)?;
+    engine.progress = req.progress.take();
+    if req.profile {
+        engine.profiler = Some(Profiler::new(
+            &machine.shared.program,
+            machine.threads.len(),
+        ));
+    }
+    let outcome = engine.run(&mut machine, out);
+    let profiler = engine.profiler.take();
+    let cycles = engine.now;
+    let stats = timing::stats::build(
+        chip,
+        &engine.c,
+        cycles,
+        &machine.shared.program,
+        engine.mem().stats(),
+        &machine.shared.stats,
+    );
+    finish(
+        &req,
+        Ended {
+            outcome,
+            instructions: stats.instructions,
+            cycles: Some(cycles),
+            timing: Some(stats),
+            profiler,
+            host_threads,
+            warnings: warning.into_iter().collect(),
+        },
+        machine,
+        exe,
+    )
+}
+
+/// What a run's driver hands back.
+struct Ended {
+    outcome: Outcome,
+    instructions: u64,
+    cycles: Option<u64>,
+    timing: Option<TimingStats>,
+    profiler: Option<Profiler>,
+    host_threads: usize,
+    warnings: Vec<String>,
+}
+
+/// The report of an ended run: the failure text (the one place it is rendered) and the
+/// resolved profile.
+fn finish(
+    req: &RunRequest<'_>,
+    e: Ended,
+    machine: Machine,
+    exe: Executable,
+) -> Result<RunReport, RunError> {
+    let needs_debug = e.profiler.is_some() || matches!(e.outcome, Outcome::Crashed(_));
+    let debug = needs_debug
+        .then(|| DebugInfo::parse(req.elf_path, req.elf).ok())
+        .flatten();
+    let failure = match (&e.outcome, e.cycles) {
+        (Outcome::Finished, _) => None,
+        (Outcome::Crashed(c), _) => Some(crash::report(
+            c,
+            &machine.shared,
+            Some(&exe),
+            debug.as_ref(),
+        )),
+        (Outcome::Deadlock { waiting }, cycles) => Some(format!(
+            "error: deadlock{}: {waiting} live thread(s) are all waiting at barriers or semaphores",
+            cycles.map_or(String::new(), |c| format!(" at cycle {c}"))
+        )),
+        (Outcome::InstructionLimit, _) => Some(format!(
+            "error: instruction limit reached after {} instructions",
+            // The count the limit counts (timing: issued plus debug ops).
+            e.timing
+                .as_ref()
+                .map_or(e.instructions, |t| t.instructions + t.debug_ops)
+        )),
+        (Outcome::CycleLimit, cycles) => Some(format!(
+            "error: cycle limit reached after {} cycles",
+            cycles.unwrap_or(0)
+        )),
+    };
+    let profile = e
+        .profiler
+        .map(|p| Profile::build(&p, debug.as_ref(), Some(&exe)));
+    Ok(RunReport {
+        mode: req.mode,
+        outcome: e.outcome,
+        instructions: e.instructions,
+        cycles: e.cycles,
+        counters: machine.shared.stats.to_vec(),
+        timing: e.timing,
+        profile,
+        debug,
+        threads: req.chip.tms * req.chip.threads_per_tm,
+        host_threads: e.host_threads,
+        warnings: e.warnings,
+        failure,
+        machine,
+        exe,
+    })
+}
+
+/// Instructions retired by every thread so far.
+fn retired(m: &Machine) -> u64 {
+    m.threads.iter().map(|t| t.retired).sum()
+}
+
+/// Plain execution that reports [`Progress`] about every 100 ms of host time.
+struct Watched<'a> {
+    report: &'a mut dyn FnMut(&Progress),
+    retired: u64,
+    turns: u32,
+    last: std::time::Instant,
+}
+
+impl Executor for Watched<'_> {
+    fn exec(&mut self, _idx: usize, t: &mut Thread, sh: &mut Shared, budget: u64) -> Stop {
+        let before = t.retired;
+        let stop = t.run(sh, budget);
+        self.retired += t.retired - before;
+        self.turns += 1;
+        if self.turns >= 64 {
+            self.turns = 0;
+            if self.last.elapsed().as_millis() >= 100 {
+                self.last = std::time::Instant::now();
+                (self.report)(&Progress {
+                    cycles: None,
+                    instructions: self.retired,
+                    rays: sh.stats[0],
+                    live_threads: sh.live_threads,
+                });
+            }
+        }
+        stop
+    }
+}

@@ -1,0 +1,409 @@
+//! From what a user names (a kernel source or a linked ELF, a scene, image parameters, a
+//! chip) to the machine's initial memory: compile, link, load the scene, lay out memory.
+//! `trax run`, `trax annotate`, `trax native`, `trax build`, the sweep (through its `trax
+//! run` points), the tests and the benchmarks all prepare their programs here.
+//!
+//! [`prepare`] does every stage for a [`Request`]; the stages are public too
+//! ([`executable`], [`load_scene`], [`lay_out`]) for callers that bring their own scene.
+//! A [`Prepared`] program turns into a run request for the emulator with
+//! [`Prepared::run_request`], and reads its framebuffer back from the run with
+//! [`Prepared::framebuffer`].
+
+use std::path::{Path, PathBuf};
+
+use trax_assembler::image::{
+    build_image, build_image_from_symbols, on_demand_components, ImageError, RenderOptions,
+    SceneImage,
+};
+use trax_assembler::link::{link, Input, LinkOptions};
+use trax_assembler::scene::{LoadOptions, Scene};
+use trax_compiler::{compile_file, CompileError, CompileOptions, Emit, Prelude};
+use trax_emulator::timing::{ChipConfig, DEFAULT_CHIP};
+use trax_emulator::{Mode, RunReport, RunRequest, Segment};
+use trax_runtime::abi::PIXEL_BYTES;
+use trax_runtime::exe::Executable;
+
+/// The optimisation level kernels are built at by default.
+pub const DEFAULT_OPT_LEVEL: u8 = 2;
+
+/// What a kernel file is, by its extension.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum KernelFile {
+    /// TRaX-Rust source (`.rs`): compiled and linked with the runtime.
+    Rust,
+    /// A linked executable (any other name): read as it is.
+    Executable,
+}
+
+impl KernelFile {
+    /// The kind of `path`.
+    pub fn of(path: &Path) -> KernelFile {
+        match path.extension().and_then(|e| e.to_str()) {
+            Some("rs") => KernelFile::Rust,
+            _ => KernelFile::Executable,
+        }
+    }
+}
+
+/// Everything a program is prepared from.
+#[derive(Clone, Debug)]
+pub struct Request {
+    /// The kernel: source or a linked executable (see [`KernelFile`]).
+    pub kernel: PathBuf,
+    /// Optimisation level when building from source (0..=3).
+    pub opt_level: u8,
+    /// Scene: `cornell`, `procedural:N`, `icosphere:N`, or an .obj/.objl file.
+    pub scene: String,
+    /// Camera and light files and the scene scale.
+    pub load: LoadOptions,
+    /// Image and header parameters. Its `stack_size` is replaced by the chip's local-store
+    /// size, so the image's stack window is the one the machine gives each thread.
+    pub render: RenderOptions,
+    /// The chip the program will run on.
+    pub chip: ChipConfig,
+}
+
+impl Request {
+    /// `kernel` at the default optimisation level on the Cornell box, default image
+    /// parameters, the default chip.
+    pub fn new(kernel: impl Into<PathBuf>) -> Request {
+        Request {
+            kernel: kernel.into(),
+            opt_level: DEFAULT_OPT_LEVEL,
+            scene: "cornell".into(),
+            load: LoadOptions::default(),
+            render: RenderOptions::default(),
+            chip: ChipConfig::preset(DEFAULT_CHIP).expect("the default chip is a preset"),
+        }
+    }
+
+    /// The image options with the chip's stack size.
+    fn render_options(&self) -> RenderOptions {
+        RenderOptions {
+            stack_size: self.chip.local_store.bytes,
+            ..self.render.clone()
+        }
+    }
+}
+
+/// A program ready to run: its executable and initial memory.
+#[derive(Clone, Debug)]
+pub struct Prepared {
+    /// Name used in reports (the kernel path).
+    pub name: String,
+    /// The linked executable (kept for debug information).
+    pub elf: Vec<u8>,
+    /// The initial memory (program segments, scene header, components, framebuffer).
+    pub image: SceneImage,
+    /// Warnings from loading the scene (to show the user).
+    pub warnings: Vec<String>,
+}
+
+/// Why a program could not be prepared; the message names the file or flag at fault.
+#[derive(Debug, thiserror::Error)]
+pub enum PrepareError {
+    /// A file could not be read.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: String,
+        /// What went wrong.
+        source: std::io::Error,
+    },
+    /// Compile errors, already rendered with source spans.
+    #[error("{0}")]
+    Compile(CompileError),
+    /// The linker failed.
+    #[error("linking {path}: {source}")]
+    Link {
+        /// The kernel.
+        path: String,
+        /// What went wrong.
+        source: Box<trax_assembler::link::LinkError>,
+    },
+    /// The scene could not be loaded.
+    #[error("{}", scene_message(scene, source))]
+    Scene {
+        /// The scene as named.
+        scene: String,
+        /// What went wrong.
+        source: trax_assembler::scene::SceneError,
+    },
+    /// The memory image could not be laid out.
+    #[error("{path}: {source}")]
+    Image {
+        /// The kernel.
+        path: String,
+        /// What went wrong.
+        source: trax_assembler::image::ImageError,
+    },
+    /// A parameter out of range (the message names the flag).
+    #[error("{0}")]
+    Flag(String),
+}
+
+impl PrepareError {
+    /// Process exit code: 101 for internal compiler errors, 1 otherwise.
+    pub fn exit_code(&self) -> u8 {
+        match self {
+            PrepareError::Compile(e) => e.exit_code(),
+            _ => 1,
+        }
+    }
+
+    /// The whole text to print on stderr, ending in a newline. Compile diagnostics are
+    /// already rendered (`error[id]: ...`) and printed as they are; every other error gets
+    /// one `error: ` prefix, and an internal compiler error a note asking for a report.
+    pub fn render(&self) -> String {
+        let mut s = match self {
+            PrepareError::Compile(e @ CompileError::Diagnostics(_)) => e.to_string(),
+            PrepareError::Compile(e @ CompileError::Internal(_)) => {
+                format!("error: {e}\nnote: this is a bug in the trax compiler; please report it")
+            }
+            e => format!("error: {e}"),
+        };
+        if !s.ends_with('\n') {
+            s.push('\n');
+        }
+        s
+    }
+}
+
+/// Builds or reads the kernel, loads the scene and lays out the memory image.
+pub fn prepare(req: &Request) -> Result<Prepared, PrepareError> {
+    for (flag, v) in [("width", req.render.width), ("height", req.render.height)] {
+        if v == 0 {
+            return Err(PrepareError::Flag(format!("--{flag} must be at least 1")));
+        }
+    }
+    let elf = executable(&req.kernel, req.opt_level)?;
+    let scene = load_scene(&req.scene, &req.load)?;
+    lay_out(
+        &req.kernel.display().to_string(),
+        elf,
+        &scene,
+        &req.render_options(),
+    )
+}
+
+/// The linked executable of `kernel`: built from source, or read as it is.
+pub fn executable(kernel: &Path, opt_level: u8) -> Result<Vec<u8>, PrepareError> {
+    match KernelFile::of(kernel) {
+        KernelFile::Rust => build_executable(kernel, opt_level),
+        KernelFile::Executable => std::fs::read(kernel).map_err(|source| PrepareError::Io {
+            path: kernel.display().to_string(),
+            source,
+        }),
+    }
+}
+
+/// Compiles a kernel source file to an object (ELF relocatable with DWARF).
+pub fn compile_object(kernel: &Path, opt_level: u8, emit: Emit) -> Result<Vec<u8>, PrepareError> {
+    // TRaX-Rust is the only source language: any file given to be built is compiled as
+    // such (a C/C++ front end would dispatch on `KernelFile::of(kernel)` here).
+    let opts = CompileOptions {
+        opt_level,
+        emit,
+        prelude: Some(Prelude::runtime()),
+    };
+    compile_file(kernel, &opts)
+        .map(|o| o.bytes)
+        .map_err(PrepareError::Compile)
+}
+
+/// Compiles and links a kernel source file with the runtime start-up code.
+pub fn build_executable(kernel: &Path, opt_level: u8) -> Result<Vec<u8>, PrepareError> {
+    let name = kernel.display().to_string();
+    let input = Input {
+        name: name.clone(),
+        bytes: compile_object(kernel, opt_level, Emit::Obj)?,
+    };
+    link(&[input], &LinkOptions::default())
+        .map(|l| l.elf)
+        .map_err(|source| PrepareError::Link {
+            path: name,
+            source: Box::new(source),
+        })
+}
+
+/// A scene error, prefixed with the scene's name unless the message already names it
+/// (most name the file, and the line, themselves).
+fn scene_message(scene: &str, e: &trax_assembler::scene::SceneError) -> String {
+    let msg = e.to_string();
+    if msg.contains(scene) {
+        msg
+    } else {
+        format!("scene `{scene}`: {msg}")
+    }
+}
+
+/// Loads a scene (see `trax_assembler::scene::load_scene`); errors name the scene.
+pub fn load_scene(scene: &str, opts: &LoadOptions) -> Result<Scene, PrepareError> {
+    trax_assembler::scene::load_scene(scene, opts).map_err(|source| PrepareError::Scene {
+        scene: scene.to_string(),
+        source,
+    })
+}
+
+/// Lays out the memory image of the executable `elf` (named `name` in messages) with
+/// `scene`: only the components the program references.
+pub fn lay_out(
+    name: &str,
+    elf: Vec<u8>,
+    scene: &Scene,
+    opts: &RenderOptions,
+) -> Result<Prepared, PrepareError> {
+    let image = build_image(&elf, scene, opts).map_err(|source| PrepareError::Image {
+        path: name.to_string(),
+        source,
+    })?;
+    Ok(Prepared {
+        name: name.to_string(),
+        elf,
+        image,
+        warnings: scene.warnings.clone(),
+    })
+}
+
+/// The memory image `trax native` runs over: the scene components the kernel references
+/// as `trax run` would lay them out (no program). The kernel is built with the trax
+/// compiler at the default level to read its references; if that fails, every component
+/// is laid out and the second value says why.
+pub fn scene_image(req: &Request) -> Result<(SceneImage, Vec<String>), PrepareError> {
+    let scene = load_scene(&req.scene, &req.load)?;
+    let mut warnings = scene.warnings.clone();
+    let referenced = match build_executable(&req.kernel, DEFAULT_OPT_LEVEL)
+        .map_err(|e| e.to_string())
+        .and_then(|elf| Executable::parse("program ELF", &elf).map_err(|e| e.to_string()))
+    {
+        Ok(p) => p.referenced,
+        Err(e) => {
+            let first = e.lines().next().unwrap_or("").trim();
+            warnings.push(format!(
+                "{}: the trax compiler cannot build this kernel ({first}); laying out every scene component",
+                req.kernel.display()
+            ));
+            on_demand_components()
+                .into_iter()
+                .map(String::from)
+                .collect()
+        }
+    };
+    let referenced: Vec<&str> = referenced.iter().map(String::as_str).collect();
+    let image = lay_out_scene(&scene, &referenced, &req.render_options()).map_err(|source| {
+        PrepareError::Image {
+            path: req.kernel.display().to_string(),
+            source,
+        }
+    })?;
+    Ok((image, warnings))
+}
+
+/// The memory image of `scene` alone (no program), with the optional components in
+/// `referenced` (camera and framebuffer always).
+pub fn lay_out_scene(
+    scene: &Scene,
+    referenced: &[&str],
+    opts: &RenderOptions,
+) -> Result<SceneImage, ImageError> {
+    build_image_from_symbols(
+        Vec::new(),
+        trax_runtime::abi::TEXT_BASE,
+        referenced,
+        scene,
+        opts,
+    )
+}
+
+impl Prepared {
+    /// The initial memory as the emulator loads it.
+    pub fn segments(&self) -> Vec<Segment> {
+        self.image.memory.segments.clone()
+    }
+
+    /// A run of this program on `chip` in `mode` (other options at their defaults; set
+    /// them on the returned request).
+    pub fn run_request<'a>(&'a self, chip: &'a ChipConfig, mode: Mode) -> RunRequest<'a> {
+        let mut req = RunRequest::new(&self.name, &self.elf, chip, mode);
+        req.segments = Some(self.segments());
+        req
+    }
+
+    /// The framebuffer after `run` (`width*height` pixels of 3 little-endian f32).
+    pub fn framebuffer(&self, run: &RunReport) -> Option<Vec<u8>> {
+        let fb = self.image.header.framebuffer;
+        run.read_memory(fb.addr, fb.count * PIXEL_BYTES)
+    }
+
+    /// The optional scene components the image leaves out: the kernel never references
+    /// them (components are linked on demand, see `trax_assembler::image`).
+    pub fn left_out(&self) -> Vec<&'static str> {
+        left_out(&self.image)
+    }
+}
+
+/// The optional scene components `image` leaves out.
+pub fn left_out(image: &SceneImage) -> Vec<&'static str> {
+    on_demand_components()
+        .into_iter()
+        .filter(|c| image.component(c).is_none())
+        .collect()
+}
+
+/// The scene-data lines of a run summary: every placed component's bytes, then what was
+/// left out.
+pub fn scene_report(image: &SceneImage) -> String {
+    let mut s = format!(
+        "scene data: {} bytes in {} components\n",
+        image.scene_bytes(),
+        image.components.len()
+    );
+    for c in &image.components {
+        s += &format!(
+            "   {:<13} {:>12} bytes {:>10} elements\n",
+            c.name, c.bytes, c.count
+        );
+    }
+    let out = left_out(image);
+    if out.is_empty() {
+        s += "   left out: none (the kernel references every component)\n";
+    } else {
+        s += &format!(
+            "   left out (never referenced by the kernel): {}\n",
+            out.join(", ")
+        );
+    }
+    s
+}
+
+/// The chip: preset or TOML file `config` with the command-line overrides applied (`l2s`:
+/// number of L2s, TMs split evenly among them). Errors name the flag or field.
+pub fn chip_config(
+    config: &str,
+    sets: &[(String, toml::Value)],
+    tms: Option<u32>,
+    threads: Option<u32>,
+    l2s: Option<u32>,
+) -> Result<ChipConfig, String> {
+    let mut chip = ChipConfig::load(config).map_err(|e| e.to_string())?;
+    chip.apply_overrides(sets).map_err(|e| e.to_string())?;
+    for (flag, v) in [("tms", tms), ("threads", threads), ("l2s", l2s)] {
+        if v == Some(0) {
+            return Err(format!("--{flag} must be at least 1"));
+        }
+    }
+    if let Some(t) = tms {
+        chip.tms = t;
+    }
+    if let Some(t) = threads {
+        chip.threads_per_tm = t;
+    }
+    if let Some(l2s) = l2s {
+        if l2s > chip.tms {
+            return Err(format!("--l2s {l2s} is more than the {} TMs", chip.tms));
+        }
+        chip.tms_per_l2 = chip.tms.div_ceil(l2s);
+    }
+    chip.validate().map_err(|e| e.to_string())?;
+    Ok(chip)
+}

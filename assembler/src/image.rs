@@ -300,18 +300,12 @@ pub fn build_image_from_symbols(
         .max(COMPONENT_ALIGN);
 
     let mut header = SceneHeader {
-        magic: abi::SCENE_MAGIC,
-        version: abi::SCENE_VERSION,
-        width: opts.width,
-        height: opts.height,
-        inv_width: 1.0 / opts.width as f32,
-        inv_height: 1.0 / opts.height as f32,
         spp: opts.spp,
         max_depth: opts.max_depth,
         epsilon: opts.epsilon.unwrap_or_else(|| default_epsilon(scene)),
         seed: opts.seed,
         background: opts.background,
-        ..SceneHeader::default()
+        ..SceneHeader::new(opts.width, opts.height)
     };
     let ctx = Ctx {
         scene,

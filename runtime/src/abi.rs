@@ -385,6 +385,23 @@ scene_contract! {
     reserved: 8
 }
 
+impl SceneHeader {
+    /// A header for a `width` x `height` image: [`SCENE_MAGIC`], [`SCENE_VERSION`], the
+    /// size and its reciprocals set, every other field zero (components absent). Callers
+    /// set the rest with struct update syntax.
+    pub fn new(width: u32, height: u32) -> SceneHeader {
+        SceneHeader {
+            magic: SCENE_MAGIC,
+            version: SCENE_VERSION,
+            width,
+            height,
+            inv_width: 1.0 / width as f32,
+            inv_height: 1.0 / height as f32,
+            ..SceneHeader::default()
+        }
+    }
+}
+
 /// Size of [`SceneHeader`] in bytes.
 pub const SCENE_HEADER_SIZE: usize = std::mem::size_of::<SceneHeader>();
 /// Bytes of one framebuffer [`Pixel`].

@@ -89,7 +89,7 @@ pub const HEADER_ONLY_FRAMEBUFFER_ADDR: u32 = abi::TEXT_BASE + 0x100;
 /// Builds an image with only the scene header, the camera and a zeroed framebuffer.
 pub fn header_only_image(p: &HeaderParams) -> Result<MemoryImage, ImageError> {
     let pixels = (p.width as u64) * (p.height as u64);
-    let fb_len = pixels * 12;
+    let fb_len = pixels * abi::PIXEL_BYTES as u64;
     if p.width == 0
         || p.height == 0
         || HEADER_ONLY_FRAMEBUFFER_ADDR as u64 + fb_len >= abi::STACK_TOP as u64 / 2
@@ -101,12 +101,6 @@ pub fn header_only_image(p: &HeaderParams) -> Result<MemoryImage, ImageError> {
         });
     }
     let header = SceneHeader {
-        magic: abi::SCENE_MAGIC,
-        version: abi::SCENE_VERSION,
-        width: p.width,
-        height: p.height,
-        inv_width: 1.0 / p.width as f32,
-        inv_height: 1.0 / p.height as f32,
         spp: p.spp,
         max_depth: p.max_depth,
         epsilon: p.epsilon,
@@ -117,7 +111,7 @@ pub fn header_only_image(p: &HeaderParams) -> Result<MemoryImage, ImageError> {
             addr: HEADER_ONLY_FRAMEBUFFER_ADDR,
             count: pixels as u32,
         },
-        ..SceneHeader::default()
+        ..SceneHeader::new(p.width, p.height)
     };
     let image = MemoryImage {
         segments: vec![
@@ -192,7 +186,10 @@ mod tests {
         assert_eq!(back.read_u32(abi::SCENE_HEADER_ADDR + 8), Some(128));
         assert_eq!(back.read_u32(0x20), None);
         let fb = back.segment("framebuffer").unwrap();
-        assert_eq!((fb.size, fb.perms), (128 * 128 * 12, Perms::RW));
+        assert_eq!(
+            (fb.size, fb.perms),
+            (128 * 128 * abi::PIXEL_BYTES, Perms::RW)
+        );
         assert_eq!(back.read_u32(fb.addr + fb.size - 4), Some(0));
         assert_eq!(back.segment("camera").unwrap().perms, Perms::R);
         let p = HeaderParams {

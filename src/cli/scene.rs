@@ -11,6 +11,7 @@ use trax::pipeline::lay_out_scene;
 use trax_assembler::bvh::{Bvh, BvhOptions, TreeletOptions};
 use trax_assembler::image::{on_demand_components, RenderOptions};
 use trax_assembler::scene::{load_scene, LoadOptions};
+use trax_runtime::abi::BvhNode;
 
 /// Arguments of `trax scene`.
 #[derive(Args, Debug)]
@@ -129,7 +130,7 @@ fn info(a: &InfoArgs) -> Result<(), Box<dyn std::error::Error>> {
             let fill: f64 = t
                 .node_ranges
                 .iter()
-                .map(|r| (r.end - r.start) as f64 * 32.0)
+                .map(|r| (r.end - r.start) as f64 * size_of::<BvhNode>() as f64)
                 .sum::<f64>()
                 / (t.node_ranges.len() as f64 * t.options.budget_bytes as f64);
             outln!(

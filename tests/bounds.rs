@@ -44,7 +44,7 @@ fn trax_main() {
     let mut acc = 0.0f32;
     let mut bits = 0u32;
     match comp {
-        0 => acc = trax::load_f32(camera_addr() + 72 * i),
+        0 => acc = trax::load_f32(camera_addr() + trax::layout::CAM_SIZE * i),
         1 => set_pixel_index(i, trax::math::Vec3::splat(1.0)),
         2 => acc = triangle(i).v2.z,
         3 => acc = shading_normal(i, 0.25, 0.25).x,

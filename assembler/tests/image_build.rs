@@ -3,14 +3,21 @@
 use std::path::PathBuf;
 use std::process::Command;
 
+use std::mem::size_of;
 use trax_assembler::bvh::{BvhOptions, TreeletOptions};
 use trax_assembler::image::{
     build_image, build_image_from_symbols, on_demand_components, ImageError, Perms, RenderOptions,
     SceneImage, Segment,
 };
 use trax_assembler::scene::{cornell_box, procedural, Scene};
-use trax_runtime::abi::{self, Field, SceneHeader};
+
+use trax_runtime::abi::{self, BvhNode, Field, Material, Pixel, SceneHeader, Triangle};
 use trax_runtime::exe::{ExeError, Executable};
+
+/// Bytes of one `T`, as a `u32`.
+fn sz<T>() -> u32 {
+    size_of::<T>() as u32
+}
 
 fn field_addr(name: &str) -> u32 {
     let off = abi::scene_header_fields()
@@ -155,8 +162,14 @@ fn elf_program_gets_only_what_it_references() {
     assert_eq!(img.header.bvh_nodes, abi::Component::default());
     assert_eq!(img.header.normals, abi::Component::default());
     assert_eq!(img.header.triangles.count, 32);
-    assert_eq!(img.component("triangles").unwrap().bytes, 32 * 36);
-    assert_eq!(img.component("framebuffer").unwrap().bytes, 128 * 128 * 12);
+    assert_eq!(
+        img.component("triangles").unwrap().bytes,
+        32 * sz::<Triangle>()
+    );
+    assert_eq!(
+        img.component("framebuffer").unwrap().bytes,
+        128 * 128 * sz::<Pixel>()
+    );
     // Program segments are loaded: text executable at its address, bss zero-filled.
     let text = img
         .memory
@@ -221,16 +234,19 @@ fn all_components_with_bvh_and_treelets() {
     let nodes = bvh.nodes.len() as u32;
     let slots = bvh.tri_order.len() as u32;
     let bytes = |n: &str| img.component(n).unwrap().bytes;
-    assert_eq!(bytes("bvh_nodes"), 32 * nodes);
-    assert_eq!(bytes("triangles"), 36 * slots);
-    assert_eq!(bytes("normals"), 36 * slots);
-    assert_eq!(bytes("texcoords"), 24 * slots);
+    assert_eq!(bytes("bvh_nodes"), sz::<BvhNode>() * nodes);
+    assert_eq!(bytes("triangles"), sz::<Triangle>() * slots);
+    assert_eq!(bytes("normals"), sz::<abi::VertexNormals>() * slots);
+    assert_eq!(bytes("texcoords"), sz::<abi::TexCoords>() * slots);
     assert_eq!(bytes("material_ids"), 4 * slots);
-    assert_eq!(bytes("materials"), 48 * s.materials.len() as u32);
-    assert_eq!(bytes("point_lights"), 24);
+    assert_eq!(
+        bytes("materials"),
+        sz::<Material>() * s.materials.len() as u32
+    );
+    assert_eq!(bytes("point_lights"), sz::<abi::PointLight>());
     assert_eq!(bytes("bvh_parents"), 4 * nodes);
     assert_eq!(bytes("treelet_ids"), 4 * nodes);
-    assert_eq!(bytes("framebuffer"), 64 * 32 * 12);
+    assert_eq!(bytes("framebuffer"), 64 * 32 * sz::<Pixel>());
     assert_eq!(img.components.len(), 2 + on_demand_components().len());
     assert_eq!(h.bvh_nodes.addr % 2048, 0, "DRAM-row aligned node array");
     assert_eq!(
@@ -242,7 +258,10 @@ fn all_components_with_bvh_and_treelets() {
     assert_eq!(h.inv_width, 1.0 / 64.0);
     assert!(h.epsilon > 0.0);
     // Walk the BVH in memory: leaves point at triangles equal to the scene's.
-    let node = |i: u32| img.memory.read(h.bvh_nodes.addr + 32 * i, 32).unwrap();
+    let node = |i: u32| {
+        let n = sz::<BvhNode>();
+        img.memory.read(h.bvh_nodes.addr + n * i, n).unwrap()
+    };
     let mut stack = vec![0u32];
     let mut seen = 0;
     while let Some(i) = stack.pop() {
@@ -254,7 +273,10 @@ fn all_components_with_bvh_and_treelets() {
             assert_eq!(img.memory.read_u32(h.bvh_parents.addr + 4 * a), Some(i));
         } else {
             for slot in a..a + b {
-                let t = img.memory.read(h.triangles.addr + 36 * slot, 36).unwrap();
+                let t = img
+                    .memory
+                    .read(h.triangles.addr + sz::<Triangle>() * slot, sz::<Triangle>())
+                    .unwrap();
                 let orig = bvh.tri_order[slot as usize] as usize;
                 let want: Vec<u8> = s.triangles[orig]
                     .iter()
@@ -274,7 +296,11 @@ fn all_components_with_bvh_and_treelets() {
     for k in 0..h.emitters.count {
         let slot = img.memory.read_u32(h.emitters.addr + 4 * k).unwrap();
         let m = img.memory.read_u32(h.material_ids.addr + 4 * slot).unwrap();
-        let emission = img.memory.read_u32(h.materials.addr + 48 * m + 24).unwrap();
+        let at = h.materials.addr + sz::<Material>() * m;
+        let emission = img
+            .memory
+            .read_u32(at + std::mem::offset_of!(Material, emission) as u32)
+            .unwrap();
         assert!(f32::from_bits(emission) > 0.0);
     }
     // Treelet ids in memory match the BVH's.

@@ -644,7 +644,7 @@ impl Drop for LiveGuard {
 /// Entry point of a natively built kernel: `PROGRAM IMAGE_IN FRAMEBUFFER_OUT TMS THREADS`.
 ///
 /// Runs the kernel over the memory image and writes the framebuffer (header field
-/// `framebuffer`, `count × 12` bytes) as a one-segment memory image. Exits with status 1
+/// `framebuffer`, `count × layout::PIXEL_SIZE` bytes) as a one-segment memory image. Exits with status 1
 /// (after the panic message) if any kernel thread panics, 2 on a usage or I/O error.
 pub fn host_main(kernel: fn()) {
     let args: Vec<String> = std::env::args().collect();

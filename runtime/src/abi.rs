@@ -454,8 +454,27 @@ mod tests {
             assert_eq!(at, l.size, "{}", l.name);
         }
         assert_eq!(SceneHeader::layout().size, SCENE_HEADER_SIZE);
-        assert_eq!(size_of::<Camera>(), 72);
-        assert_eq!(size_of::<BvhNode>(), 32);
+        // The element sizes kernels and tools were built against (an ABI change must
+        // change this table, `SCENE_VERSION` and the prelude's `layout.rs` together).
+        let sizes: Vec<(&str, u32)> = SCENE_COMPONENTS
+            .iter()
+            .map(|c| (c.name, c.element_bytes))
+            .collect();
+        let pinned = [
+            ("camera", 72),
+            ("framebuffer", 12),
+            ("bvh_nodes", 32),
+            ("triangles", 36),
+            ("normals", 36),
+            ("texcoords", 24),
+            ("material_ids", 4),
+            ("materials", 48),
+            ("emitters", 4),
+            ("point_lights", 24),
+            ("bvh_parents", 4),
+            ("treelet_ids", 4),
+        ];
+        assert_eq!(sizes, pinned);
     }
 
     /// A value whose every word differs (word `k` is `base + k`), built through the

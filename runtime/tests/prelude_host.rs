@@ -676,7 +676,10 @@ fn image_format_round_trips_between_runtime_and_prelude() {
     assert!(trax::host::parse_image(b"TRAXIMG1\0\0\0\0").is_err());
     let fb = trax::host::framebuffer_segment(&parsed);
     assert_eq!(fb.segments.len(), 1);
-    assert_eq!(fb.segments[0].data.len(), 128 * 128 * 12);
+    assert_eq!(
+        fb.segments[0].data.len() as u32,
+        128 * 128 * abi::PIXEL_BYTES
+    );
     assert!(fb.segments[0].perms.write());
 }
 

@@ -93,6 +93,17 @@ fn check_layout(img: &SceneImage) {
         assert!(w[0].1 <= w[1].0, "{:?} overlaps {:?}", w[0], w[1]);
     }
     for c in &img.components {
+        // Permissions as the contract says: kernels only write the framebuffer.
+        let want = match abi::component(c.name).unwrap().access {
+            abi::Access::ReadOnly => Perms::R,
+            abi::Access::ReadWrite => Perms::RW,
+        };
+        assert_eq!(
+            img.memory.segment(c.name).unwrap().perms,
+            want,
+            "{}",
+            c.name
+        );
         assert_eq!(c.addr % 64, 0, "{} not aligned", c.name);
         assert!(c.addr >= img.program_end, "{} inside the program", c.name);
         assert!(c.addr as u64 + c.bytes as u64 <= limit as u64);
@@ -171,20 +182,12 @@ fn elf_program_gets_only_what_it_references() {
         128 * 128 * sz::<Pixel>()
     );
     // Program segments are loaded: text executable at its address, bss zero-filled.
-    let text = img
-        .memory
-        .segments
-        .iter()
-        .find(|s| s.name == "text")
-        .unwrap();
+    let text = img.memory.segment("text").unwrap();
+    assert_eq!(text.perms, Perms::RX, "text keeps the ELF's permissions");
     assert!(text.addr >= abi::TEXT_BASE);
     assert!((text.addr..text.addr + text.size).contains(&img.entry));
-    let data = img
-        .memory
-        .segments
-        .iter()
-        .find(|s| s.name == "data")
-        .unwrap();
+    let data = img.memory.segment("data").unwrap();
+    assert_eq!(data.perms, Perms::RW);
     assert!(
         data.size as usize > data.data.len(),
         "bss tail not materialised"

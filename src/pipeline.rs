@@ -12,14 +12,16 @@
 use std::path::{Path, PathBuf};
 
 use trax_assembler::image::{
-    build_image, build_image_from_symbols, read_program, ImageError, MemoryImage, RenderOptions,
-    OPTIONAL_COMPONENTS,
+    build_image, build_image_from_symbols, on_demand_components, ImageError, RenderOptions,
+    SceneImage,
 };
 use trax_assembler::link::{link, Input, LinkOptions};
 use trax_assembler::scene::{LoadOptions, Scene};
 use trax_compiler::{compile_file, CompileError, CompileOptions, Emit, Prelude};
 use trax_emulator::timing::{ChipConfig, DEFAULT_CHIP};
 use trax_emulator::{Mode, RunReport, RunRequest, Segment};
+use trax_runtime::abi::PIXEL_BYTES;
+use trax_runtime::exe::Executable;
 
 use crate::clang::{self, ClangError, Lang};
 
@@ -118,7 +120,7 @@ pub struct Prepared {
     /// The linked executable (kept for debug information).
     pub elf: Vec<u8>,
     /// The initial memory (program segments, scene header, components, framebuffer).
-    pub image: MemoryImage,
+    pub image: SceneImage,
     /// Warnings from loading the scene (to show the user).
     pub warnings: Vec<String>,
 }
@@ -366,12 +368,12 @@ pub fn lay_out(
 /// as `trax run` would lay them out (no program). The kernel is built with the trax
 /// compiler at the default level to read its references; if that fails, every component
 /// is laid out and the second value says why.
-pub fn scene_image(req: &Request) -> Result<(MemoryImage, Vec<String>), PrepareError> {
+pub fn scene_image(req: &Request) -> Result<(SceneImage, Vec<String>), PrepareError> {
     let scene = load_scene(&req.scene, &req.load)?;
     let mut warnings = scene.warnings.clone();
     let referenced = match build_executable(&req.kernel, DEFAULT_OPT_LEVEL)
         .map_err(|e| e.to_string())
-        .and_then(|elf| read_program(&elf).map_err(|e| e.to_string()))
+        .and_then(|elf| Executable::parse("program ELF", &elf).map_err(|e| e.to_string()))
     {
         Ok(p) => p.referenced,
         Err(e) => {
@@ -380,7 +382,10 @@ pub fn scene_image(req: &Request) -> Result<(MemoryImage, Vec<String>), PrepareE
                 "{}: the trax compiler cannot build this kernel ({first}); laying out every scene component",
                 req.kernel.display()
             ));
-            OPTIONAL_COMPONENTS.iter().map(|s| s.to_string()).collect()
+            on_demand_components()
+                .into_iter()
+                .map(String::from)
+                .collect()
         }
     };
     let referenced: Vec<&str> = referenced.iter().map(String::as_str).collect();
@@ -399,7 +404,7 @@ pub fn lay_out_scene(
     scene: &Scene,
     referenced: &[&str],
     opts: &RenderOptions,
-) -> Result<MemoryImage, ImageError> {
+) -> Result<SceneImage, ImageError> {
     build_image_from_symbols(
         Vec::new(),
         trax_runtime::abi::TEXT_BASE,
@@ -412,16 +417,7 @@ pub fn lay_out_scene(
 impl Prepared {
     /// The initial memory as the emulator loads it.
     pub fn segments(&self) -> Vec<Segment> {
-        self.image
-            .segments
-            .iter()
-            .map(|g| Segment {
-                addr: g.addr,
-                data: g.data.clone(),
-                mem_size: g.size,
-                writable: true,
-            })
-            .collect()
+        self.image.memory.segments.clone()
     }
 
     /// A run of this program on `chip` in `mode` (other options at their defaults; set
@@ -435,7 +431,7 @@ impl Prepared {
     /// The framebuffer after `run` (`width*height` pixels of 3 little-endian f32).
     pub fn framebuffer(&self, run: &RunReport) -> Option<Vec<u8>> {
         let fb = self.image.header.framebuffer;
-        run.read_memory(fb.addr, fb.count * 12)
+        run.read_memory(fb.addr, fb.count * PIXEL_BYTES)
     }
 
     /// The optional scene components the image leaves out: the kernel never references
@@ -446,17 +442,16 @@ impl Prepared {
 }
 
 /// The optional scene components `image` leaves out.
-pub fn left_out(image: &MemoryImage) -> Vec<&'static str> {
-    OPTIONAL_COMPONENTS
-        .iter()
-        .copied()
+pub fn left_out(image: &SceneImage) -> Vec<&'static str> {
+    on_demand_components()
+        .into_iter()
         .filter(|c| image.component(c).is_none())
         .collect()
 }
 
 /// The scene-data lines of a run summary: every placed component's bytes, then what was
 /// left out.
-pub fn scene_report(image: &MemoryImage) -> String {
+pub fn scene_report(image: &SceneImage) -> String {
     let mut s = format!(
         "scene data: {} bytes in {} components\n",
         image.scene_bytes(),

@@ -7,7 +7,7 @@
 //! emulator's statistics records ([`TimingStats`]) are embedded as the `timing` object.
 
 use serde::Serialize;
-use trax_assembler::image::MemoryImage;
+use trax_assembler::image::SceneImage;
 use trax_emulator::timing::{ChipConfig, TimingStats};
 use trax_emulator::{Outcome, RunReport};
 
@@ -119,7 +119,7 @@ pub fn outcome_name(o: &Outcome) -> &'static str {
 
 impl SceneData {
     /// The scene data of `image`.
-    pub fn of(image: &MemoryImage) -> SceneData {
+    pub fn of(image: &SceneImage) -> SceneData {
         SceneData {
             bytes: image.scene_bytes(),
             components: image
@@ -142,7 +142,7 @@ impl<'a> StatsDocument<'a> {
     /// and quantum it ran under.
     pub fn new(
         req: &Request,
-        image: &MemoryImage,
+        image: &SceneImage,
         run: &'a RunReport,
         chip: &'a ChipConfig,
         quantum: u32,

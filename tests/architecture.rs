@@ -106,3 +106,44 @@ fn programs_are_prepared_and_run_one_way() {
         }
     }
 }
+
+#[test]
+fn one_executable_reader_one_memory_image_type_one_scene_contract() {
+    // Executables are read only by `trax_runtime::exe::Executable::parse` (the emulator's
+    // debug-info index parses the ELF for its DWARF sections only); memory images have one
+    // type, `trax_runtime::image::{MemoryImage, Segment}`; the scene contract's symbol
+    // prefix is defined once, in `trax_runtime::abi`.
+    let mut files = Vec::new();
+    for dir in [
+        "src",
+        "compiler/src",
+        "assembler/src",
+        "emulator/src",
+        "runtime/src",
+    ] {
+        files.extend(sources(dir));
+    }
+    for (file, text) in &files {
+        let reader = ["runtime/src/exe.rs", "emulator/src/debuginfo.rs"];
+        if !reader.contains(&file.as_str()) {
+            assert!(
+                !text.contains("object::File::parse("),
+                "{file} reads an executable itself: use trax_runtime::exe::Executable"
+            );
+        }
+        if file != "runtime/src/image.rs" {
+            for def in ["pub struct Segment ", "pub struct MemoryImage "] {
+                assert!(
+                    !text.contains(def),
+                    "{file} defines its own `{def}`: use trax_runtime::image"
+                );
+            }
+        }
+        if file != "runtime/src/abi.rs" {
+            assert!(
+                !text.contains("\"__trax_scene_\""),
+                "{file} spells the scene symbol prefix: use abi::SCENE_SYMBOL_PREFIX"
+            );
+        }
+    }
+}

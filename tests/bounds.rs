@@ -44,7 +44,7 @@ fn trax_main() {
     let mut acc = 0.0f32;
     let mut bits = 0u32;
     match comp {
-        0 => acc = trax::load_f32(camera_addr() + 72 * i),
+        0 => acc = trax::load_f32(camera_addr() + trax::layout::CAM_SIZE * i),
         1 => set_pixel_index(i, trax::math::Vec3::splat(1.0)),
         2 => acc = triangle(i).v2.z,
         3 => acc = shading_normal(i, 0.25, 0.25).x,
@@ -157,4 +157,52 @@ fn every_component_is_bounded_in_both_run_modes() {
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// Stores through a pointer into the kernel's own code (`--seed 1`: the start-up code at
+/// `TEXT_BASE`) or into read-only scene data (`--seed 2`: the camera).
+const STORE_KERNEL: &str = r#"
+fn trax_main() {
+    if trax::global_id() != 0 {
+        return;
+    }
+    let addr = if trax::scene::seed() == 1 { 0x0010_0000 } else { trax::scene::camera_addr() };
+    trax::store_u32(addr, 0); // STORE
+    println!("stored");
+}
+"#;
+
+/// Program text and scene data are read-only in both run modes: the store faults, and the
+/// report names the fault, the segment and the kernel's source line. (`trax run` once
+/// loaded every segment writable, so such a store silently changed memory; worse for
+/// text, the predecoded code no longer matched memory.)
+#[test]
+fn stores_to_code_and_scene_data_fault_in_both_run_modes() {
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join("code_store");
+    std::fs::create_dir_all(&d).unwrap();
+    let src = d.join("code_store.rs");
+    std::fs::write(&src, STORE_KERNEL).unwrap();
+    let line = STORE_KERNEL
+        .lines()
+        .position(|l| l.contains("// STORE"))
+        .unwrap()
+        + 1;
+    let at = format!("code_store.rs:{line}");
+    for timing in [false, true] {
+        for (seed, segment) in [("1", "segment `text`"), ("2", "segment `camera`")] {
+            let mut args = vec!["run", src.to_str().unwrap(), "--seed", seed];
+            args.extend(["--width", "4", "--height", "4", "--threads", "1"]);
+            if !timing {
+                args.push("--functional");
+            }
+            let out = trax(&args);
+            let err = text(&out.stderr);
+            let what = format!("timing={timing} seed={seed}");
+            assert!(!out.status.success(), "{what}: the store ran:\n{err}");
+            assert!(!text(&out.stdout).contains("stored"), "{what}");
+            for needle in ["store to read-only memory", segment, at.as_str()] {
+                assert!(err.contains(needle), "{what}: no `{needle}` in:\n{err}");
+            }
+        }
+    }
 }

@@ -110,7 +110,7 @@ fn check(s: Setup) {
     assert_eq!(e.stdout, n.stdout, "{}: printed output", s.kernel);
     assert_eq!(
         e.framebuffer.len(),
-        (s.width * s.height * 12) as usize,
+        (s.width * s.height * trax_runtime::abi::PIXEL_BYTES) as usize,
         "{}",
         s.kernel
     );

@@ -6,7 +6,7 @@
 use std::path::Path;
 
 use crate::bvh::BvhOptions;
-use crate::image::{self, RenderOptions, OPTIONAL_COMPONENTS};
+use crate::image::{self, RenderOptions};
 use crate::link::{self, Input, LinkOptions};
 use crate::scene::{self, Scene};
 
@@ -28,7 +28,7 @@ fn lay_out(scene: &Scene) {
     let _ = image::build_image_from_symbols(
         Vec::new(),
         0,
-        &OPTIONAL_COMPONENTS,
+        &image::on_demand_components(),
         scene,
         &small_render(),
     );

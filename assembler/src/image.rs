@@ -1,79 +1,40 @@
-//! The machine's initial memory: program segments from the linked ELF, the scene header at
-//! [`abi::SCENE_HEADER_ADDR`], scene components after the program (64-byte aligned, each
-//! after an unmapped guard gap of [`GUARD_GAP`] bytes, so an index just past one component
-//! faults instead of reading the next), the framebuffer, and descriptions of the null guard
-//! and the per-thread stack window.
+//! The machine's initial memory for a program and a scene: program segments from the
+//! linked executable (with its permissions), the scene header at
+//! [`abi::SCENE_HEADER_ADDR`], scene components after the program (each after an unmapped
+//! guard gap of [`GUARD_GAP`] bytes, so an index just past one component faults instead of
+//! reading the next), the framebuffer, and descriptions of the null guard and the
+//! per-thread stack window. The result is a [`SceneImage`]: the one [`MemoryImage`] type of
+//! the runtime, plus the header, the placed components and the BVH it was built from.
 //!
-//! Scene components are linked on demand: a program that references the header field
-//! `<field>` carries the absolute symbol `__trax_scene_<field>` in its `.symtab` (the linker
-//! defines it as the field's address). Only components named that way are built and placed;
-//! the camera and framebuffer are always present. The BVH is built only when `bvh_nodes`,
-//! `bvh_parents` or `treelet_ids` is referenced; then every per-triangle component is stored
-//! in BVH leaf order. Element layouts are those documented on [`abi::SceneHeader`].
+//! What is laid out comes from the scene contract, [`abi::SCENE_COMPONENTS`]: each
+//! component's element type, alignment, permissions and whether it is always present or
+//! built on demand. Components are linked on demand: a program that references the header
+//! field `<field>` carries the absolute symbol `__trax_scene_<field>` in its `.symtab` (the
+//! linker defines it as the field's address). Only components named that way are built and
+//! placed; the camera and framebuffer are always present. The BVH is built only when a
+//! component built from it is referenced; then every per-triangle component is stored in
+//! BVH leaf order. Read-only components are placed first, in table order, then the
+//! writable ones (the framebuffer), so the data kernels only read stays contiguous.
+//!
+//! Adding a component: one entry in `abi::SCENE_COMPONENTS` (plus its element struct, if
+//! new) and its producer here ([`produce`] and [`count_bound`]).
 
 use std::ops::Range;
 
-use object::{Object, ObjectKind, ObjectSegment, ObjectSymbol};
-use trax_runtime::abi::{self, Camera, Component, SceneHeader};
+use trax_runtime::abi::{
+    self, Access, Align, Component, ComponentDesc, Field, Need, SceneHeader, SCENE_COMPONENTS,
+};
+use trax_runtime::exe::{ExeError, Executable};
+pub use trax_runtime::image::{MemoryImage, Perms, Segment};
 
 use crate::bvh::{Bvh, BvhError, BvhOptions, TreeletOptions, PAD};
 use crate::scene::{Scene, SceneError};
-
-/// Prefix of the symbols that mark a referenced header field.
-pub const SCENE_SYMBOL_PREFIX: &str = "__trax_scene_";
-
-/// Header fields that name optional, on-demand components.
-pub const OPTIONAL_COMPONENTS: [&str; 10] = [
-    "bvh_nodes",
-    "triangles",
-    "normals",
-    "texcoords",
-    "material_ids",
-    "materials",
-    "emitters",
-    "point_lights",
-    "bvh_parents",
-    "treelet_ids",
-];
 
 /// Alignment of every placed component.
 pub const COMPONENT_ALIGN: u32 = 64;
 /// Unmapped bytes left before every placed component (after the program and between
 /// components): accesses up to this far past a component's end or before its start fault.
 pub const GUARD_GAP: u32 = 4096;
-/// Bytes of the stored camera (18 × f32, [`Camera`]).
-pub const CAMERA_BYTES: u32 = std::mem::size_of::<Camera>() as u32;
-
-/// A contiguous range of initial memory. Bytes past `data.len()` up to `size` are zero.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Segment {
-    /// What it holds (`text`, `data`, `scene_header`, a component name...).
-    pub name: String,
-    /// First address.
-    pub addr: u32,
-    /// Initial bytes.
-    pub data: Vec<u8>,
-    /// Size in memory (>= `data.len()`).
-    pub size: u32,
-}
-
-impl Segment {
-    /// A segment whose bytes are all given.
-    pub fn new(name: impl Into<String>, addr: u32, data: Vec<u8>) -> Segment {
-        let size = data.len() as u32;
-        Segment {
-            name: name.into(),
-            addr,
-            data,
-            size,
-        }
-    }
-
-    /// One past the last address (as u64, so a segment ending at 4 GiB is representable).
-    pub fn end(&self) -> u64 {
-        self.addr as u64 + self.size as u64
-    }
-}
 
 /// One placed scene component.
 #[derive(Clone, Debug, PartialEq)]
@@ -148,11 +109,12 @@ pub struct StackLayout {
     pub size: u32,
 }
 
-/// The machine's initial memory.
+/// A memory image laid out for a program and a scene, with what the layout decided.
 #[derive(Clone, Debug)]
-pub struct MemoryImage {
-    /// Program segments, then the scene header, then components, in address order.
-    pub segments: Vec<Segment>,
+pub struct SceneImage {
+    /// The machine's initial memory: program segments, the scene header and the
+    /// components, in address order, each with its permissions.
+    pub memory: MemoryImage,
     /// The header as written at [`abi::SCENE_HEADER_ADDR`].
     pub header: SceneHeader,
     /// Placed components (camera and framebuffer first), with their bytes.
@@ -171,7 +133,7 @@ pub struct MemoryImage {
     pub bvh: Option<Bvh>,
 }
 
-impl MemoryImage {
+impl SceneImage {
     /// The placed component with this header name.
     pub fn component(&self, name: &str) -> Option<&ComponentInfo> {
         self.components.iter().find(|c| c.name == name)
@@ -181,51 +143,27 @@ impl MemoryImage {
     pub fn scene_bytes(&self) -> u64 {
         self.components.iter().map(|c| c.bytes as u64).sum()
     }
+}
 
-    /// Reads `len` initial bytes at `addr` (zeros inside a segment's zero tail), or `None`
-    /// if any byte lies outside every segment.
-    pub fn read(&self, addr: u32, len: u32) -> Option<Vec<u8>> {
-        let mut out = Vec::with_capacity(len as usize);
-        for a in addr as u64..addr as u64 + len as u64 {
-            let s = self
-                .segments
-                .iter()
-                .find(|s| (s.addr as u64..s.end()).contains(&a))?;
-            let off = (a - s.addr as u64) as usize;
-            out.push(s.data.get(off).copied().unwrap_or(0));
-        }
-        Some(out)
-    }
-
-    /// Reads a little-endian word.
-    pub fn read_u32(&self, addr: u32) -> Option<u32> {
-        let b = self.read(addr, 4)?;
-        Some(u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-    }
+/// The components built only when a program references them, in table order.
+pub fn on_demand_components() -> Vec<&'static str> {
+    SCENE_COMPONENTS
+        .iter()
+        .filter(|c| c.need == Need::OnDemand)
+        .map(|c| c.name)
+        .collect()
 }
 
 /// Errors from building a memory image.
 #[derive(Debug, thiserror::Error)]
 pub enum ImageError {
-    /// The ELF could not be parsed.
-    #[error("cannot read the program ELF: {0}")]
-    Elf(String),
-    /// The ELF is not a little-endian 32-bit MIPS executable.
-    #[error("the program is not a little-endian ELF32 MIPS executable: {0}")]
-    WrongKind(String),
-    /// A `__trax_scene_*` symbol names no header field.
+    /// The executable is unusable (including `__trax_scene_*` symbols that name no header
+    /// field or sit at the wrong address).
+    #[error(transparent)]
+    Exe(#[from] ExeError),
+    /// A referenced name is no header field.
     #[error("symbol `{0}` names no scene header field (see trax_runtime::abi::SceneHeader)")]
     UnknownSceneField(String),
-    /// A `__trax_scene_*` symbol has the wrong address.
-    #[error("symbol `{symbol}` is at {found:#x}, but the header field is at {expected:#x}")]
-    SceneSymbolMismatch {
-        /// The symbol.
-        symbol: String,
-        /// Its value.
-        found: u64,
-        /// The field's address.
-        expected: u64,
-    },
     /// A program segment overlaps a reserved region.
     #[error("program segment `{segment}` ({start:#x}..{end:#x}) overlaps {region}")]
     Overlap {
@@ -257,99 +195,9 @@ pub enum ImageError {
     /// The BVH could not be built.
     #[error(transparent)]
     Bvh(#[from] BvhError),
-}
-
-/// A program read from an executable: loadable segments, entry, referenced header fields.
-#[derive(Clone, Debug)]
-pub struct Program {
-    /// `PT_LOAD` segments (file bytes, zero tail up to the memory size).
-    pub segments: Vec<Segment>,
-    /// ELF entry point.
-    pub entry: u32,
-    /// Header fields named by `__trax_scene_<field>` symbols, sorted, deduplicated.
-    pub referenced: Vec<String>,
-}
-
-/// Reads the loadable segments, entry and referenced scene fields of an ELF32 MIPS executable.
-pub fn read_program(elf: &[u8]) -> Result<Program, ImageError> {
-    let file = object::File::parse(elf).map_err(|e| ImageError::Elf(e.to_string()))?;
-    if file.format() != object::BinaryFormat::Elf
-        || file.is_64()
-        || !file.is_little_endian()
-        || file.architecture() != object::Architecture::Mips
-    {
-        return Err(ImageError::WrongKind(format!(
-            "found {:?} {:?}, {}-bit, {}-endian",
-            file.format(),
-            file.architecture(),
-            if file.is_64() { 64 } else { 32 },
-            if file.is_little_endian() {
-                "little"
-            } else {
-                "big"
-            }
-        )));
-    }
-    if file.kind() != ObjectKind::Executable {
-        return Err(ImageError::WrongKind(format!(
-            "file kind is {:?}, not an executable (was it linked?)",
-            file.kind()
-        )));
-    }
-    let mut segments = Vec::new();
-    for (i, seg) in file.segments().enumerate() {
-        let data = seg.data().map_err(|e| ImageError::Elf(e.to_string()))?;
-        let (addr, size) = (seg.address(), seg.size());
-        if size == 0 {
-            continue;
-        }
-        if addr + size > u32::MAX as u64 + 1 || (data.len() as u64) > size {
-            return Err(ImageError::Elf(format!(
-                "segment {i} at {addr:#x} of {size} bytes does not fit in 32 bits"
-            )));
-        }
-        let p = seg.permissions();
-        let name = if p.executable() {
-            "text"
-        } else if p.writable() {
-            "data"
-        } else {
-            "rodata"
-        };
-        segments.push(Segment {
-            name: name.to_string(),
-            addr: addr as u32,
-            data: data.to_vec(),
-            size: size as u32,
-        });
-    }
-    let fields = abi::scene_header_fields();
-    let mut referenced = Vec::new();
-    for sym in file.symbols() {
-        let Ok(name) = sym.name() else { continue };
-        let Some(field) = name.strip_prefix(SCENE_SYMBOL_PREFIX) else {
-            continue;
-        };
-        let Some(&(_, off)) = fields.iter().find(|(f, _)| *f == field) else {
-            return Err(ImageError::UnknownSceneField(name.to_string()));
-        };
-        let expected = abi::SCENE_HEADER_ADDR as u64 + off as u64;
-        if !sym.is_undefined() && sym.address() != expected {
-            return Err(ImageError::SceneSymbolMismatch {
-                symbol: name.to_string(),
-                found: sym.address(),
-                expected,
-            });
-        }
-        referenced.push(field.to_string());
-    }
-    referenced.sort();
-    referenced.dedup();
-    Ok(Program {
-        segments,
-        entry: file.entry() as u32,
-        referenced,
-    })
+    /// A component of the contract has no producer here (a bug: see the module docs).
+    #[error("internal error: scene component `{0}` has no producer in the image builder")]
+    NoProducer(&'static str),
 }
 
 /// Builds the initial memory for a linked executable and a scene.
@@ -357,10 +205,10 @@ pub fn build_image(
     elf: &[u8],
     scene: &Scene,
     opts: &RenderOptions,
-) -> Result<MemoryImage, ImageError> {
-    let p = read_program(elf)?;
-    let refs: Vec<&str> = p.referenced.iter().map(String::as_str).collect();
-    build_image_from_symbols(p.segments, p.entry, &refs, scene, opts)
+) -> Result<SceneImage, ImageError> {
+    let exe = Executable::parse("program ELF", elf)?;
+    let refs: Vec<&str> = exe.referenced.iter().map(String::as_str).collect();
+    build_image_from_symbols(exe.segments, exe.entry, &refs, scene, opts)
 }
 
 /// Builds the initial memory from program segments and the list of referenced header fields
@@ -371,25 +219,28 @@ pub fn build_image_from_symbols(
     referenced: &[&str],
     scene: &Scene,
     opts: &RenderOptions,
-) -> Result<MemoryImage, ImageError> {
+) -> Result<SceneImage, ImageError> {
     let fields = abi::scene_header_fields();
     for r in referenced {
         if !fields.iter().any(|(f, _)| f == r) {
             return Err(ImageError::UnknownSceneField(format!(
-                "{SCENE_SYMBOL_PREFIX}{r}"
+                "{}{r}",
+                abi::SCENE_SYMBOL_PREFIX
             )));
         }
     }
     check_options(opts)?;
     let limit = abi::STACK_TOP as u64 - opts.stack_size as u64;
     check_program(&program, limit)?;
-    let wants = |f: &str| referenced.contains(&f);
     scene.check()?;
     let camera = scene.view.camera()?;
-    let n_tris = scene.triangles.len() as u64;
+    // The components to build, read-only ones first (table order), then writable ones.
+    let mut wanted: Vec<&ComponentDesc> = SCENE_COMPONENTS
+        .iter()
+        .filter(|c| c.need == Need::Always || referenced.contains(&c.name))
+        .collect();
+    wanted.sort_by_key(|c| c.access == Access::ReadWrite);
 
-    // Sizes first (u64), so an oversized request fails before anything is allocated.
-    let fb_bytes = opts.width as u64 * opts.height as u64 * 12;
     let program_end = program
         .iter()
         .map(Segment::end)
@@ -400,26 +251,18 @@ pub fn build_image_from_symbols(
         cursor: program_end,
         limit,
     };
-    // A conservative pre-check with upper bounds (BVH < 2n nodes) before any building.
+    // A conservative pre-check with upper bounds of the sizes, before anything is built.
     {
+        let pixels = opts.width as u64 * opts.height as u64;
         let mut probe = placer.cursor;
-        for (f, per) in [
-            ("triangles", 36u64),
-            ("normals", 36),
-            ("texcoords", 24),
-            ("material_ids", 4),
-            ("emitters", 4),
-        ] {
-            if wants(f) {
-                probe += per * n_tris + (GUARD_GAP + COMPONENT_ALIGN) as u64;
+        let mut fb_bytes = 0;
+        for c in &wanted {
+            let bytes = c.element_bytes as u64 * count_bound(c, scene, pixels)?;
+            if c.name == "framebuffer" {
+                fb_bytes = bytes;
             }
+            probe += bytes + (GUARD_GAP + COMPONENT_ALIGN) as u64;
         }
-        for (f, per) in [("bvh_nodes", 32u64), ("bvh_parents", 4), ("treelet_ids", 4)] {
-            if wants(f) {
-                probe += per * 2 * n_tris + (GUARD_GAP + COMPONENT_ALIGN) as u64;
-            }
-        }
-        probe += fb_bytes + CAMERA_BYTES as u64 + 2 * (GUARD_GAP + COMPONENT_ALIGN) as u64;
         if probe > limit {
             let what = if fb_bytes > limit {
                 "framebuffer"
@@ -434,11 +277,10 @@ pub fn build_image_from_symbols(
         }
     }
 
-    // The BVH, only when the program reads it.
-    let needs_bvh = wants("bvh_nodes") || wants("bvh_parents") || wants("treelet_ids");
-    let bvh = if needs_bvh {
+    // The BVH, only when the program reads a component built from it.
+    let bvh = if wanted.iter().any(|c| from_bvh(c.name)) {
         let mut bo = opts.bvh.clone();
-        if wants("treelet_ids") && bo.treelets.is_none() {
+        if referenced.contains(&"treelet_ids") && bo.treelets.is_none() {
             bo.treelets = Some(TreeletOptions::default());
         }
         Some(Bvh::build(&scene.triangles, &bo)?)
@@ -448,7 +290,7 @@ pub fn build_image_from_symbols(
     // Slot order of per-triangle data.
     let order: Vec<u32> = match &bvh {
         Some(b) => b.tri_order.clone(),
-        None => (0..n_tris as u32).collect(),
+        None => (0..scene.triangles.len() as u32).collect(),
     };
     let row_align = opts
         .bvh
@@ -457,235 +299,74 @@ pub fn build_image_from_symbols(
         .map_or(0, |t| t.align_bytes)
         .max(COMPONENT_ALIGN);
 
-    let mut segments = program;
-    let mut components = Vec::new();
     let mut header = SceneHeader {
-        magic: abi::SCENE_MAGIC,
-        version: abi::SCENE_VERSION,
-        width: opts.width,
-        height: opts.height,
-        inv_width: 1.0 / opts.width as f32,
-        inv_height: 1.0 / opts.height as f32,
         spp: opts.spp,
         max_depth: opts.max_depth,
         epsilon: opts.epsilon.unwrap_or_else(|| default_epsilon(scene)),
         seed: opts.seed,
         background: opts.background,
-        ..SceneHeader::default()
+        ..SceneHeader::new(opts.width, opts.height)
     };
-    let mut add = |segments: &mut Vec<Segment>,
-                   name: &'static str,
-                   count: u32,
-                   data: Vec<u8>,
-                   size: u64,
-                   align: u32|
-     -> Result<Component, ImageError> {
-        let addr = placer.place(name, size, align)?;
+    let ctx = Ctx {
+        scene,
+        bvh: bvh.as_ref(),
+        order: &order,
+        camera,
+        opts,
+    };
+    let mut segments = program;
+    let mut components = Vec::new();
+    for c in wanted {
+        let p = produce(c, &ctx)?;
+        let align = match c.align {
+            Align::Component => COMPONENT_ALIGN,
+            Align::Rows => row_align,
+        };
+        let bytes = p.count as u64 * c.element_bytes as u64;
+        let addr = placer.place(c.name, bytes, align)?;
         components.push(ComponentInfo {
-            name,
+            name: c.name,
             addr,
-            count,
-            bytes: size as u32,
+            count: p.count,
+            bytes: bytes as u32,
         });
+        let perms = match c.access {
+            Access::ReadOnly => Perms::R,
+            Access::ReadWrite => Perms::RW,
+        };
         segments.push(Segment {
-            name: name.to_string(),
+            name: c.name.to_string(),
             addr,
-            data,
-            size: size as u32,
+            data: p.data,
+            size: bytes as u32,
+            perms,
         });
-        Ok(Component { addr, count })
-    };
-
-    header.camera = add(
-        &mut segments,
-        "camera",
-        1,
-        camera_bytes(&camera),
-        CAMERA_BYTES as u64,
-        COMPONENT_ALIGN,
-    )?
-    .addr;
-    if let Some(b) = &bvh {
-        if wants("bvh_nodes") {
-            let data: Vec<u8> = b.nodes.iter().flat_map(|n| n.to_bytes()).collect();
-            let len = data.len() as u64;
-            header.bvh_nodes = add(
-                &mut segments,
-                "bvh_nodes",
-                b.nodes.len() as u32,
-                data,
-                len,
-                row_align,
-            )?;
-        }
-    }
-    let slots = order.len() as u32;
-    if wants("triangles") {
-        let data = words(order.iter().flat_map(|&s| {
-            let t = if s == PAD {
-                [[0.0; 3]; 3]
-            } else {
-                scene.triangles[s as usize]
-            };
-            t.into_iter().flatten().map(f32::to_bits)
-        }));
-        let len = data.len() as u64;
-        header.triangles = add(&mut segments, "triangles", slots, data, len, row_align)?;
-    }
-    if wants("normals") {
-        let data = words(order.iter().flat_map(|&s| {
-            let t = if s == PAD {
-                [[0.0; 3]; 3]
-            } else {
-                scene.normals[s as usize]
-            };
-            t.into_iter().flatten().map(f32::to_bits)
-        }));
-        let len = data.len() as u64;
-        header.normals = add(&mut segments, "normals", slots, data, len, COMPONENT_ALIGN)?;
-    }
-    if wants("texcoords") {
-        let data = words(order.iter().flat_map(|&s| {
-            let t = if s == PAD {
-                [[0.0; 2]; 3]
-            } else {
-                scene.texcoords[s as usize]
-            };
-            t.into_iter().flatten().map(f32::to_bits)
-        }));
-        let len = data.len() as u64;
-        header.texcoords = add(
-            &mut segments,
-            "texcoords",
-            slots,
-            data,
-            len,
-            COMPONENT_ALIGN,
-        )?;
-    }
-    if wants("material_ids") {
-        let data = words(order.iter().map(|&s| {
-            if s == PAD {
-                0
-            } else {
-                scene.material_ids[s as usize]
-            }
-        }));
-        let len = data.len() as u64;
-        header.material_ids = add(
-            &mut segments,
-            "material_ids",
-            slots,
-            data,
-            len,
-            COMPONENT_ALIGN,
-        )?;
-    }
-    if wants("materials") {
-        let data = words(scene.materials.iter().flat_map(|m| {
-            let mut w: Vec<u32> = m
-                .diffuse
-                .iter()
-                .chain(&m.specular)
-                .chain(&m.emission)
-                .chain(std::iter::once(&m.shininess))
-                .map(|f| f.to_bits())
-                .collect();
-            w.push(m.flags());
-            w.push(0);
-            w
-        }));
-        let len = data.len() as u64;
-        header.materials = add(
-            &mut segments,
-            "materials",
-            scene.materials.len() as u32,
-            data,
-            len,
-            COMPONENT_ALIGN,
-        )?;
-    }
-    if wants("emitters") {
-        let emissive: Vec<bool> = scene.materials.iter().map(|m| m.is_emissive()).collect();
-        let list: Vec<u32> = (0..slots)
-            .filter(|&i| {
-                let s = order[i as usize];
-                s != PAD && emissive[scene.material_ids[s as usize] as usize]
-            })
-            .collect();
-        let n = list.len() as u32;
-        let data = words(list.into_iter());
-        let len = data.len() as u64;
-        header.emitters = add(&mut segments, "emitters", n, data, len, COMPONENT_ALIGN)?;
-    }
-    if wants("point_lights") {
-        let data = words(
-            scene
-                .point_lights
-                .iter()
-                .flat_map(|l| l.position.into_iter().chain(l.color))
-                .map(f32::to_bits),
+        (c.set)(
+            &mut header,
+            Component {
+                addr,
+                count: p.count,
+            },
         );
-        let len = data.len() as u64;
-        header.point_lights = add(
-            &mut segments,
-            "point_lights",
-            scene.point_lights.len() as u32,
-            data,
-            len,
-            COMPONENT_ALIGN,
-        )?;
     }
-    if let Some(b) = &bvh {
-        if wants("bvh_parents") {
-            let data = words(b.parents().into_iter());
-            let len = data.len() as u64;
-            header.bvh_parents = add(
-                &mut segments,
-                "bvh_parents",
-                b.nodes.len() as u32,
-                data,
-                len,
-                COMPONENT_ALIGN,
-            )?;
-        }
-        if wants("treelet_ids") {
-            let ids = b
-                .treelets
-                .as_ref()
-                .map(|t| t.node_treelet.clone())
-                .unwrap_or_default();
-            let data = words(ids.into_iter());
-            let len = data.len() as u64;
-            header.treelet_ids = add(
-                &mut segments,
-                "treelet_ids",
-                b.nodes.len() as u32,
-                data,
-                len,
-                COMPONENT_ALIGN,
-            )?;
-        }
-    }
-    header.framebuffer = add(
-        &mut segments,
-        "framebuffer",
-        opts.width * opts.height,
-        Vec::new(),
-        fb_bytes,
-        COMPONENT_ALIGN,
-    )?;
     let end = placer.cursor as u32;
     segments.push(Segment::new(
         "scene_header",
         abi::SCENE_HEADER_ADDR,
-        header_bytes(&header),
+        header.to_bytes(),
+        Perms::R,
     ));
     segments.sort_by_key(|s| s.addr);
-    // Keep camera and framebuffer first in the report, the rest in address order.
-    components.sort_by_key(|c| (c.name != "camera", c.name != "framebuffer", c.addr));
-    Ok(MemoryImage {
-        segments,
+    // Always-present components first (table order), the rest in address order.
+    let rank = |name: &str| {
+        SCENE_COMPONENTS
+            .iter()
+            .position(|c| c.name == name && c.need == Need::Always)
+            .unwrap_or(usize::MAX)
+    };
+    components.sort_by_key(|c| (rank(c.name), c.addr));
+    Ok(SceneImage {
+        memory: MemoryImage { segments },
         header,
         components,
         entry,
@@ -698,6 +379,124 @@ pub fn build_image_from_symbols(
         end,
         bvh,
     })
+}
+
+/// What the producers read.
+struct Ctx<'a> {
+    scene: &'a Scene,
+    bvh: Option<&'a Bvh>,
+    /// Per-triangle slot order: scene triangle index per slot, or [`PAD`].
+    order: &'a [u32],
+    camera: abi::Camera,
+    opts: &'a RenderOptions,
+}
+
+/// A produced component: its element count and initial bytes (a zero tail up to
+/// `count` elements is implied).
+struct Produced {
+    count: u32,
+    data: Vec<u8>,
+}
+
+impl Produced {
+    fn of<T: Field>(items: impl IntoIterator<Item = T>) -> Produced {
+        let data = abi::encode(items);
+        Produced {
+            count: (data.len() / std::mem::size_of::<T>()) as u32,
+            data,
+        }
+    }
+
+    /// One element per triangle slot: `f` of the scene triangle, zero for padding.
+    fn per_slot<T: Field>(order: &[u32], f: impl Fn(usize) -> T) -> Produced {
+        Produced::of(order.iter().map(|&s| {
+            if s == PAD {
+                T::default()
+            } else {
+                f(s as usize)
+            }
+        }))
+    }
+}
+
+/// Whether component `name` is built from the BVH.
+fn from_bvh(name: &str) -> bool {
+    matches!(name, "bvh_nodes" | "bvh_parents" | "treelet_ids")
+}
+
+/// An upper bound of component `c`'s element count, known before anything is built.
+fn count_bound(c: &ComponentDesc, scene: &Scene, pixels: u64) -> Result<u64, ImageError> {
+    let tris = scene.triangles.len() as u64;
+    Ok(match c.name {
+        "camera" => 1,
+        "framebuffer" => pixels,
+        // A binary BVH over n triangles has fewer than 2n nodes.
+        "bvh_nodes" | "bvh_parents" | "treelet_ids" => 2 * tris,
+        "triangles" | "normals" | "texcoords" | "material_ids" | "emitters" => tris,
+        "materials" => scene.materials.len() as u64,
+        "point_lights" => scene.point_lights.len() as u64,
+        other => return Err(ImageError::NoProducer(table_name(other))),
+    })
+}
+
+/// The elements of component `c`.
+fn produce(c: &ComponentDesc, x: &Ctx) -> Result<Produced, ImageError> {
+    let s = x.scene;
+    let bvh = || x.bvh.ok_or(ImageError::NoProducer(c.name));
+    Ok(match c.name {
+        "camera" => Produced::of([x.camera]),
+        "framebuffer" => Produced {
+            count: x.opts.width * x.opts.height,
+            data: Vec::new(),
+        },
+        "bvh_nodes" => Produced::of(bvh()?.nodes.iter().map(|n| n.to_abi())),
+        "triangles" => Produced::per_slot(x.order, |i| {
+            let [v0, v1, v2] = s.triangles[i];
+            abi::Triangle { v0, v1, v2 }
+        }),
+        "normals" => Produced::per_slot(x.order, |i| {
+            let [n0, n1, n2] = s.normals[i];
+            abi::VertexNormals { n0, n1, n2 }
+        }),
+        "texcoords" => Produced::per_slot(x.order, |i| {
+            let [t0, t1, t2] = s.texcoords[i];
+            abi::TexCoords { t0, t1, t2 }
+        }),
+        "material_ids" => Produced::per_slot(x.order, |i| s.material_ids[i]),
+        "materials" => Produced::of(s.materials.iter().map(|m| abi::Material {
+            diffuse: m.diffuse,
+            specular: m.specular,
+            emission: m.emission,
+            shininess: m.shininess,
+            flags: m.flags(),
+            reserved: 0,
+        })),
+        "emitters" => {
+            let emissive: Vec<bool> = s.materials.iter().map(|m| m.is_emissive()).collect();
+            Produced::of((0..x.order.len() as u32).filter(|&i| {
+                let t = x.order[i as usize];
+                t != PAD && emissive[s.material_ids[t as usize] as usize]
+            }))
+        }
+        "point_lights" => Produced::of(s.point_lights.iter().map(|l| abi::PointLight {
+            position: l.position,
+            color: l.color,
+        })),
+        "bvh_parents" => Produced::of(bvh()?.parents()),
+        "treelet_ids" => Produced::of(
+            bvh()?
+                .treelets
+                .as_ref()
+                .map(|t| t.node_treelet.clone())
+                .unwrap_or_default(),
+        ),
+        other => return Err(ImageError::NoProducer(table_name(other))),
+    })
+}
+
+/// The table's own `&'static str` for a component name.
+fn table_name(name: &str) -> &'static str {
+    abi::component(name).map_or("?", |c| c.name)
 }
 
 /// Places components one after another below a limit, each after a guard gap.
@@ -787,63 +586,4 @@ fn check_program(program: &[Segment], limit: u64) -> Result<(), ImageError> {
         }
     }
     Ok(())
-}
-
-fn words(it: impl Iterator<Item = u32>) -> Vec<u8> {
-    let mut out = Vec::with_capacity(it.size_hint().0 * 4);
-    for w in it {
-        out.extend_from_slice(&w.to_le_bytes());
-    }
-    out
-}
-
-/// The camera's 72 bytes: eye, u, v, w, left, right, bottom, top, distance, aperture.
-pub fn camera_bytes(c: &Camera) -> Vec<u8> {
-    words(
-        c.eye
-            .iter()
-            .chain(&c.u)
-            .chain(&c.v)
-            .chain(&c.w)
-            .chain(&[c.left, c.right, c.bottom, c.top, c.distance, c.aperture])
-            .map(|f| f.to_bits()),
-    )
-}
-
-/// The header's bytes, in field order (every field is a 4-byte word).
-pub fn header_bytes(h: &SceneHeader) -> Vec<u8> {
-    let comp = |c: &Component| [c.addr, c.count];
-    let mut w: Vec<u32> = vec![
-        h.magic,
-        h.version,
-        h.width,
-        h.height,
-        h.inv_width.to_bits(),
-        h.inv_height.to_bits(),
-        h.spp,
-        h.max_depth,
-        h.epsilon.to_bits(),
-        h.seed,
-    ];
-    w.extend(h.background.map(f32::to_bits));
-    w.push(h.camera);
-    for c in [
-        &h.framebuffer,
-        &h.bvh_nodes,
-        &h.triangles,
-        &h.normals,
-        &h.texcoords,
-        &h.material_ids,
-        &h.materials,
-        &h.emitters,
-        &h.point_lights,
-        &h.bvh_parents,
-        &h.treelet_ids,
-    ] {
-        w.extend(comp(c));
-    }
-    w.extend(h.reserved);
-    let out = words(w.into_iter());
-    debug_assert_eq!(out.len(), abi::SCENE_HEADER_SIZE);
-    out
 }

@@ -192,7 +192,7 @@ fn node_bytes_follow_the_abi() {
     let c = cornell_box();
     let b = Bvh::build(&c.triangles, &BvhOptions::default()).unwrap();
     let n = b.nodes[0];
-    let bytes = n.to_bytes();
+    let bytes = trax_runtime::abi::Field::to_bytes(&n.to_abi());
     assert_eq!(bytes.len(), 32);
     assert_eq!(&bytes[0..4], &n.min[0].to_le_bytes());
     assert_eq!(&bytes[20..24], &n.max[2].to_le_bytes());

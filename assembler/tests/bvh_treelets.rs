@@ -3,6 +3,10 @@
 use trax_assembler::bvh::{Bvh, BvhError, BvhOptions, TreeletOptions, PAD};
 use trax_assembler::scene::{cornell_box, procedural, Vec3};
 
+/// Bytes of a BVH node and of a triangle in memory.
+const NODE: u32 = std::mem::size_of::<trax_runtime::abi::BvhNode>() as u32;
+const TRI: u32 = std::mem::size_of::<trax_runtime::abi::Triangle>() as u32;
+
 fn build(tris: &[[Vec3; 3]], budget: u32, align: u32) -> Bvh {
     let opts = BvhOptions {
         treelets: Some(TreeletOptions {
@@ -30,11 +34,11 @@ fn check_treelets(b: &Bvh, budget: u32, align: u32) {
         assert!(r.start >= prev_end, "treelets in order, disjoint");
         assert!(r.end > r.start, "treelet {id} empty");
         assert!(
-            (r.end - r.start) * 32 <= budget,
+            (r.end - r.start) * NODE <= budget,
             "node treelet {id} over budget"
         );
         if align > 0 {
-            assert_eq!(r.start * 32 % align, 0, "treelet {id} not aligned");
+            assert_eq!(r.start * NODE % align, 0, "treelet {id} not aligned");
         }
         // Contiguous: every node in the range belongs to this treelet and is real.
         for i in r.clone() {
@@ -67,11 +71,11 @@ fn check_treelets(b: &Bvh, budget: u32, align: u32) {
     for (k, r) in t.tri_ranges.iter().enumerate() {
         assert!(r.start >= prev);
         assert!(
-            (r.end - r.start) * 36 <= budget,
+            (r.end - r.start) * TRI <= budget,
             "triangle treelet {k} over budget"
         );
         if align > 0 {
-            assert_eq!(r.start * 36 % align, 0, "triangle treelet {k} not aligned");
+            assert_eq!(r.start * TRI % align, 0, "triangle treelet {k} not aligned");
         }
         for s in prev..r.start {
             assert_eq!(b.tri_order[s as usize], PAD);

@@ -3,13 +3,21 @@
 use std::path::PathBuf;
 use std::process::Command;
 
+use std::mem::size_of;
 use trax_assembler::bvh::{BvhOptions, TreeletOptions};
 use trax_assembler::image::{
-    build_image, build_image_from_symbols, header_bytes, read_program, ImageError, MemoryImage,
-    RenderOptions, Segment, OPTIONAL_COMPONENTS,
+    build_image, build_image_from_symbols, on_demand_components, ImageError, Perms, RenderOptions,
+    SceneImage, Segment,
 };
 use trax_assembler::scene::{cornell_box, procedural, Scene};
-use trax_runtime::abi::{self, SceneHeader};
+
+use trax_runtime::abi::{self, BvhNode, Field, Material, Pixel, SceneHeader, Triangle};
+use trax_runtime::exe::{ExeError, Executable};
+
+/// Bytes of one `T`, as a `u32`.
+fn sz<T>() -> u32 {
+    size_of::<T>() as u32
+}
 
 fn field_addr(name: &str) -> u32 {
     let off = abi::scene_header_fields()
@@ -71,10 +79,11 @@ fn link_elf(name: &str, defsyms: &[(String, u32)]) -> (Vec<u8>, PathBuf) {
     (std::fs::read(&elf).unwrap(), obj)
 }
 
-fn check_layout(img: &MemoryImage) {
+fn check_layout(img: &SceneImage) {
     // Components 64-byte aligned, after the program, below the stack window, disjoint.
     let limit = abi::STACK_TOP - img.stack.size;
     let mut spans: Vec<(u64, u64, String)> = img
+        .memory
         .segments
         .iter()
         .map(|s| (s.addr as u64, s.end(), s.name.clone()))
@@ -84,6 +93,17 @@ fn check_layout(img: &MemoryImage) {
         assert!(w[0].1 <= w[1].0, "{:?} overlaps {:?}", w[0], w[1]);
     }
     for c in &img.components {
+        // Permissions as the contract says: kernels only write the framebuffer.
+        let want = match abi::component(c.name).unwrap().access {
+            abi::Access::ReadOnly => Perms::R,
+            abi::Access::ReadWrite => Perms::RW,
+        };
+        assert_eq!(
+            img.memory.segment(c.name).unwrap().perms,
+            want,
+            "{}",
+            c.name
+        );
         assert_eq!(c.addr % 64, 0, "{} not aligned", c.name);
         assert!(c.addr >= img.program_end, "{} inside the program", c.name);
         assert!(c.addr as u64 + c.bytes as u64 <= limit as u64);
@@ -92,10 +112,14 @@ fn check_layout(img: &MemoryImage) {
     assert_eq!(img.null_guard, 0..abi::NULL_GUARD_END);
     // The header in memory is the header reported.
     let bytes = img
+        .memory
         .read(abi::SCENE_HEADER_ADDR, abi::SCENE_HEADER_SIZE as u32)
         .unwrap();
-    assert_eq!(bytes, header_bytes(&img.header));
-    assert_eq!(img.read_u32(abi::SCENE_HEADER_ADDR), Some(abi::SCENE_MAGIC));
+    assert_eq!(bytes, img.header.to_bytes());
+    assert_eq!(
+        img.memory.read_u32(abi::SCENE_HEADER_ADDR),
+        Some(abi::SCENE_MAGIC)
+    );
 }
 
 #[test]
@@ -115,7 +139,7 @@ fn header_bytes_match_abi_offsets() {
     h.triangles.count = 0x1234;
     h.treelet_ids.count = 99;
     h.reserved[7] = 77;
-    let b = header_bytes(&h);
+    let b = h.to_bytes();
     assert_eq!(b.len(), abi::SCENE_HEADER_SIZE);
     let word = |name: &str, extra: usize| {
         let off = field_addr(name) as usize - abi::SCENE_HEADER_ADDR as usize + extra;
@@ -138,7 +162,7 @@ fn elf_program_gets_only_what_it_references() {
         "ondemand",
         &[("__trax_scene_triangles".into(), field_addr("triangles"))],
     );
-    let p = read_program(&elf).unwrap();
+    let p = Executable::parse("k.elf", &elf).unwrap();
     assert_eq!(p.referenced, ["triangles"]);
     let s = scene();
     let img = build_image(&elf, &s, &RenderOptions::default()).unwrap();
@@ -149,19 +173,27 @@ fn elf_program_gets_only_what_it_references() {
     assert_eq!(img.header.bvh_nodes, abi::Component::default());
     assert_eq!(img.header.normals, abi::Component::default());
     assert_eq!(img.header.triangles.count, 32);
-    assert_eq!(img.component("triangles").unwrap().bytes, 32 * 36);
-    assert_eq!(img.component("framebuffer").unwrap().bytes, 128 * 128 * 12);
+    assert_eq!(
+        img.component("triangles").unwrap().bytes,
+        32 * sz::<Triangle>()
+    );
+    assert_eq!(
+        img.component("framebuffer").unwrap().bytes,
+        128 * 128 * sz::<Pixel>()
+    );
     // Program segments are loaded: text executable at its address, bss zero-filled.
-    let text = img.segments.iter().find(|s| s.name == "text").unwrap();
+    let text = img.memory.segment("text").unwrap();
+    assert_eq!(text.perms, Perms::RX, "text keeps the ELF's permissions");
     assert!(text.addr >= abi::TEXT_BASE);
     assert!((text.addr..text.addr + text.size).contains(&img.entry));
-    let data = img.segments.iter().find(|s| s.name == "data").unwrap();
+    let data = img.memory.segment("data").unwrap();
+    assert_eq!(data.perms, Perms::RW);
     assert!(
         data.size as usize > data.data.len(),
         "bss tail not materialised"
     );
     // Without a BVH, triangles keep scene order.
-    let t0 = img.read(img.header.triangles.addr, 36).unwrap();
+    let t0 = img.memory.read(img.header.triangles.addr, 36).unwrap();
     let want: Vec<u8> = s.triangles[0]
         .iter()
         .flatten()
@@ -170,7 +202,10 @@ fn elf_program_gets_only_what_it_references() {
     assert_eq!(t0, want);
     // The camera is written.
     let cam = s.view.camera().unwrap();
-    assert_eq!(img.read_u32(img.header.camera), Some(cam.eye[0].to_bits()));
+    assert_eq!(
+        img.memory.read_u32(img.header.camera),
+        Some(cam.eye[0].to_bits())
+    );
 }
 
 #[test]
@@ -188,25 +223,34 @@ fn all_components_with_bvh_and_treelets() {
         },
         ..RenderOptions::default()
     };
-    let img = build_image_from_symbols(Vec::new(), abi::TEXT_BASE, &OPTIONAL_COMPONENTS, &s, &opts)
-        .unwrap();
+    let img = build_image_from_symbols(
+        Vec::new(),
+        abi::TEXT_BASE,
+        &on_demand_components(),
+        &s,
+        &opts,
+    )
+    .unwrap();
     check_layout(&img);
     let h = img.header;
     let bvh = img.bvh.as_ref().unwrap();
     let nodes = bvh.nodes.len() as u32;
     let slots = bvh.tri_order.len() as u32;
     let bytes = |n: &str| img.component(n).unwrap().bytes;
-    assert_eq!(bytes("bvh_nodes"), 32 * nodes);
-    assert_eq!(bytes("triangles"), 36 * slots);
-    assert_eq!(bytes("normals"), 36 * slots);
-    assert_eq!(bytes("texcoords"), 24 * slots);
+    assert_eq!(bytes("bvh_nodes"), sz::<BvhNode>() * nodes);
+    assert_eq!(bytes("triangles"), sz::<Triangle>() * slots);
+    assert_eq!(bytes("normals"), sz::<abi::VertexNormals>() * slots);
+    assert_eq!(bytes("texcoords"), sz::<abi::TexCoords>() * slots);
     assert_eq!(bytes("material_ids"), 4 * slots);
-    assert_eq!(bytes("materials"), 48 * s.materials.len() as u32);
-    assert_eq!(bytes("point_lights"), 24);
+    assert_eq!(
+        bytes("materials"),
+        sz::<Material>() * s.materials.len() as u32
+    );
+    assert_eq!(bytes("point_lights"), sz::<abi::PointLight>());
     assert_eq!(bytes("bvh_parents"), 4 * nodes);
     assert_eq!(bytes("treelet_ids"), 4 * nodes);
-    assert_eq!(bytes("framebuffer"), 64 * 32 * 12);
-    assert_eq!(img.components.len(), 2 + OPTIONAL_COMPONENTS.len());
+    assert_eq!(bytes("framebuffer"), 64 * 32 * sz::<Pixel>());
+    assert_eq!(img.components.len(), 2 + on_demand_components().len());
     assert_eq!(h.bvh_nodes.addr % 2048, 0, "DRAM-row aligned node array");
     assert_eq!(
         h.triangles.addr % 2048,
@@ -217,7 +261,10 @@ fn all_components_with_bvh_and_treelets() {
     assert_eq!(h.inv_width, 1.0 / 64.0);
     assert!(h.epsilon > 0.0);
     // Walk the BVH in memory: leaves point at triangles equal to the scene's.
-    let node = |i: u32| img.read(h.bvh_nodes.addr + 32 * i, 32).unwrap();
+    let node = |i: u32| {
+        let n = sz::<BvhNode>();
+        img.memory.read(h.bvh_nodes.addr + n * i, n).unwrap()
+    };
     let mut stack = vec![0u32];
     let mut seen = 0;
     while let Some(i) = stack.pop() {
@@ -226,10 +273,13 @@ fn all_components_with_bvh_and_treelets() {
         let (a, b) = (w(6), w(7));
         if b == 0 {
             stack.extend([a, a + 1]);
-            assert_eq!(img.read_u32(h.bvh_parents.addr + 4 * a), Some(i));
+            assert_eq!(img.memory.read_u32(h.bvh_parents.addr + 4 * a), Some(i));
         } else {
             for slot in a..a + b {
-                let t = img.read(h.triangles.addr + 36 * slot, 36).unwrap();
+                let t = img
+                    .memory
+                    .read(h.triangles.addr + sz::<Triangle>() * slot, sz::<Triangle>())
+                    .unwrap();
                 let orig = bvh.tri_order[slot as usize] as usize;
                 let want: Vec<u8> = s.triangles[orig]
                     .iter()
@@ -237,7 +287,7 @@ fn all_components_with_bvh_and_treelets() {
                     .flat_map(|f| f.to_le_bytes())
                     .collect();
                 assert_eq!(t, want);
-                let m = img.read_u32(h.material_ids.addr + 4 * slot).unwrap();
+                let m = img.memory.read_u32(h.material_ids.addr + 4 * slot).unwrap();
                 assert_eq!(m, s.material_ids[orig]);
                 seen += 1;
             }
@@ -247,14 +297,21 @@ fn all_components_with_bvh_and_treelets() {
     // Emitters name slots whose material emits.
     assert_eq!(h.emitters.count as usize, s.emitters().len());
     for k in 0..h.emitters.count {
-        let slot = img.read_u32(h.emitters.addr + 4 * k).unwrap();
-        let m = img.read_u32(h.material_ids.addr + 4 * slot).unwrap();
-        let emission = img.read_u32(h.materials.addr + 48 * m + 24).unwrap();
+        let slot = img.memory.read_u32(h.emitters.addr + 4 * k).unwrap();
+        let m = img.memory.read_u32(h.material_ids.addr + 4 * slot).unwrap();
+        let at = h.materials.addr + sz::<Material>() * m;
+        let emission = img
+            .memory
+            .read_u32(at + std::mem::offset_of!(Material, emission) as u32)
+            .unwrap();
         assert!(f32::from_bits(emission) > 0.0);
     }
     // Treelet ids in memory match the BVH's.
     let t = bvh.treelets.as_ref().unwrap();
-    assert_eq!(img.read_u32(h.treelet_ids.addr), Some(t.node_treelet[0]));
+    assert_eq!(
+        img.memory.read_u32(h.treelet_ids.addr),
+        Some(t.node_treelet[0])
+    );
 }
 
 #[test]
@@ -294,7 +351,7 @@ fn bad_programs_and_options() {
     // Not an ELF; a relocatable object; a symbol at the wrong address; an unknown field.
     assert!(matches!(
         build_image(b"not an elf", &s, &o),
-        Err(ImageError::Elf(_))
+        Err(ImageError::Exe(ExeError::Parse { .. }))
     ));
     let (_, obj) = link_elf(
         "obj",
@@ -302,7 +359,7 @@ fn bad_programs_and_options() {
     );
     let obj = std::fs::read(obj).unwrap();
     match build_image(&obj, &s, &o) {
-        Err(e @ ImageError::WrongKind(_)) => {
+        Err(e @ ImageError::Exe(ExeError::WrongTarget { .. })) => {
             assert!(e.to_string().contains("not an executable"), "{e}")
         }
         other => panic!("{other:?}"),
@@ -313,7 +370,7 @@ fn bad_programs_and_options() {
     );
     assert!(matches!(
         build_image(&elf, &s, &o),
-        Err(ImageError::SceneSymbolMismatch { .. })
+        Err(ImageError::Exe(ExeError::SceneSymbolMismatch { .. }))
     ));
     let (elf, _) = link_elf(
         "unknown",
@@ -323,7 +380,9 @@ fn bad_programs_and_options() {
         ],
     );
     match build_image(&elf, &s, &o) {
-        Err(ImageError::UnknownSceneField(n)) => assert_eq!(n, "__trax_scene_teapots"),
+        Err(ImageError::Exe(ExeError::UnknownSceneField { symbol, .. })) => {
+            assert_eq!(symbol, "__trax_scene_teapots")
+        }
         other => panic!("{other:?}"),
     }
     assert!(matches!(
@@ -356,14 +415,14 @@ fn bad_programs_and_options() {
         (abi::SCENE_HEADER_ADDR + 8, "scene header"),
         (abi::STACK_TOP - 16, "stack"),
     ] {
-        let seg = Segment::new("text", addr, vec![0; 64]);
+        let seg = Segment::new("text", addr, vec![0; 64], Perms::RX);
         match build_image_from_symbols(vec![seg], addr, &[], &s, &o) {
             Err(e @ ImageError::Overlap { .. }) => assert!(e.to_string().contains(region), "{e}"),
             other => panic!("{other:?}"),
         }
     }
-    let a = Segment::new("text", abi::TEXT_BASE, vec![0; 64]);
-    let b = Segment::new("data", abi::TEXT_BASE + 32, vec![0; 64]);
+    let a = Segment::new("text", abi::TEXT_BASE, vec![0; 64], Perms::RX);
+    let b = Segment::new("data", abi::TEXT_BASE + 32, vec![0; 64], Perms::RW);
     assert!(matches!(
         build_image_from_symbols(vec![a, b], 0, &[], &s, &o),
         Err(ImageError::Overlap { .. })

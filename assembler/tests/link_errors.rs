@@ -4,9 +4,8 @@
 mod link_common;
 
 use link_common::*;
-use trax_assembler::link::{
-    link, read_executable, Input, LinkError, LinkOptions, RelocationOverflow,
-};
+use trax_assembler::link::{link, Input, LinkError, LinkOptions, RelocationOverflow};
+use trax_runtime::exe::Executable;
 
 fn link_err(paths: &[std::path::PathBuf]) -> LinkError {
     link(&inputs(paths), &LinkOptions::default()).expect_err("link must fail")
@@ -327,8 +326,8 @@ fn malformed_inputs_name_the_file() {
     );
     // ... and an object is not an executable.
     let obj_bytes = std::fs::read(dir.join("m.o")).unwrap();
-    assert!(read_executable("m.o", &obj_bytes).is_err());
-    assert!(read_executable("prog.elf", &exe).is_ok());
+    assert!(Executable::parse("m.o", &obj_bytes).is_err());
+    assert!(Executable::parse("prog.elf", &exe).is_ok());
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -374,7 +373,7 @@ fn corrupt_objects_never_panic() {
             Ok(l) => {
                 outcomes.0 += 1;
                 // Whatever we produced must read back.
-                read_executable("out", &l.elf).unwrap();
+                Executable::parse("out", &l.elf).unwrap();
             }
             Err(e) => {
                 outcomes.1 += 1;

@@ -8,10 +8,10 @@ use std::process::Command;
 
 use link_common::*;
 use object::{Object, ObjectSection};
-use trax_assembler::link::{
-    self, lld_script, read_executable, startup::startup_object, LinkOptions,
-};
+use trax_assembler::link::{self, lld_script, startup::startup_object, LinkOptions};
 use trax_runtime::abi;
+use trax_runtime::exe::Executable;
+use trax_runtime::image::Perms;
 
 /// Links `objs` with our linker and with ld.lld-14; returns (ours, lld's) executable paths.
 fn link_both(dir: &Path, objs: &[PathBuf]) -> (PathBuf, PathBuf, link::Linked) {
@@ -115,8 +115,8 @@ fn compare(dir: &Path, objs: &[PathBuf]) -> link::Linked {
     assert_eq!(bss(&b_ours), bss(&b_lld));
 
     // Every global symbol lld defines has the same address in ours.
-    let exe_ours = read_executable("ours", &b_ours).unwrap();
-    let exe_lld = read_executable("lld", &b_lld).unwrap();
+    let exe_ours = Executable::parse("ours", &b_ours).unwrap();
+    let exe_lld = Executable::parse("lld", &b_lld).unwrap();
     assert_eq!(exe_ours.entry, exe_lld.entry);
     assert_eq!(exe_ours.entry, abi::TEXT_BASE);
     for s in exe_lld.symbols.iter().filter(|s| s.is_global) {
@@ -163,7 +163,7 @@ fn clang_objects_match_lld() {
     let linked = compare(&dir, &[main, util]);
     assert_eq!(linked.scene_components(), vec!["triangles", "bvh_nodes"]);
 
-    let exe = read_executable("ours", &linked.elf).unwrap();
+    let exe = Executable::parse("ours", &linked.elf).unwrap();
     // Common symbol allocated once, in .bss.
     let common = exe.symbol("shared_counter").unwrap();
     let bss = linked.sections.iter().find(|s| s.name == ".bss").unwrap();
@@ -193,18 +193,18 @@ fn clang_objects_match_lld() {
         .unwrap()
         .1;
     assert_eq!(tri.addr, abi::SCENE_HEADER_ADDR + off as u32);
-    assert_eq!(exe.scene_components(), vec!["triangles", "bvh_nodes"]);
+    assert_eq!(exe.referenced, vec!["bvh_nodes", "triangles"]);
     // Segments: text R+X at TEXT_BASE, data R+W with bss beyond the file size.
     assert_eq!(exe.segments.len(), 2);
     let (text, data) = (&exe.segments[0], &exe.segments[1]);
-    assert!(text.execute && !text.write && text.vaddr == abi::TEXT_BASE);
-    assert!(data.write && !data.execute);
+    assert!(text.perms == Perms::RX && text.addr == abi::TEXT_BASE);
+    assert!(data.perms == Perms::RW);
     assert!(
-        data.mem_size as usize >= data.data.len() + 4000,
+        data.size as usize >= data.data.len() + 4000,
         "bss holds util_big_buffer"
     );
     let end = exe.symbol("_end").unwrap();
-    assert_eq!(end.addr, data.vaddr + data.mem_size);
+    assert_eq!(end.addr, data.addr + data.size);
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -265,7 +265,7 @@ fn comdat_groups_and_function_sections_match_lld() {
         &flags,
     );
     let linked = compare(&dir, &[a, b]);
-    let exe = read_executable("ours", &linked.elf).unwrap();
+    let exe = Executable::parse("ours", &linked.elf).unwrap();
     let copies = exe
         .symbols
         .iter()

@@ -6,7 +6,8 @@ use object::{
     elf, Architecture, BinaryFormat, Endianness, FileFlags, RelocationFlags, SymbolFlags,
     SymbolKind, SymbolScope,
 };
-use trax_assembler::link::{link, read_executable, Input, LinkOptions};
+use trax_assembler::link::{link, Input, LinkOptions};
+use trax_runtime::exe::Executable;
 
 /// An object with `.text` = `words` (global `__trax_start` at 0), `.data` of 0x20 bytes
 /// with global `target` at offset 0x10, and `relocs` (offset, type) in `.text` against
@@ -60,7 +61,7 @@ fn link_words(words: &[u32], relocs: &[(u64, elf::RelocationType)]) -> (Vec<u32>
         ..LinkOptions::default()
     };
     let linked = link(&[input], &opts).expect("link");
-    let exe = read_executable("out", &linked.elf).unwrap();
+    let exe = Executable::parse("out", &linked.elf).unwrap();
     let text = &exe.segments[0].data;
     let out = text
         .chunks(4)

@@ -7,7 +7,22 @@ use std::fmt::Write as _;
 use crate::debuginfo::{DebugInfo, SourceFrame};
 use crate::elf::Executable;
 use crate::machine::Crash;
-use crate::thread::Shared;
+use crate::memory::SegmentInfo;
+use crate::thread::{Fault, Shared};
+
+/// The segment whose permissions a memory fault broke (a store to read-only memory, a load
+/// from non-readable or a fetch from non-executable memory).
+fn denied_segment<'a>(crash: &Crash, sh: &'a Shared) -> Option<&'a SegmentInfo> {
+    use crate::memory::MemFaultKind::{NotExecutable, NotReadable, ReadOnly};
+    match &crash.fault {
+        Fault::Memory { fault, .. }
+            if matches!(fault.kind, ReadOnly | NotReadable | NotExecutable) =>
+        {
+            sh.mem.segment_at(fault.addr)
+        }
+        _ => None,
+    }
+}
 
 /// Formats the report of `crash`. `exe` supplies symbols, `dbg` source locations.
 pub fn report(
@@ -29,6 +44,16 @@ pub fn report(
     // A multi-line panic message (assert_eq!'s left/right) stays in the message column.
     let what = crash.fault.to_string().replace('\n', "\n        ");
     let _ = writeln!(s, "  what: {what}");
+    if let Some(seg) = denied_segment(crash, sh) {
+        let _ = writeln!(
+            s,
+            "  in:   segment `{}` ({:#010x}..{:#010x}, {})",
+            seg.name,
+            seg.addr,
+            seg.addr as u64 + seg.size as u64,
+            seg.perms
+        );
+    }
     let dis = sh
         .program
         .get(crash.pc)

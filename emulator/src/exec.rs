@@ -66,7 +66,7 @@ fn mem_fault(f: MemFault) -> Fault {
 impl Thread {
     #[cold]
     fn fetch_slow(&self, sh: &Shared, pc: u32) -> Result<Inst, Fault> {
-        match sh.mem.read::<4>(&self.local, pc) {
+        match sh.mem.fetch(&self.local, pc) {
             Ok(b) => Ok(crate::decode::decode(u32::from_le_bytes(b))),
             Err(f) => Err(Fault::Memory {
                 fault: f,
@@ -1047,7 +1047,7 @@ impl Thread {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::memory::{Memory, Segment};
+    use crate::memory::{Memory, Perms, Segment};
     use crate::program::Program;
     use crate::thread::{ChipShape, Shared};
 
@@ -1058,17 +1058,13 @@ mod tests {
         w.push(0x7000_0007); // trax.halt
         let data: Vec<u8> = w.iter().flat_map(|x| x.to_le_bytes()).collect();
         let segs = vec![
+            Segment::new("text", 0x10_0000, data, Perms::RX),
             Segment {
-                addr: 0x10_0000,
-                mem_size: data.len() as u32,
-                data,
-                writable: false,
-            },
-            Segment {
+                name: "data".into(),
                 addr: 0x20_0000,
                 data: vec![0; 64],
-                mem_size: 64,
-                writable: true,
+                size: 64,
+                perms: Perms::RW,
             },
         ];
         let mem = Memory::new(&segs, 4096).unwrap();

@@ -8,7 +8,7 @@ use crate::debuginfo::DebugInfo;
 use crate::decode::decode;
 use crate::elf::Executable;
 use crate::machine::{Machine, MachineConfig, Outcome};
-use crate::memory::Segment;
+use crate::memory::{Perms, Segment};
 use crate::memsys::{DramConfig, MemSysConfig, MemSystem};
 use crate::timing::ChipConfig;
 use trax_runtime::abi;
@@ -40,17 +40,13 @@ pub fn decode_words(data: &[u8]) {
     let text: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
     let end = abi::TEXT_BASE + text.len() as u32;
     let segments = [
+        Segment::new("text", abi::TEXT_BASE, text, Perms::RX),
         Segment {
-            addr: abi::TEXT_BASE,
-            mem_size: text.len() as u32,
-            data: text,
-            writable: false,
-        },
-        Segment {
+            name: "data".into(),
             addr: (end + 0xfff) & !0xfff,
             data: Vec::new(),
-            mem_size: 4096,
-            writable: true,
+            size: 4096,
+            perms: Perms::RW,
         },
     ];
     if let Ok(mut m) = Machine::new(

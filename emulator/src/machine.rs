@@ -172,6 +172,12 @@ impl Machine {
             )));
         }
         let mem = Memory::new(segments, config.stack_size)?;
+        if !mem.executable(text_start, text_end) {
+            return Err(SetupError::Layout(LayoutError::TextNotExecutable {
+                start: text_start,
+                end: text_end,
+            }));
+        }
         let seed = scene_seed(&mem);
         let program = Program::decode_range(&mem, text_start, text_end, entry);
         let shape = ChipShape {
@@ -251,14 +257,9 @@ pub(crate) fn drain(buf: &mut Vec<u8>, out: &mut dyn Write) {
 
 /// The random seed from the scene header, or 0 when no header is loaded.
 fn scene_seed(mem: &Memory) -> u32 {
-    let off = abi::scene_header_fields()
-        .iter()
-        .find(|(n, _)| *n == "seed")
-        .map(|(_, o)| *o);
-    match (mem.peek_u32(abi::SCENE_HEADER_ADDR), off) {
-        (Some(abi::SCENE_MAGIC), Some(off)) => mem
-            .peek_u32(abi::SCENE_HEADER_ADDR + off as u32)
-            .unwrap_or(0),
+    let off = std::mem::offset_of!(abi::SceneHeader, seed) as u32;
+    match mem.peek_u32(abi::SCENE_HEADER_ADDR) {
+        Some(abi::SCENE_MAGIC) => mem.peek_u32(abi::SCENE_HEADER_ADDR + off).unwrap_or(0),
         _ => 0,
     }
 }

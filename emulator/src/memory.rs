@@ -1,6 +1,11 @@
 //! The flat 32-bit address space: chip-wide global memory built from segments, the null
 //! guard, and each thread's private local store (its stack window below `STACK_TOP`).
 //!
+//! Global memory is built from a memory image's segments ([`Segment`], the runtime's one
+//! image type) and honours their permissions: a load needs `r`, a store `w` (a store to
+//! program text faults), an instruction fetch `x` (the predecoded text must lie in
+//! executable segments, and code is never fetched from data or the stack).
+//!
 //! Global memory is one `Vec<u8>` from address 0 to the end of the highest segment, plus
 //! a page table of permissions (4 KiB pages): the common access path is one bounds check,
 //! one permission byte and one unaligned load. Bounds are exact to the byte: a page that a
@@ -19,15 +24,15 @@ use trax_runtime::abi;
 /// Page size of the permission map.
 pub const PAGE_SHIFT: u32 = 12;
 
-/// Page permission bits (the low byte of a page's entry): the whole page is readable
-/// (`PERM_R`), also writable (`PERM_W`); one region covers part of the page (`PERM_PART`,
-/// writable: `PERM_PART_W`), the mapped offsets `[lo, hi]` inclusive packed above the
-/// permission byte (see [`page_entry`]); or several regions share the page (`PERM_MULTI`:
-/// checked against the region list).
+/// Page permission bits (the low byte of a page's entry): one region covers the whole
+/// page and is readable (`PERM_R`) and/or writable (`PERM_W`); one region covers part of
+/// the page, readable (`PERM_PART`) and/or writable (`PERM_PART_W`), the mapped offsets
+/// `[lo, hi]` inclusive packed above the permission byte (see [`page_entry`]); or several
+/// regions share the page (`PERM_MULTI`: checked against the region list). Execute
+/// permission is checked on the (cold) fetch path only, against the region list.
 const PERM_NONE: u32 = 0;
 const PERM_R: u32 = 1;
 const PERM_W: u32 = 2;
-const PERM_RW: u32 = PERM_R | PERM_W;
 const PERM_PART: u32 = 4;
 const PERM_PART_W: u32 = 8;
 const PERM_MULTI: u32 = 16;
@@ -43,18 +48,7 @@ pub const MAX_GLOBAL: u32 = 1 << 30;
 /// Addresses this far below the stack window are reported as stack overflow.
 pub const STACK_GUARD: u32 = 16 << 20;
 
-/// One initialized region of the memory image.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct Segment {
-    /// First address.
-    pub addr: u32,
-    /// Contents.
-    pub data: Vec<u8>,
-    /// Size in memory (>= `data.len()`; the rest is zero-filled, like `.bss`).
-    pub mem_size: u32,
-    /// Whether stores are allowed.
-    pub writable: bool,
-}
+pub use trax_runtime::image::{Perms, Segment};
 
 /// Why an access failed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -67,8 +61,12 @@ pub enum MemFaultKind {
     StackOverflow,
     /// Address not mapped.
     BadAddress,
-    /// Store to read-only memory (program text or read-only data).
+    /// Store to read-only memory (program text, read-only data, scene data).
     ReadOnly,
+    /// Load from memory without read permission.
+    NotReadable,
+    /// Instruction fetch from memory without execute permission (data, the stack).
+    NotExecutable,
 }
 
 /// A failed access.
@@ -108,14 +106,33 @@ pub enum LayoutError {
     /// Two segments overlap.
     #[error("segments at {a:#010x} and {b:#010x} overlap")]
     Overlap { a: u32, b: u32 },
+    /// The program's executable sections are not all in executable segments.
+    #[error("the program text {start:#010x}..{end:#010x} is not all in executable segments")]
+    TextNotExecutable { start: u32, end: u32 },
+    /// A segment holds more data than its size.
+    #[error("segment `{name}` at {addr:#010x} holds more data than its size")]
+    DataPastSize { name: String, addr: u32 },
 }
 
-/// A mapped address range `[start, end)` (adjacent segments of equal permission merged).
+/// A mapped address range `[start, end)` (adjacent segments of equal permissions merged).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 struct Region {
     start: u32,
     end: u64,
-    writable: bool,
+    perms: Perms,
+}
+
+/// A segment as loaded, for reports (`crash`): name, range and permissions.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SegmentInfo {
+    /// Segment name.
+    pub name: String,
+    /// First address.
+    pub addr: u32,
+    /// Size in bytes.
+    pub size: u32,
+    /// Permissions.
+    pub perms: Perms,
 }
 
 /// Chip-wide global memory.
@@ -126,6 +143,8 @@ pub struct Memory {
     perms: Vec<u32>,
     /// Mapped ranges in address order: the exact bounds behind `PERM_MULTI` pages.
     regions: Vec<Region>,
+    /// The image's segments in address order (names for reports).
+    segments: Vec<SegmentInfo>,
     /// Lowest address of the per-thread stack window.
     pub stack_base: u32,
     /// Size of each thread's local store.
@@ -140,8 +159,14 @@ impl Memory {
         let mut sorted: Vec<&Segment> = segments.iter().collect();
         sorted.sort_by_key(|s| s.addr);
         for (i, s) in sorted.iter().enumerate() {
-            let size = s.mem_size.max(s.data.len() as u32);
-            let e = s.addr as u64 + size as u64;
+            let size = s.size;
+            if s.data.len() as u64 > size as u64 {
+                return Err(LayoutError::DataPastSize {
+                    name: s.name.clone(),
+                    addr: s.addr,
+                });
+            }
+            let e = s.end();
             if s.addr < abi::NULL_GUARD_END {
                 return Err(LayoutError::NullGuard { addr: s.addr, size });
             }
@@ -152,14 +177,11 @@ impl Memory {
                     stack_base,
                 });
             }
-            if i > 0 {
-                let p = sorted[i - 1];
-                if (p.addr as u64 + p.mem_size.max(p.data.len() as u32) as u64) > s.addr as u64 {
-                    return Err(LayoutError::Overlap {
-                        a: p.addr,
-                        b: s.addr,
-                    });
-                }
+            if i > 0 && sorted[i - 1].end() > s.addr as u64 {
+                return Err(LayoutError::Overlap {
+                    a: sorted[i - 1].addr,
+                    b: s.addr,
+                });
             }
             if e > MAX_GLOBAL as u64 {
                 return Err(LayoutError::TooLarge { addr: s.addr });
@@ -172,17 +194,16 @@ impl Memory {
         for s in &sorted {
             let a = s.addr as usize;
             bytes[a..a + s.data.len()].copy_from_slice(&s.data);
-            let size = s.mem_size.max(s.data.len() as u32);
-            if size == 0 {
+            if s.size == 0 {
                 continue;
             }
             let r = Region {
                 start: s.addr,
-                end: s.addr as u64 + size as u64,
-                writable: s.writable,
+                end: s.end(),
+                perms: s.perms,
             };
             match regions.last_mut() {
-                Some(last) if last.end == r.start as u64 && last.writable == r.writable => {
+                Some(last) if last.end == r.start as u64 && last.perms == r.perms => {
                     last.end = r.end
                 }
                 _ => regions.push(r),
@@ -190,35 +211,41 @@ impl Memory {
         }
         // A page is fast-path mapped only when one region covers all of it.
         let mut perms = vec![PERM_NONE; pages];
+        let mut touched = vec![false; pages];
         for r in &regions {
             let (start, end) = (r.start as u64, r.end);
+            let (read, write) = (r.perms.read(), r.perms.write());
             let (p0, p1) = (start >> PAGE_SHIFT, end.div_ceil(1 << PAGE_SHIFT));
             for p in p0..p1 {
                 let (lo, hi) = (p << PAGE_SHIFT, (p + 1) << PAGE_SHIFT);
                 let slot = &mut perms[p as usize];
-                *slot = if *slot != PERM_NONE {
+                *slot = if touched[p as usize] {
                     PERM_MULTI
                 } else if start <= lo && hi <= end {
-                    if r.writable {
-                        PERM_RW
-                    } else {
-                        PERM_R
-                    }
+                    (if read { PERM_R } else { 0 }) | if write { PERM_W } else { 0 }
                 } else {
                     let (a, b) = (start.max(lo) - lo, end.min(hi) - lo - 1);
-                    let perm = if r.writable {
-                        PERM_PART | PERM_PART_W
-                    } else {
-                        PERM_PART
-                    };
+                    let perm =
+                        (if read { PERM_PART } else { 0 }) | if write { PERM_PART_W } else { 0 };
                     page_entry(perm, a as u32, b as u32)
                 };
+                touched[p as usize] = true;
             }
         }
+        let segments = sorted
+            .iter()
+            .map(|s| SegmentInfo {
+                name: s.name.clone(),
+                addr: s.addr,
+                size: s.size,
+                perms: s.perms,
+            })
+            .collect();
         Ok(Memory {
             bytes,
             perms,
             regions,
+            segments,
             stack_base,
             stack_size,
         })
@@ -236,7 +263,13 @@ impl Memory {
     /// Whether `[addr, addr + n)` on a page shared by several regions is mapped (and writable, for `write`).
     #[inline(never)]
     fn partial_ok(&self, addr: u32, n: u32, write: bool) -> bool {
-        self.region(addr, n).is_some_and(|r| r.writable || !write)
+        self.region(addr, n).is_some_and(|r| {
+            if write {
+                r.perms.write()
+            } else {
+                r.perms.read()
+            }
+        })
     }
 
     /// The mapped region holding all of `[addr, addr + n)`, if any.
@@ -259,8 +292,18 @@ impl Memory {
             MemFaultKind::Misaligned
         } else if addr < self.stack_base && addr >= self.stack_base.saturating_sub(STACK_GUARD) {
             MemFaultKind::StackOverflow
-        } else if write && self.region(addr, size as u32).is_some_and(|r| !r.writable) {
+        } else if write
+            && self
+                .region(addr, size as u32)
+                .is_some_and(|r| !r.perms.write())
+        {
             MemFaultKind::ReadOnly
+        } else if !write
+            && self
+                .region(addr, size as u32)
+                .is_some_and(|r| !r.perms.read())
+        {
+            MemFaultKind::NotReadable
         } else {
             MemFaultKind::BadAddress
         };
@@ -270,6 +313,56 @@ impl Memory {
             size,
             write,
         }
+    }
+
+    /// Fetches the instruction word at `addr` outside the predecoded text: allowed only
+    /// in executable memory (never from data or the stack).
+    #[cold]
+    pub fn fetch(&self, local: &[u8], addr: u32) -> Result<[u8; 4], MemFault> {
+        if addr & 3 != 0 {
+            return Err(self.fault(addr, 4, false));
+        }
+        let denied = MemFault {
+            kind: MemFaultKind::NotExecutable,
+            addr,
+            size: 4,
+            write: false,
+        };
+        match self.region(addr, 4) {
+            Some(r) if r.perms.exec() => {
+                let a = addr as usize;
+                let mut out = [0u8; 4];
+                out.copy_from_slice(&self.bytes[a..a + 4]);
+                Ok(out)
+            }
+            Some(_) => Err(denied),
+            // The stack window is mapped but never executable; anything else faults as a
+            // load there would.
+            None => match self.read::<4>(local, addr) {
+                Ok(_) => Err(denied),
+                Err(f) => Err(f),
+            },
+        }
+    }
+
+    /// Whether every byte of `[start, end)` is executable.
+    pub fn executable(&self, start: u32, end: u32) -> bool {
+        let mut at = start as u64;
+        while at < end as u64 {
+            let i = self.regions.partition_point(|r| r.start as u64 <= at);
+            match i.checked_sub(1).map(|i| &self.regions[i]) {
+                Some(r) if r.end > at && r.perms.exec() => at = r.end,
+                _ => return false,
+            }
+        }
+        true
+    }
+
+    /// The loaded segment holding `addr`.
+    pub fn segment_at(&self, addr: u32) -> Option<&SegmentInfo> {
+        let i = self.segments.partition_point(|s| s.addr <= addr);
+        let s = self.segments.get(i.checked_sub(1)?)?;
+        ((addr as u64) < s.addr as u64 + s.size as u64).then_some(s)
     }
 
     /// Reads `N` bytes at an `N`-aligned address from global memory or `local`.
@@ -409,16 +502,18 @@ mod tests {
     fn mem() -> Memory {
         let segs = vec![
             Segment {
+                name: "s".into(),
                 addr: 0x10_0000,
                 data: vec![1, 2, 3, 4],
-                mem_size: 4,
-                writable: false,
+                size: 4,
+                perms: Perms::R,
             },
             Segment {
+                name: "s".into(),
                 addr: 0x20_0000,
                 data: vec![],
-                mem_size: 0x2000,
-                writable: true,
+                size: 0x2000,
+                perms: Perms::RW,
             },
         ];
         Memory::new(&segs, 4096).unwrap()
@@ -462,22 +557,25 @@ mod tests {
         // writable segment sharing one page, and a gap between them.
         let segs = vec![
             Segment {
+                name: "s".into(),
                 addr: 0x10_0000,
                 data: vec![7; 0x10],
-                mem_size: 0x10,
-                writable: false,
+                size: 0x10,
+                perms: Perms::R,
             },
             Segment {
+                name: "s".into(),
                 addr: 0x10_0010,
                 data: vec![],
-                mem_size: 0x30,
-                writable: true,
+                size: 0x30,
+                perms: Perms::RW,
             },
             Segment {
+                name: "s".into(),
                 addr: 0x10_0100,
                 data: vec![],
-                mem_size: 0x1_2344,
-                writable: true,
+                size: 0x1_2344,
+                perms: Perms::RW,
             },
         ];
         let mut m = Memory::new(&segs, 4096).unwrap();
@@ -509,12 +607,7 @@ mod tests {
 
     #[test]
     fn rejects_bad_layouts() {
-        let s = |addr, n| Segment {
-            addr,
-            data: vec![0; n],
-            mem_size: n as u32,
-            writable: true,
-        };
+        let s = |addr, n| Segment::new("data", addr, vec![0; n], Perms::RW);
         assert!(matches!(
             Memory::new(&[s(0x100, 4)], 4096),
             Err(LayoutError::NullGuard { .. })

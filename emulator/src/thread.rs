@@ -115,6 +115,8 @@ impl std::fmt::Display for Fault {
                     StackOverflow => "stack overflow",
                     BadAddress => "bad address",
                     ReadOnly => "store to read-only memory",
+                    NotReadable => "load from non-readable memory",
+                    NotExecutable => "instruction fetch from non-executable memory",
                 };
                 write!(f, "{what}: {access} at address {:#010x}", fault.addr)
             }

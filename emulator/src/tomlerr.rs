@@ -6,6 +6,24 @@
 
 use serde::de::DeserializeOwned;
 
+/// Merges `over` into `base`: tables key by key (recursively), any other value replaced.
+/// The one merge of a user's config over its preset (chip and memory-system configs).
+pub(crate) fn merge(base: &mut toml::Value, over: toml::Value) {
+    match (base, over) {
+        (toml::Value::Table(b), toml::Value::Table(o)) => {
+            for (k, v) in o {
+                match b.get_mut(&k) {
+                    Some(slot) if slot.is_table() && v.is_table() => merge(slot, v),
+                    _ => {
+                        b.insert(k, v);
+                    }
+                }
+            }
+        }
+        (b, o) => *b = o,
+    }
+}
+
 /// A config error located in the user's text.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct FieldError {

@@ -180,3 +180,52 @@ fn timing_crash_names_the_line_and_cycle() {
         "the report names the cycle of the fault ({cycles}):\n{report}"
     );
 }
+
+/// A kernel that stores through a pointer into its own code, and the report of the fault:
+/// program text is read-only (the `text` segment is `r-x`), so the store faults instead of
+/// changing the code the machine has predecoded. Built at -O0: at -O1 clang moves the store
+/// into `jr $ra`'s delay slot and its line table gives it the line of the `}`.
+const CODE_STORE: &str = "#include \"trax.h\"\n__attribute__((noinline)) void patch(volatile unsigned *code) {\n  *code = 0; // CRASH\n}\nvoid trax_main(void) {\n  patch((volatile unsigned *)(void *)&trax_main);\n  trax_printi(1);\n}\n";
+
+fn assert_code_store_report(name: &str, report: &str, line: u32) {
+    assert!(report.contains("store to read-only memory"), "{report}");
+    assert!(report.contains("segment `text`"), "{report}");
+    assert!(report.contains("r-x"), "{report}");
+    assert_line(name, report, line);
+}
+
+#[test]
+fn store_to_code_is_a_fault() {
+    let (f, report, line) = crash("codestore", CODE_STORE, "-O0");
+    assert!(
+        matches!(f, Fault::Memory { fault, .. }
+            if fault.kind == trax_emulator::MemFaultKind::ReadOnly && fault.write),
+        "{f:?}"
+    );
+    assert_code_store_report("codestore", &report, line);
+}
+
+/// The same store in timing mode (stores reach global memory in the serial phase).
+#[test]
+fn store_to_code_is_a_fault_in_timing_mode() {
+    let line = 3;
+    let elf = build_c("codestore_timing", CODE_STORE, "-O0");
+    let data = std::fs::read(&elf).unwrap();
+    let path = elf.display().to_string();
+    let chip = chip(1, 2);
+    let mut req = trax_emulator::RunRequest::new(&path, &data, &chip, trax_emulator::Mode::Timing);
+    req.host_threads = Some(1);
+    let mut out = Vec::new();
+    let r = trax_emulator::run(req, &mut out).unwrap();
+    let report = r.failure.clone().unwrap_or_default();
+    let Outcome::Crashed(c) = &r.outcome else {
+        panic!("expected a crash:\n{report}");
+    };
+    assert!(
+        matches!(c.fault, Fault::Memory { fault, .. } if fault.kind == trax_emulator::MemFaultKind::ReadOnly),
+        "{:?}",
+        c.fault
+    );
+    assert_code_store_report("codestore_timing", &report, line);
+    assert!(out.is_empty(), "nothing runs after the faulting store");
+}

@@ -1,7 +1,10 @@
 //! Host side of the machine interface (compiled by rustc only, for `trax native` and the
 //! runtime's tests): kernel threads are host threads, ids live in thread-locals, global
 //! registers are atomics, and simulated memory is a host copy of a memory image file
-//! (format documented in the runtime's `host.rs`), accessed word by word.
+//! (the runtime's `image.rs`, included here so both sides read and write one format),
+//! accessed word by word. A store outside the image's writable segments panics, as it
+//! faults on the machine (the host does not check loads in the gaps between segments:
+//! the emulator is the exact reference for bad addresses).
 
 use std::cell::Cell;
 use std::sync::atomic::{AtomicU32, AtomicU64, Ordering};
@@ -10,6 +13,8 @@ use std::time::Instant;
 
 #[path = "../src/fops.rs"]
 mod fops;
+#[path = "../src/image.rs"]
+pub mod image;
 #[path = "../src/pipes.rs"]
 mod pipes;
 #[path = "../src/rng.rs"]
@@ -21,8 +26,6 @@ use super::layout;
 pub const NUM_GLOBAL_REGS: u32 = 256;
 /// Stack size of each kernel thread on the host.
 const KERNEL_STACK_BYTES: usize = 16 << 20;
-/// Magic of a memory image file.
-const IMAGE_MAGIC: &[u8; 8] = b"TRAXIMG1";
 
 /// Largest address span (lowest to highest segment byte) the host runner maps.
 const MAX_SPAN_BYTES: u64 = 1 << 30;
@@ -44,8 +47,10 @@ struct Machine {
     /// Address of `mem[0]`.
     base: u32,
     mem: Vec<AtomicU32>,
-    /// The image's segments as (address, byte length), for writing the result back.
-    segments: Vec<(u32, u32)>,
+    /// The image's segments (initial contents), for writing the result back.
+    segments: Vec<image::Segment>,
+    /// Writable ranges `[start, end)`, sorted.
+    writable: Vec<(u64, u64)>,
     globals: Vec<AtomicU32>,
     barriers: Mutex<Barriers>,
     barrier_cv: Condvar,
@@ -106,6 +111,23 @@ impl Machine {
             panic!("trax: null pointer {what} at address {addr:#010x}");
         }
         panic!("trax: {what} at unmapped address {addr:#010x}");
+    }
+
+    /// The word at `addr` for a store: it must lie in a writable segment.
+    fn word_mut(&self, addr: u32) -> &AtomicU32 {
+        let w = self.word(addr, "store");
+        let a = addr as u64;
+        if !self.writable.iter().any(|&(s, e)| s <= a && a + 4 <= e) {
+            let seg = self.segments.iter().find(|s| s.holds(addr, 4));
+            match seg {
+                Some(s) => panic!(
+                    "trax: store to read-only memory at address {addr:#010x} (segment `{}`, {})",
+                    s.name, s.perms
+                ),
+                None => panic!("trax: store at unmapped address {addr:#010x}"),
+            }
+        }
+        w
     }
 
     fn global(&self, reg: u32) -> &AtomicU32 {
@@ -325,7 +347,7 @@ pub fn load_f32(addr: u32) -> f32 {
 }
 
 pub fn store_u32(addr: u32, v: u32) {
-    with_machine(|m| m.word(addr, "store").store(v, Ordering::Relaxed))
+    with_machine(|m| m.word_mut(addr).store(v, Ordering::Relaxed))
 }
 
 pub fn store_f32(addr: u32, v: f32) {
@@ -406,68 +428,45 @@ pub fn hdr_treelet_ids() -> u32 {
 
 // ---- The host runner ----
 
-/// A memory image: `(address, bytes)` segments.
-pub type Image = Vec<(u32, Vec<u8>)>;
+/// A memory image (the runtime's one image type, compiled into this crate).
+pub type Image = image::MemoryImage;
 
-/// Parses a memory image file's bytes (format: the runtime's `host.rs`).
+/// Parses a memory image file's bytes.
 pub fn parse_image(data: &[u8]) -> Result<Image, String> {
-    let mut pos = 0usize;
-    let mut take = |n: usize, what: &str| -> Result<&[u8], String> {
-        match pos.checked_add(n).filter(|&e| e <= data.len()) {
-            Some(end) => {
-                let s = &data[pos..end];
-                pos = end;
-                Ok(s)
-            }
-            None => Err(format!(
-                "memory image truncated at byte {pos} (reading {what})"
-            )),
-        }
-    };
-    if take(8, "magic")? != IMAGE_MAGIC {
-        return Err("not a trax memory image (bad magic)".to_string());
-    }
-    let word = |b: &[u8]| u32::from_le_bytes([b[0], b[1], b[2], b[3]]);
-    let count = word(take(4, "segment count")?);
-    let mut out = Vec::new();
-    for i in 0..count {
-        let addr = word(take(4, "segment address")?);
-        let len = word(take(4, "segment length")?) as usize;
-        if !addr.is_multiple_of(4) || !len.is_multiple_of(4) {
-            return Err(format!("segment {i} at {addr:#010x} is not word-aligned"));
-        }
-        out.push((addr, take(len, "segment bytes")?.to_vec()));
-    }
-    Ok(out)
+    image::MemoryImage::parse(data).map_err(|e| e.to_string())
 }
 
 /// Serialises a memory image.
 pub fn image_bytes(image: &Image) -> Vec<u8> {
-    let mut out = IMAGE_MAGIC.to_vec();
-    out.extend_from_slice(&(image.len() as u32).to_le_bytes());
-    for (addr, bytes) in image {
-        out.extend_from_slice(&addr.to_le_bytes());
-        out.extend_from_slice(&(bytes.len() as u32).to_le_bytes());
-        out.extend_from_slice(bytes);
-    }
-    out
+    image.to_bytes()
 }
 
 fn build_machine(image: &Image, num_tms: u32, threads_per_tm: u32) -> Result<Machine, String> {
-    let mut segments: Vec<(u32, u32)> = image.iter().map(|(a, b)| (*a, b.len() as u32)).collect();
-    segments.sort();
-    for w in segments.windows(2) {
-        if w[0].0 as u64 + w[0].1 as u64 > w[1].0 as u64 {
-            return Err(format!("memory image segments overlap at {:#010x}", w[1].0));
-        }
+    image.validate().map_err(|e| e.to_string())?;
+    let mut segments: Vec<image::Segment> = image
+        .segments
+        .iter()
+        .filter(|s| s.size > 0)
+        .cloned()
+        .collect();
+    segments.sort_by_key(|s| s.addr);
+    if let Some(s) = segments
+        .first()
+        .filter(|s| s.addr < layout::SCENE_HEADER_ADDR)
+    {
+        return Err(format!(
+            "memory image segment `{}` at {:#010x} overlaps the null guard",
+            s.name, s.addr
+        ));
     }
+    // Word-granular span covering every segment.
     let base = segments
         .first()
-        .map(|s| s.0)
+        .map(|s| s.addr & !3)
         .unwrap_or(layout::SCENE_HEADER_ADDR);
     let end = segments
         .iter()
-        .map(|s| s.0 as u64 + s.1 as u64)
+        .map(|s| s.end().next_multiple_of(4))
         .max()
         .unwrap_or(base as u64);
     if end - base as u64 > MAX_SPAN_BYTES {
@@ -479,12 +478,19 @@ fn build_machine(image: &Image, num_tms: u32, threads_per_tm: u32) -> Result<Mac
     }
     let mut mem: Vec<AtomicU32> = Vec::with_capacity(((end - base as u64) / 4) as usize);
     mem.resize_with(((end - base as u64) / 4) as usize, || AtomicU32::new(0));
-    for (addr, bytes) in image {
-        let first = ((addr - base) / 4) as usize;
-        for (k, c) in bytes.chunks_exact(4).enumerate() {
-            mem[first + k] = AtomicU32::new(u32::from_le_bytes([c[0], c[1], c[2], c[3]]));
+    for s in &segments {
+        for (k, &byte) in s.data.iter().enumerate() {
+            let at = (s.addr - base) as usize + k;
+            let w = mem[at / 4].get_mut();
+            let shift = 8 * (at % 4);
+            *w = (*w & !(0xff << shift)) | (byte as u32) << shift;
         }
     }
+    let writable = segments
+        .iter()
+        .filter(|s| s.perms.write())
+        .map(|s| (s.addr as u64, s.end()))
+        .collect();
     let threads = num_tms
         .checked_mul(threads_per_tm)
         .filter(|&n| n > 0 && n <= 4096)
@@ -495,6 +501,7 @@ fn build_machine(image: &Image, num_tms: u32, threads_per_tm: u32) -> Result<Mac
         base,
         mem,
         segments,
+        writable,
         globals: (0..NUM_GLOBAL_REGS).map(|_| AtomicU32::new(0)).collect(),
         barriers: Mutex::new(Barriers {
             live: threads,
@@ -510,11 +517,7 @@ fn build_machine(image: &Image, num_tms: u32, threads_per_tm: u32) -> Result<Mac
     };
     // The random streams' seed comes from the header when the image has one.
     let seed_addr = layout::SCENE_HEADER_ADDR + layout::HDR_SEED;
-    let has_seed = m
-        .segments
-        .iter()
-        .any(|&(a, len)| a <= seed_addr && seed_addr - a < len);
-    if has_seed {
+    if m.segments.iter().any(|s| s.holds(seed_addr, 4)) {
         m.seed = m.word(seed_addr, "load").load(Ordering::Relaxed);
     }
     Ok(m)
@@ -548,7 +551,7 @@ pub struct RunStats {
 }
 
 /// Runs `kernel` on `num_tms × threads_per_tm` host threads over `image` and returns the
-/// final memory as an image (same segments, current contents).
+/// final memory as an image (same non-empty segments, current contents).
 pub fn run_image(
     image: &Image,
     num_tms: u32,
@@ -617,20 +620,24 @@ pub fn run_image_stats(
         rays: machine.rays.load(Ordering::Relaxed),
         seconds: machine.start.elapsed().as_secs_f64(),
     };
-    let memory = machine
+    let segments = machine
         .segments
         .iter()
-        .map(|&(addr, len)| {
-            let first = ((addr - machine.base) / 4) as usize;
-            let words = &machine.mem[first..first + (len / 4) as usize];
-            let bytes = words
+        .map(|s| {
+            let first = ((s.addr - machine.base) / 4) as usize;
+            let last = ((s.end().next_multiple_of(4) - machine.base as u64) / 4) as usize;
+            let words: Vec<u8> = machine.mem[first..last]
                 .iter()
                 .flat_map(|w| w.load(Ordering::Relaxed).to_le_bytes())
                 .collect();
-            (addr, bytes)
+            let skip = (s.addr & 3) as usize;
+            image::Segment {
+                data: words[skip..skip + s.size as usize].to_vec(),
+                ..s.clone()
+            }
         })
         .collect();
-    Ok((memory, stats))
+    Ok((image::MemoryImage { segments }, stats))
 }
 
 /// Marks its thread as finished (even on panic) so barriers stop waiting for it.
@@ -651,7 +658,7 @@ impl Drop for LiveGuard {
 /// Entry point of a natively built kernel: `PROGRAM IMAGE_IN FRAMEBUFFER_OUT TMS THREADS`.
 ///
 /// Runs the kernel over the memory image and writes the framebuffer (header field
-/// `framebuffer`, `count × 12` bytes) as a one-segment memory image. Exits with status 1
+/// `framebuffer`, `count × layout::PIXEL_SIZE` bytes) as a one-segment memory image. Exits with status 1
 /// (after the panic message) if any kernel thread panics, 2 on a usage or I/O error.
 pub fn host_main(kernel: fn()) {
     let args: Vec<String> = std::env::args().collect();
@@ -702,31 +709,33 @@ pub fn host_main(kernel: fn()) {
         }
     };
     let fb = framebuffer_segment(&out);
-    if let Err(e) = std::fs::write(&args[2], image_bytes(&fb)) {
+    if let Err(e) = std::fs::write(&args[2], fb.to_bytes()) {
         fail(format!("{}: {e}", args[2]));
     }
 }
 
 /// The framebuffer region of a memory image, per its scene header (empty if none).
 pub fn framebuffer_segment(image: &Image) -> Image {
-    let read = |addr: u32, len: u32| -> Option<Vec<u8>> {
-        image.iter().find_map(|(a, b)| {
-            let off = addr.checked_sub(*a)? as usize;
-            b.get(off..off.checked_add(len as usize)?)
-                .map(|s| s.to_vec())
-        })
-    };
+    let word = |addr: u32| image.read_u32(addr);
     let field = layout::SCENE_HEADER_ADDR + layout::HDR_FRAMEBUFFER;
-    let Some(c) = read(field, 8) else {
-        return Vec::new();
+    let (Some(addr), Some(count)) = (
+        word(field + layout::COMPONENT_ADDR),
+        word(field + layout::COMPONENT_COUNT),
+    ) else {
+        return Image::default();
     };
-    let addr = u32::from_le_bytes([c[0], c[1], c[2], c[3]]);
-    let count = u32::from_le_bytes([c[4], c[5], c[6], c[7]]);
-    match count
-        .checked_mul(layout::PIXEL_SIZE)
-        .and_then(|len| read(addr, len))
-    {
-        Some(bytes) if count > 0 => vec![(addr, bytes)],
-        _ => Vec::new(),
+    let bytes = count
+        .checked_mul(layout::FRAMEBUFFER_STRIDE)
+        .and_then(|len| image.read(addr, len));
+    match bytes {
+        Some(data) if count > 0 => Image {
+            segments: vec![image::Segment::new(
+                "framebuffer",
+                addr,
+                data,
+                image::Perms::RW,
+            )],
+        },
+        _ => Image::default(),
     }
 }

@@ -70,7 +70,8 @@ pub fn background() -> Vec3 {
 
 /// True if the header carries the expected magic and version.
 pub fn header_is_valid() -> bool {
-    hw::load_u32(hw::hdr_magic()) == 0x5841_5254 && hw::load_u32(hw::hdr_version()) == 1
+    hw::load_u32(hw::hdr_magic()) == layout::SCENE_MAGIC
+        && hw::load_u32(hw::hdr_version()) == layout::SCENE_VERSION
 }
 
 /// Address of the camera.
@@ -83,7 +84,7 @@ pub fn camera_addr() -> u32 {
 /// Address of pixel `(x, y)`; row 0 is the top of the image.
 pub fn pixel_addr(x: u32, y: u32) -> u32 {
     let fb = hw::load_u32(hw::hdr_framebuffer() + layout::COMPONENT_ADDR);
-    fb + (y * width() + x) * layout::PIXEL_SIZE
+    fb + (y * width() + x) * layout::FRAMEBUFFER_STRIDE
 }
 
 /// Writes pixel `(x, y)` (linear RGB; row 0 is the top of the image).
@@ -94,7 +95,7 @@ pub fn set_pixel(x: u32, y: u32, c: Vec3) {
 /// Writes pixel number `i` (`y * width + x`).
 pub fn set_pixel_index(i: u32, c: Vec3) {
     let fb = hw::load_u32(hw::hdr_framebuffer() + layout::COMPONENT_ADDR);
-    store_vec3(fb + i * layout::PIXEL_SIZE, c);
+    store_vec3(fb + i * layout::FRAMEBUFFER_STRIDE, c);
 }
 
 /// What [`PixelShare::next_pixel`] returns when every pixel has been handed out.
@@ -229,11 +230,12 @@ pub fn triangle_count() -> u32 {
 
 /// Triangle `i`.
 pub fn triangle(i: u32) -> Triangle {
-    let a = hw::load_u32(hw::hdr_triangles() + layout::COMPONENT_ADDR) + i * layout::TRIANGLE_SIZE;
+    let a =
+        hw::load_u32(hw::hdr_triangles() + layout::COMPONENT_ADDR) + i * layout::TRIANGLES_STRIDE;
     Triangle {
         v0: load_vec3(a),
-        v1: load_vec3(a + 12),
-        v2: load_vec3(a + 24),
+        v1: load_vec3(a + layout::TRI_V1),
+        v2: load_vec3(a + layout::TRI_V2),
     }
 }
 
@@ -244,10 +246,10 @@ pub fn normals_count() -> u32 {
 
 /// Interpolated shading normal of triangle `i` at barycentrics `(u, v)`, normalised.
 pub fn shading_normal(i: u32, u: f32, v: f32) -> Vec3 {
-    let a = hw::load_u32(hw::hdr_normals() + layout::COMPONENT_ADDR) + i * layout::NORMALS_SIZE;
+    let a = hw::load_u32(hw::hdr_normals() + layout::COMPONENT_ADDR) + i * layout::NORMALS_STRIDE;
     let n0 = load_vec3(a);
-    let n1 = load_vec3(a + 12);
-    let n2 = load_vec3(a + 24);
+    let n1 = load_vec3(a + layout::NORMALS_N1);
+    let n2 = load_vec3(a + layout::NORMALS_N2);
     (n0.scale(1.0 - u - v) + n1.scale(u) + n2.scale(v)).normalize()
 }
 
@@ -269,7 +271,7 @@ pub fn material_id(i: u32) -> u32 {
     if hw::load_u32(c + layout::COMPONENT_COUNT) == 0 {
         return 0;
     }
-    hw::load_u32(hw::load_u32(c + layout::COMPONENT_ADDR) + i * 4)
+    hw::load_u32(hw::load_u32(c + layout::COMPONENT_ADDR) + i * layout::MATERIAL_IDS_STRIDE)
 }
 
 /// Number of materials.
@@ -289,7 +291,7 @@ pub fn material(m: u32) -> Material {
             flags: 0,
         };
     }
-    let a = hw::load_u32(c + layout::COMPONENT_ADDR) + m * layout::MATERIAL_SIZE;
+    let a = hw::load_u32(c + layout::COMPONENT_ADDR) + m * layout::MATERIALS_STRIDE;
     Material {
         diffuse: load_vec3(a + layout::MAT_DIFFUSE),
         specular: load_vec3(a + layout::MAT_SPECULAR),
@@ -313,7 +315,9 @@ pub fn emitter_count() -> u32 {
 
 /// Triangle index of emitter `k`.
 pub fn emitter(k: u32) -> u32 {
-    hw::load_u32(hw::load_u32(hw::hdr_emitters() + layout::COMPONENT_ADDR) + k * 4)
+    hw::load_u32(
+        hw::load_u32(hw::hdr_emitters() + layout::COMPONENT_ADDR) + k * layout::EMITTERS_STRIDE,
+    )
 }
 
 /// A point light.
@@ -331,7 +335,7 @@ pub fn point_light_count() -> u32 {
 /// Point light `k`.
 pub fn point_light(k: u32) -> PointLight {
     let a = hw::load_u32(hw::hdr_point_lights() + layout::COMPONENT_ADDR)
-        + k * layout::POINT_LIGHT_SIZE;
+        + k * layout::POINT_LIGHTS_STRIDE;
     PointLight {
         position: load_vec3(a + layout::LIGHT_POSITION),
         color: load_vec3(a + layout::LIGHT_COLOR),
@@ -369,7 +373,7 @@ pub fn bvh_base() -> u32 {
 
 /// BVH node `i` of the tree at `base` (see [`bvh_base`]).
 pub fn bvh_node_at(base: u32, i: u32) -> BvhNode {
-    let a = base + i * layout::BVH_NODE_SIZE;
+    let a = base + i * layout::BVH_NODES_STRIDE;
     BvhNode {
         min: load_vec3(a + layout::BVH_MIN),
         max: load_vec3(a + layout::BVH_MAX),
@@ -385,12 +389,18 @@ pub fn bvh_node(i: u32) -> BvhNode {
 
 /// Parent node index of BVH node `i` (`0xFFFFFFFF` for the root).
 pub fn bvh_parent(i: u32) -> u32 {
-    hw::load_u32(hw::load_u32(hw::hdr_bvh_parents() + layout::COMPONENT_ADDR) + i * 4)
+    hw::load_u32(
+        hw::load_u32(hw::hdr_bvh_parents() + layout::COMPONENT_ADDR)
+            + i * layout::BVH_PARENTS_STRIDE,
+    )
 }
 
 /// Treelet id of BVH node `i`.
 pub fn treelet_id(i: u32) -> u32 {
-    hw::load_u32(hw::load_u32(hw::hdr_treelet_ids() + layout::COMPONENT_ADDR) + i * 4)
+    hw::load_u32(
+        hw::load_u32(hw::hdr_treelet_ids() + layout::COMPONENT_ADDR)
+            + i * layout::TREELET_IDS_STRIDE,
+    )
 }
 
 // ---- Texture coordinates ----
@@ -403,9 +413,13 @@ pub fn texcoords_count() -> u32 {
 /// Interpolated texture coordinates of triangle `i` at barycentrics `(u, v)`, as
 /// `(s, t, 0)`.
 pub fn texcoord(i: u32, u: f32, v: f32) -> Vec3 {
-    let a = hw::load_u32(hw::hdr_texcoords() + layout::COMPONENT_ADDR) + i * layout::TEXCOORDS_SIZE;
+    let a =
+        hw::load_u32(hw::hdr_texcoords() + layout::COMPONENT_ADDR) + i * layout::TEXCOORDS_STRIDE;
     let w = 1.0 - u - v;
-    let s = hw::load_f32(a) * w + hw::load_f32(a + 8) * u + hw::load_f32(a + 16) * v;
-    let t = hw::load_f32(a + 4) * w + hw::load_f32(a + 12) * u + hw::load_f32(a + 20) * v;
+    // Each vertex's `(s, t)` is two f32: `s` at the vertex's offset, `t` 4 bytes after.
+    let t1 = a + layout::TEXCOORDS_T1;
+    let t2 = a + layout::TEXCOORDS_T2;
+    let s = hw::load_f32(a) * w + hw::load_f32(t1) * u + hw::load_f32(t2) * v;
+    let t = hw::load_f32(a + 4) * w + hw::load_f32(t1 + 4) * u + hw::load_f32(t2 + 4) * v;
     Vec3::new(s, t, 0.0)
 }

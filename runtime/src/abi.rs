@@ -38,147 +38,536 @@ pub const SCENE_SYMBOL_PREFIX: &str = "__trax_scene_";
 /// Version of the header layout; bump on any change.
 pub const SCENE_VERSION: u32 = 1;
 
-/// A pointer-and-count pair describing one scene component in simulated memory.
-///
-/// `addr` is 0 and `count` is 0 when the component is absent (not built because the
-/// program does not reference it, or the scene has none).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct Component {
-    /// Address of the first element.
-    pub addr: u32,
-    /// Number of elements.
-    pub count: u32,
+#[macro_use]
+pub mod encode;
+
+pub use encode::{decode, encode, Field, FieldLayout, Kind, Scalar, Struct, StructLayout};
+
+// ---------------------------------------------------------------------------------------
+// Element layouts: what one element of each component looks like in memory.
+
+contract_struct! {
+    /// A pointer-and-count pair describing one scene component in simulated memory.
+    ///
+    /// `addr` is 0 and `count` is 0 when the component is absent (not built because the
+    /// program does not reference it, or the scene has none).
+    pub struct Component as "trax_component", prefix "COMPONENT" {
+        /// Address of the first element.
+        pub addr: u32,
+        /// Number of elements.
+        pub count: u32,
+    }
 }
 
-/// The camera, as stored in simulated memory (simtrax `.view` semantics).
-///
-/// A primary ray through pixel `(x, y)` with image-plane coordinates
-/// `s = left + (right-left)*(x+0.5)/width`, `t = bottom + (top-bottom)*(y+0.5)/height`
-/// has origin `eye` and direction `normalize(distance*w + s*u + t*v)`, where `w` is the
-/// normalized gaze direction, `u` = normalize(gaze × up) (right) and `v` = u × w (up).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Camera {
-    pub eye: [f32; 3],
-    pub u: [f32; 3],
-    pub v: [f32; 3],
-    pub w: [f32; 3],
-    pub left: f32,
-    pub right: f32,
-    pub bottom: f32,
-    pub top: f32,
-    pub distance: f32,
-    pub aperture: f32,
+contract_struct! {
+    /// The camera, as stored in simulated memory (simtrax `.view` semantics).
+    ///
+    /// A primary ray through pixel `(x, y)` with image-plane coordinates
+    /// `s = left + (right-left)*(x+0.5)/width`, `t = bottom + (top-bottom)*(y+0.5)/height`
+    /// has origin `eye` and direction `normalize(distance*w + s*u + t*v)`, where `w` is the
+    /// normalized gaze direction, `u` = normalize(gaze × up) (right) and `v` = u × w (up).
+    pub struct Camera as "trax_camera", prefix "CAM" {
+        /// Eye position.
+        pub eye: [f32; 3],
+        /// Right (unit).
+        pub u: [f32; 3],
+        /// Up (unit).
+        pub v: [f32; 3],
+        /// Gaze (unit).
+        pub w: [f32; 3],
+        /// Image-plane window: left edge.
+        pub left: f32,
+        /// Image-plane window: right edge.
+        pub right: f32,
+        /// Image-plane window: bottom edge.
+        pub bottom: f32,
+        /// Image-plane window: top edge.
+        pub top: f32,
+        /// Distance from the eye to the image plane.
+        pub distance: f32,
+        /// Lens aperture (0: pinhole).
+        pub aperture: f32,
+    }
 }
 
-/// The scene header at [`SCENE_HEADER_ADDR`].
-///
-/// All fields are 4 bytes, so the layout has no padding. Component element layouts are
-/// documented on each field.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct SceneHeader {
-    /// [`SCENE_MAGIC`].
-    pub magic: u32,
-    /// [`SCENE_VERSION`].
-    pub version: u32,
-    /// Image width in pixels.
-    pub width: u32,
-    /// Image height in pixels.
-    pub height: u32,
-    /// `1.0 / width`.
-    pub inv_width: f32,
-    /// `1.0 / height`.
-    pub inv_height: f32,
-    /// Samples per pixel requested on the command line.
-    pub spp: u32,
-    /// Maximum path depth requested on the command line.
-    pub max_depth: u32,
-    /// Ray offset epsilon, scaled to the scene.
-    pub epsilon: f32,
-    /// Seed for per-thread random streams.
-    pub seed: u32,
-    /// Background (sky) colour, linear RGB.
-    pub background: [f32; 3],
-    /// The [`Camera`].
-    pub camera: u32,
-    /// Framebuffer: `width*height` pixels of 3 × f32 linear RGB, row 0 at the top.
-    pub framebuffer: Component,
-    /// BVH nodes, 32 bytes each, root at index 0: `min: [f32; 3]`, `max: [f32; 3]`, `a: u32`,
-    /// `b: u32`. Interior node: `b == 0`, children at node indices `a` and `a + 1`.
-    /// Leaf: `b` = triangle count (>= 1), triangles `a .. a + b` of [`SceneHeader::triangles`].
-    pub bvh_nodes: Component,
-    /// Triangles, 36 bytes each: three vertices of 3 × f32, in BVH leaf order.
-    pub triangles: Component,
-    /// Per-vertex normals, 36 bytes per triangle (3 × 3 × f32), same order as triangles.
-    pub normals: Component,
-    /// Per-vertex texture coordinates, 24 bytes per triangle (3 × 2 × f32).
-    pub texcoords: Component,
-    /// Material index per triangle (u32), same order as triangles.
-    pub material_ids: Component,
-    /// Materials, 48 bytes each: diffuse, specular, emission (3 × f32 each), then
-    /// shininess (f32), flags (u32), reserved (u32).
-    pub materials: Component,
-    /// Indices (u32) of emissive triangles, for light sampling.
-    pub emitters: Component,
-    /// Point lights, 24 bytes each: position (3 × f32), colour (3 × f32).
-    pub point_lights: Component,
-    /// BVH parent pointers (u32 node index per node; root's is 0xFFFFFFFF).
-    pub bvh_parents: Component,
-    /// Treelet id per BVH node (u32).
-    pub treelet_ids: Component,
+contract_struct! {
+    /// One framebuffer pixel: linear RGB.
+    pub struct Pixel as "trax_pixel", prefix "PIXEL" {
+        /// Red, green, blue.
+        pub rgb: [f32; 3],
+    }
+}
+
+contract_struct! {
+    /// A BVH node. Interior node: `b == 0`, children at node indices `a` and `a + 1`.
+    /// Leaf: `b` = triangle count (>= 1), triangles `a .. a + b`.
+    pub struct BvhNode as "trax_bvh_node", prefix "BVH" {
+        /// Minimum corner of the box.
+        pub min: [f32; 3],
+        /// Maximum corner of the box.
+        pub max: [f32; 3],
+        /// First child (interior) or first triangle (leaf).
+        pub a: u32,
+        /// 0 (interior) or the leaf's triangle count.
+        pub b: u32,
+    }
+}
+
+contract_struct! {
+    /// A triangle: three vertices.
+    pub struct Triangle as "trax_triangle", prefix "TRI" {
+        /// First vertex.
+        pub v0: [f32; 3],
+        /// Second vertex.
+        pub v1: [f32; 3],
+        /// Third vertex.
+        pub v2: [f32; 3],
+    }
+}
+
+contract_struct! {
+    /// Per-vertex normals of one triangle.
+    pub struct VertexNormals as "trax_vertex_normals", prefix "NORMALS" {
+        /// Normal at the first vertex.
+        pub n0: [f32; 3],
+        /// Normal at the second vertex.
+        pub n1: [f32; 3],
+        /// Normal at the third vertex.
+        pub n2: [f32; 3],
+    }
+}
+
+contract_struct! {
+    /// Per-vertex texture coordinates of one triangle.
+    pub struct TexCoords as "trax_texcoords", prefix "TEXCOORDS" {
+        /// `(s, t)` at the first vertex.
+        pub t0: [f32; 2],
+        /// `(s, t)` at the second vertex.
+        pub t1: [f32; 2],
+        /// `(s, t)` at the third vertex.
+        pub t2: [f32; 2],
+    }
+}
+
+contract_struct! {
+    /// A material.
+    pub struct Material as "trax_material", prefix "MAT" {
+        /// Diffuse reflectance (linear RGB).
+        pub diffuse: [f32; 3],
+        /// Specular reflectance (linear RGB).
+        pub specular: [f32; 3],
+        /// Emitted radiance (linear RGB).
+        pub emission: [f32; 3],
+        /// Phong exponent.
+        pub shininess: f32,
+        /// Flag bits (see the scene loader's `Material::flags`).
+        pub flags: u32,
+        /// Zero.
+        pub reserved: u32,
+    }
+}
+
+contract_struct! {
+    /// A point light.
+    pub struct PointLight as "trax_point_light", prefix "LIGHT" {
+        /// Position.
+        pub position: [f32; 3],
+        /// Colour (intensity, linear RGB).
+        pub color: [f32; 3],
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// The scene header and its components.
+
+/// How the header refers to a component.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Slot {
+    /// A `u32` address (one element; 0 when absent).
+    Addr,
+    /// A [`Component`]: address and element count.
+    Range,
+}
+
+/// Where a component is placed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Align {
+    /// At the image builder's component alignment (64 bytes).
+    Component,
+    /// Also at the treelet alignment when treelets are aligned (e.g. to DRAM rows).
+    Rows,
+}
+
+/// When a component is in the image.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Need {
+    /// Always (camera, framebuffer).
+    Always,
+    /// Only when the program references its `__trax_scene_<name>` symbol.
+    OnDemand,
+}
+
+/// What kernels may do to a component.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Access {
+    /// Load only: a store faults.
+    ReadOnly,
+    /// Load and store.
+    ReadWrite,
+}
+
+/// One scene component: a header field naming an array of elements in memory.
+#[derive(Clone, Copy, Debug)]
+pub struct ComponentDesc {
+    /// Header field name (also the suffix of its `__trax_scene_` symbol).
+    pub name: &'static str,
+    /// What one element is.
+    pub element: Kind,
+    /// Bytes per element.
+    pub element_bytes: u32,
+    /// How the header refers to it.
+    pub slot: Slot,
+    /// Placement alignment.
+    pub align: Align,
+    /// Always present or on demand.
+    pub need: Need,
+    /// Load only or load and store.
+    pub access: Access,
+    /// Byte offset of its field in the [`SceneHeader`].
+    pub header_offset: u32,
+    /// Doc comment (contents, element order).
+    pub doc: &'static str,
+    /// Reads the component's address and count from a header (count 1 for an [`Slot::Addr`]
+    /// component that is present).
+    pub get: fn(&SceneHeader) -> Component,
+    /// Writes the component's address (and count, for [`Slot::Range`]) into a header.
+    pub set: fn(&mut SceneHeader, Component),
+}
+
+/// A header slot: a `u32` address or a [`Component`].
+pub trait HeaderSlot {
+    /// The slot as an address and count.
+    fn component(&self) -> Component;
+    /// Stores an address and count into the slot.
+    fn set_component(&mut self, c: Component);
+}
+
+impl HeaderSlot for u32 {
+    fn component(&self) -> Component {
+        Component {
+            addr: *self,
+            count: (*self != 0) as u32,
+        }
+    }
+    fn set_component(&mut self, c: Component) {
+        *self = c.addr;
+    }
+}
+
+impl HeaderSlot for Component {
+    fn component(&self) -> Component {
+        *self
+    }
+    fn set_component(&mut self, c: Component) {
+        *self = c;
+    }
+}
+
+macro_rules! slot_type {
+    (Addr) => {
+        u32
+    };
+    (Range) => {
+        Component
+    };
+}
+
+/// Defines the scene header (scalar fields, then one field per component, then reserved
+/// words) and [`SCENE_COMPONENTS`] from one list: a component is one line.
+macro_rules! scene_contract {
+    (
+        $(#[doc = $doc:literal])*
+        pub struct $name:ident as $cname:literal, prefix $prefix:literal {
+            $( $(#[doc = $sdoc:literal])* pub $s:ident : $sty:ty, )*
+        }
+        components {
+            $( $(#[doc = $cdoc:literal])*
+               $c:ident : $ety:ty => $slot:ident, $align:ident, $need:ident, $access:ident; )*
+        }
+        $(#[doc = $rdoc:literal])* reserved: $nres:literal
+    ) => {
+        contract_struct! {
+            $(#[doc = $doc])*
+            pub struct $name as $cname, prefix $prefix {
+                $( $(#[doc = $sdoc])* pub $s: $sty, )*
+                $( $(#[doc = $cdoc])* pub $c: slot_type!($slot), )*
+                $(#[doc = $rdoc])* pub reserved: [u32; $nres],
+            }
+        }
+
+        /// The scene components, in header order: the one list the image builder, the
+        /// host runtime, `trax native`, `trax scene`, the prelude's `layout.rs` and the C
+        /// header derive from.
+        pub const SCENE_COMPONENTS: &[ComponentDesc] = &[$(
+            ComponentDesc {
+                name: stringify!($c),
+                element: <$ety as Field>::KIND,
+                element_bytes: std::mem::size_of::<$ety>() as u32,
+                slot: Slot::$slot,
+                align: Align::$align,
+                need: Need::$need,
+                access: Access::$access,
+                header_offset: std::mem::offset_of!($name, $c) as u32,
+                doc: concat!($($cdoc, "\n",)*),
+                get: |h| HeaderSlot::component(&h.$c),
+                set: |h, v| HeaderSlot::set_component(&mut h.$c, v),
+            },
+        )*];
+    };
+}
+
+scene_contract! {
+    /// The scene header at [`SCENE_HEADER_ADDR`]: image and rendering parameters, then one
+    /// field per scene component ([`SCENE_COMPONENTS`]).
+    ///
+    /// All fields are 4-byte words, so the layout has no padding.
+    pub struct SceneHeader as "trax_scene_header", prefix "HDR" {
+        /// [`SCENE_MAGIC`].
+        pub magic: u32,
+        /// [`SCENE_VERSION`].
+        pub version: u32,
+        /// Image width in pixels.
+        pub width: u32,
+        /// Image height in pixels.
+        pub height: u32,
+        /// `1.0 / width`.
+        pub inv_width: f32,
+        /// `1.0 / height`.
+        pub inv_height: f32,
+        /// Samples per pixel requested on the command line.
+        pub spp: u32,
+        /// Maximum path depth requested on the command line.
+        pub max_depth: u32,
+        /// Ray offset epsilon, scaled to the scene.
+        pub epsilon: f32,
+        /// Seed for per-thread random streams.
+        pub seed: u32,
+        /// Background (sky) colour, linear RGB.
+        pub background: [f32; 3],
+    }
+    components {
+        /// The [`Camera`] (its address).
+        camera: Camera => Addr, Component, Always, ReadOnly;
+        /// Framebuffer: `width*height` [`Pixel`]s, row 0 at the top.
+        framebuffer: Pixel => Range, Component, Always, ReadWrite;
+        /// [`BvhNode`]s, root at index 0; leaves index [`SceneHeader::triangles`].
+        bvh_nodes: BvhNode => Range, Rows, OnDemand, ReadOnly;
+        /// [`Triangle`]s, in BVH leaf order when the BVH is built.
+        triangles: Triangle => Range, Rows, OnDemand, ReadOnly;
+        /// Per-vertex normals ([`VertexNormals`]), same order as the triangles.
+        normals: VertexNormals => Range, Component, OnDemand, ReadOnly;
+        /// Per-vertex texture coordinates ([`TexCoords`]), same order as the triangles.
+        texcoords: TexCoords => Range, Component, OnDemand, ReadOnly;
+        /// Material index per triangle, same order as the triangles.
+        material_ids: u32 => Range, Component, OnDemand, ReadOnly;
+        /// [`Material`]s.
+        materials: Material => Range, Component, OnDemand, ReadOnly;
+        /// Indices of the emissive triangles, for light sampling.
+        emitters: u32 => Range, Component, OnDemand, ReadOnly;
+        /// [`PointLight`]s.
+        point_lights: PointLight => Range, Component, OnDemand, ReadOnly;
+        /// BVH parent pointers: the parent's node index per node (the root's is 0xFFFFFFFF).
+        bvh_parents: u32 => Range, Component, OnDemand, ReadOnly;
+        /// Treelet id per BVH node.
+        treelet_ids: u32 => Range, Component, OnDemand, ReadOnly;
+    }
     /// Reserved for future components; zero.
-    pub reserved: [u32; 8],
+    reserved: 8
+}
+
+impl SceneHeader {
+    /// A header for a `width` x `height` image: [`SCENE_MAGIC`], [`SCENE_VERSION`], the
+    /// size and its reciprocals set, every other field zero (components absent). Callers
+    /// set the rest with struct update syntax.
+    pub fn new(width: u32, height: u32) -> SceneHeader {
+        SceneHeader {
+            magic: SCENE_MAGIC,
+            version: SCENE_VERSION,
+            width,
+            height,
+            inv_width: 1.0 / width as f32,
+            inv_height: 1.0 / height as f32,
+            ..SceneHeader::default()
+        }
+    }
 }
 
 /// Size of [`SceneHeader`] in bytes.
 pub const SCENE_HEADER_SIZE: usize = std::mem::size_of::<SceneHeader>();
+/// Bytes of one framebuffer [`Pixel`].
+pub const PIXEL_BYTES: u32 = std::mem::size_of::<Pixel>() as u32;
+
+/// The component called `name`.
+pub fn component(name: &str) -> Option<&'static ComponentDesc> {
+    SCENE_COMPONENTS.iter().find(|c| c.name == name)
+}
 
 /// Byte offset of each header field, by name, for tools that lay out or check memory.
 pub fn scene_header_fields() -> Vec<(&'static str, usize)> {
-    use std::mem::offset_of;
-    vec![
-        ("magic", offset_of!(SceneHeader, magic)),
-        ("version", offset_of!(SceneHeader, version)),
-        ("width", offset_of!(SceneHeader, width)),
-        ("height", offset_of!(SceneHeader, height)),
-        ("inv_width", offset_of!(SceneHeader, inv_width)),
-        ("inv_height", offset_of!(SceneHeader, inv_height)),
-        ("spp", offset_of!(SceneHeader, spp)),
-        ("max_depth", offset_of!(SceneHeader, max_depth)),
-        ("epsilon", offset_of!(SceneHeader, epsilon)),
-        ("seed", offset_of!(SceneHeader, seed)),
-        ("background", offset_of!(SceneHeader, background)),
-        ("camera", offset_of!(SceneHeader, camera)),
-        ("framebuffer", offset_of!(SceneHeader, framebuffer)),
-        ("bvh_nodes", offset_of!(SceneHeader, bvh_nodes)),
-        ("triangles", offset_of!(SceneHeader, triangles)),
-        ("normals", offset_of!(SceneHeader, normals)),
-        ("texcoords", offset_of!(SceneHeader, texcoords)),
-        ("material_ids", offset_of!(SceneHeader, material_ids)),
-        ("materials", offset_of!(SceneHeader, materials)),
-        ("emitters", offset_of!(SceneHeader, emitters)),
-        ("point_lights", offset_of!(SceneHeader, point_lights)),
-        ("bvh_parents", offset_of!(SceneHeader, bvh_parents)),
-        ("treelet_ids", offset_of!(SceneHeader, treelet_ids)),
-        ("reserved", offset_of!(SceneHeader, reserved)),
-    ]
+    SceneHeader::layout()
+        .fields
+        .iter()
+        .map(|f| (f.name, f.offset))
+        .collect()
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::mem::{offset_of, size_of};
+
+    /// Every contract struct, for the checks below.
+    fn layouts() -> Vec<StructLayout> {
+        vec![
+            SceneHeader::layout(),
+            Component::layout(),
+            Camera::layout(),
+            Pixel::layout(),
+            BvhNode::layout(),
+            Triangle::layout(),
+            VertexNormals::layout(),
+            TexCoords::layout(),
+            Material::layout(),
+            PointLight::layout(),
+        ]
+    }
 
     #[test]
-    fn header_has_no_padding() {
-        let fields = scene_header_fields();
-        // Each field starts where the previous one ends; all fields are 4-byte words.
-        let mut sizes: Vec<usize> = fields.windows(2).map(|w| w[1].1 - w[0].1).collect();
-        sizes.push(SCENE_HEADER_SIZE - fields.last().unwrap().1);
-        assert!(sizes.iter().all(|s| s % 4 == 0 && *s > 0));
-        assert_eq!(fields[0].1, 0);
-        assert_eq!(std::mem::align_of::<SceneHeader>(), 4);
+    fn layouts_tile_their_structs() {
+        for l in layouts() {
+            let mut at = 0;
+            for f in &l.fields {
+                assert_eq!(f.offset, at, "{}.{}", l.name, f.name);
+                assert_eq!(f.size % 4, 0, "{}.{}", l.name, f.name);
+                at += f.size;
+            }
+            assert_eq!(at, l.size, "{}", l.name);
+        }
+        assert_eq!(SceneHeader::layout().size, SCENE_HEADER_SIZE);
+        // The element sizes kernels and tools were built against (an ABI change must
+        // change this table, `SCENE_VERSION` and the prelude's `layout.rs` together).
+        let sizes: Vec<(&str, u32)> = SCENE_COMPONENTS
+            .iter()
+            .map(|c| (c.name, c.element_bytes))
+            .collect();
+        let pinned = [
+            ("camera", 72),
+            ("framebuffer", 12),
+            ("bvh_nodes", 32),
+            ("triangles", 36),
+            ("normals", 36),
+            ("texcoords", 24),
+            ("material_ids", 4),
+            ("materials", 48),
+            ("emitters", 4),
+            ("point_lights", 24),
+            ("bvh_parents", 4),
+            ("treelet_ids", 4),
+        ];
+        assert_eq!(sizes, pinned);
+    }
+
+    /// A value whose every word differs (word `k` is `base + k`), built through the
+    /// decoder, so encoding it back must give the same bytes at the `repr(C)` offsets.
+    fn distinct<T: Field>(base: u32) -> (T, Vec<u8>) {
+        let bytes: Vec<u8> = (0..size_of::<T>() as u32 / 4)
+            .flat_map(|k| (base + k).to_le_bytes())
+            .collect();
+        (decode::<T>(&bytes).unwrap(), bytes)
+    }
+
+    #[test]
+    fn encoding_is_the_repr_c_layout() {
+        let (h, bytes) = distinct::<SceneHeader>(1000);
+        assert_eq!(h.to_bytes(), bytes);
+        let word = |off: usize| 1000 + off as u32 / 4;
+        assert_eq!(h.magic, word(offset_of!(SceneHeader, magic)));
+        assert_eq!(h.seed, word(offset_of!(SceneHeader, seed)));
+        assert_eq!(h.camera, word(offset_of!(SceneHeader, camera)));
+        assert_eq!(
+            h.framebuffer.count,
+            word(offset_of!(SceneHeader, framebuffer) + 4)
+        );
+        assert_eq!(
+            h.treelet_ids.addr,
+            word(offset_of!(SceneHeader, treelet_ids))
+        );
+        assert_eq!(h.reserved[7], word(offset_of!(SceneHeader, reserved) + 28));
+        let (c, bytes) = distinct::<Camera>(0x4000_0000);
+        assert_eq!(c.to_bytes(), bytes);
+        assert_eq!(
+            c.right.to_bits(),
+            0x4000_0000 + offset_of!(Camera, right) as u32 / 4
+        );
+        let (m, bytes) = distinct::<Material>(7);
+        assert_eq!(m.to_bytes(), bytes);
+        assert_eq!(m.flags, 7 + offset_of!(Material, flags) as u32 / 4);
+        let (n, bytes) = distinct::<BvhNode>(9);
+        assert_eq!(encode([n, n]), [bytes.clone(), bytes].concat());
+        assert_eq!(decode::<BvhNode>(&[0; 31]), None);
+    }
+
+    #[test]
+    fn the_component_table_is_the_header() {
+        let l = SceneHeader::layout();
+        for c in SCENE_COMPONENTS {
+            let f = l.field(c.name).unwrap();
+            assert_eq!(f.offset as u32, c.header_offset, "{}", c.name);
+            let slot = match c.slot {
+                Slot::Addr => 4,
+                Slot::Range => size_of::<Component>(),
+            };
+            assert_eq!(f.size, slot, "{}", c.name);
+            assert!(
+                c.element_bytes % 4 == 0 && c.element_bytes > 0,
+                "{}",
+                c.name
+            );
+            // get and set address the component's own field.
+            let mut h = SceneHeader::default();
+            (c.set)(
+                &mut h,
+                Component {
+                    addr: 0x40,
+                    count: 3,
+                },
+            );
+            let b = h.to_bytes();
+            let off = c.header_offset as usize;
+            assert_eq!(u32::get(&b[off..]), 0x40, "{}", c.name);
+            let nonzero = b.iter().filter(|&&x| x != 0).count();
+            assert_eq!(
+                nonzero,
+                if c.slot == Slot::Range { 2 } else { 1 },
+                "{}",
+                c.name
+            );
+            let back = (c.get)(&h);
+            assert_eq!(back.addr, 0x40);
+            assert_eq!(back.count, if c.slot == Slot::Range { 3 } else { 1 });
+        }
+        // Every header field after the scalars is a component, up to the reserved words.
+        let first = l.field("camera").unwrap().offset;
+        let comps: Vec<&str> = l
+            .fields
+            .iter()
+            .filter(|f| f.offset >= first && f.name != "reserved")
+            .map(|f| f.name)
+            .collect();
+        let table: Vec<&str> = SCENE_COMPONENTS.iter().map(|c| c.name).collect();
+        assert_eq!(comps, table);
+        assert_eq!(component("framebuffer").unwrap().access, Access::ReadWrite);
+        assert_eq!(scene_header_fields().len(), l.fields.len());
     }
 
     // The memory regions do not overlap (checked at compile time).

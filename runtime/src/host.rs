@@ -1,234 +1,9 @@
-//! Memory image files: the initial (and final) contents of simulated memory as a list of
-//! `(address, bytes)` segments, exchanged between `trax native` and the host runner of the
-//! kernel prelude (`prelude/hw_host.rs`, which has its own std-only reader of this format).
-//!
-//! File format (all integers little-endian):
-//!
-//! ```text
-//! magic    8 bytes  "TRAXIMG1"
-//! count    u32      number of segments
-//! count × {
-//!   addr   u32      first byte's simulated address, multiple of 4, >= NULL_GUARD_END
-//!   len    u32      byte length, multiple of 4
-//!   bytes  len bytes
-//! }
-//! ```
-//!
-//! Segments do not overlap. Memory outside every segment does not exist (an access is a
-//! bad-address error). The header-only builder [`header_only_image`] makes the image a
-//! kernel needs when no scene is loaded: scene header, camera and framebuffer.
+//! Helpers for native runs: a camera from eye and target, the header-only image a kernel
+//! needs when no scene is loaded (scene header, camera, framebuffer), and framebuffer
+//! conversion. The memory image itself and its file format are [`crate::image`].
 
-use crate::abi::{self, Camera, Component, SceneHeader};
-use std::path::Path;
-
-/// File magic of a memory image.
-pub const IMAGE_MAGIC: &[u8; 8] = b"TRAXIMG1";
-
-/// One contiguous range of initialised simulated memory.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct Segment {
-    /// Simulated address of `bytes[0]`.
-    pub addr: u32,
-    /// Contents.
-    pub bytes: Vec<u8>,
-}
-
-/// A whole memory image.
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
-pub struct MemoryImage {
-    /// Segments, in file order.
-    pub segments: Vec<Segment>,
-}
-
-/// Why a memory image could not be read or built.
-#[derive(Debug, thiserror::Error)]
-pub enum ImageError {
-    #[error("{path}: {source}")]
-    Io {
-        path: String,
-        source: std::io::Error,
-    },
-    #[error("not a trax memory image (bad magic)")]
-    BadMagic,
-    #[error("memory image truncated at byte {offset} (reading {what})")]
-    Truncated { offset: usize, what: &'static str },
-    #[error("segment {index} at {addr:#010x}: {problem}")]
-    BadSegment {
-        index: usize,
-        addr: u32,
-        problem: &'static str,
-    },
-    #[error("{len} trailing bytes after the last segment")]
-    Trailing { len: usize },
-}
-
-impl MemoryImage {
-    /// Checks alignment, the null guard and overlaps.
-    pub fn validate(&self) -> Result<(), ImageError> {
-        let mut ranges: Vec<(u64, u64, usize)> = Vec::new();
-        for (index, s) in self.segments.iter().enumerate() {
-            let bad = |problem| ImageError::BadSegment {
-                index,
-                addr: s.addr,
-                problem,
-            };
-            if s.addr % 4 != 0 {
-                return Err(bad("address is not a multiple of 4"));
-            }
-            if s.bytes.len() % 4 != 0 {
-                return Err(bad("length is not a multiple of 4"));
-            }
-            if s.addr < abi::NULL_GUARD_END {
-                return Err(bad("overlaps the null guard"));
-            }
-            let end = s.addr as u64 + s.bytes.len() as u64;
-            if end > 1 << 32 {
-                return Err(bad("extends past the 32-bit address space"));
-            }
-            ranges.push((s.addr as u64, end, index));
-        }
-        ranges.sort();
-        for w in ranges.windows(2) {
-            if w[1].0 < w[0].1 {
-                return Err(ImageError::BadSegment {
-                    index: w[1].2,
-                    addr: w[1].0 as u32,
-                    problem: "overlaps another segment",
-                });
-            }
-        }
-        Ok(())
-    }
-
-    /// Serialises the image.
-    pub fn to_bytes(&self) -> Vec<u8> {
-        let total: usize = self.segments.iter().map(|s| 8 + s.bytes.len()).sum();
-        let mut out = Vec::with_capacity(12 + total);
-        out.extend_from_slice(IMAGE_MAGIC);
-        out.extend_from_slice(&(self.segments.len() as u32).to_le_bytes());
-        for s in &self.segments {
-            out.extend_from_slice(&s.addr.to_le_bytes());
-            out.extend_from_slice(&(s.bytes.len() as u32).to_le_bytes());
-            out.extend_from_slice(&s.bytes);
-        }
-        out
-    }
-
-    /// Parses and validates an image.
-    pub fn parse(data: &[u8]) -> Result<MemoryImage, ImageError> {
-        let mut pos = 0usize;
-        let mut take = |n: usize, what: &'static str| -> Result<&[u8], ImageError> {
-            let end = pos.checked_add(n).filter(|&e| e <= data.len());
-            let end = end.ok_or(ImageError::Truncated { offset: pos, what })?;
-            let s = &data[pos..end];
-            pos = end;
-            Ok(s)
-        };
-        if take(8, "magic")? != IMAGE_MAGIC {
-            return Err(ImageError::BadMagic);
-        }
-        let word = |b: &[u8]| u32::from_le_bytes([b[0], b[1], b[2], b[3]]);
-        let count = word(take(4, "segment count")?);
-        let mut segments = Vec::new();
-        for _ in 0..count {
-            let addr = word(take(4, "segment address")?);
-            let len = word(take(4, "segment length")?) as usize;
-            let bytes = take(len, "segment bytes")?.to_vec();
-            segments.push(Segment { addr, bytes });
-        }
-        if pos != data.len() {
-            return Err(ImageError::Trailing {
-                len: data.len() - pos,
-            });
-        }
-        let image = MemoryImage { segments };
-        image.validate()?;
-        Ok(image)
-    }
-
-    /// Reads and parses an image file.
-    pub fn read(path: &Path) -> Result<MemoryImage, ImageError> {
-        let data = std::fs::read(path).map_err(|source| ImageError::Io {
-            path: path.display().to_string(),
-            source,
-        })?;
-        MemoryImage::parse(&data)
-    }
-
-    /// Writes the image to a file.
-    pub fn write(&self, path: &Path) -> Result<(), ImageError> {
-        std::fs::write(path, self.to_bytes()).map_err(|source| ImageError::Io {
-            path: path.display().to_string(),
-            source,
-        })
-    }
-
-    /// The `len` bytes at `addr`, if one segment holds all of them.
-    pub fn bytes_at(&self, addr: u32, len: usize) -> Option<&[u8]> {
-        self.segments.iter().find_map(|s| {
-            let off = addr.checked_sub(s.addr)? as usize;
-            s.bytes.get(off..off.checked_add(len)?)
-        })
-    }
-
-    /// The little-endian word at `addr`.
-    pub fn u32_at(&self, addr: u32) -> Option<u32> {
-        self.bytes_at(addr, 4)
-            .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-    }
-}
-
-/// Serialises a scene header exactly as laid out by its `#[repr(C)]` definition.
-pub fn header_bytes(h: &SceneHeader) -> Vec<u8> {
-    let mut w: Vec<u32> = vec![
-        h.magic,
-        h.version,
-        h.width,
-        h.height,
-        h.inv_width.to_bits(),
-        h.inv_height.to_bits(),
-        h.spp,
-        h.max_depth,
-        h.epsilon.to_bits(),
-        h.seed,
-    ];
-    w.extend(h.background.iter().map(|f| f.to_bits()));
-    w.push(h.camera);
-    let components: [Component; 11] = [
-        h.framebuffer,
-        h.bvh_nodes,
-        h.triangles,
-        h.normals,
-        h.texcoords,
-        h.material_ids,
-        h.materials,
-        h.emitters,
-        h.point_lights,
-        h.bvh_parents,
-        h.treelet_ids,
-    ];
-    for c in components {
-        w.push(c.addr);
-        w.push(c.count);
-    }
-    w.extend_from_slice(&h.reserved);
-    words_to_bytes(&w)
-}
-
-/// Serialises a camera exactly as laid out by its `#[repr(C)]` definition.
-pub fn camera_bytes(c: &Camera) -> Vec<u8> {
-    let mut w: Vec<f32> = Vec::new();
-    for v in [c.eye, c.u, c.v, c.w] {
-        w.extend_from_slice(&v);
-    }
-    w.extend_from_slice(&[c.left, c.right, c.bottom, c.top, c.distance, c.aperture]);
-    let bits: Vec<u32> = w.iter().map(|f| f.to_bits()).collect();
-    words_to_bytes(&bits)
-}
-
-fn words_to_bytes(w: &[u32]) -> Vec<u8> {
-    w.iter().flat_map(|x| x.to_le_bytes()).collect()
-}
+use crate::abi::{self, Camera, Component, Field, SceneHeader};
+use crate::image::{ImageError, MemoryImage, Perms, Segment};
 
 /// A pinhole camera at `eye` looking at `target`, with vertical field of view `fov_y_deg`
 /// and the given `aspect` (width / height), image plane at distance 1.
@@ -314,7 +89,7 @@ pub const HEADER_ONLY_FRAMEBUFFER_ADDR: u32 = abi::TEXT_BASE + 0x100;
 /// Builds an image with only the scene header, the camera and a zeroed framebuffer.
 pub fn header_only_image(p: &HeaderParams) -> Result<MemoryImage, ImageError> {
     let pixels = (p.width as u64) * (p.height as u64);
-    let fb_len = pixels * 12;
+    let fb_len = pixels * abi::PIXEL_BYTES as u64;
     if p.width == 0
         || p.height == 0
         || HEADER_ONLY_FRAMEBUFFER_ADDR as u64 + fb_len >= abi::STACK_TOP as u64 / 2
@@ -326,12 +101,6 @@ pub fn header_only_image(p: &HeaderParams) -> Result<MemoryImage, ImageError> {
         });
     }
     let header = SceneHeader {
-        magic: abi::SCENE_MAGIC,
-        version: abi::SCENE_VERSION,
-        width: p.width,
-        height: p.height,
-        inv_width: 1.0 / p.width as f32,
-        inv_height: 1.0 / p.height as f32,
         spp: p.spp,
         max_depth: p.max_depth,
         epsilon: p.epsilon,
@@ -342,21 +111,28 @@ pub fn header_only_image(p: &HeaderParams) -> Result<MemoryImage, ImageError> {
             addr: HEADER_ONLY_FRAMEBUFFER_ADDR,
             count: pixels as u32,
         },
-        ..SceneHeader::default()
+        ..SceneHeader::new(p.width, p.height)
     };
     let image = MemoryImage {
         segments: vec![
+            Segment::new(
+                "scene_header",
+                abi::SCENE_HEADER_ADDR,
+                header.to_bytes(),
+                Perms::R,
+            ),
+            Segment::new(
+                "camera",
+                HEADER_ONLY_CAMERA_ADDR,
+                p.camera.to_bytes(),
+                Perms::R,
+            ),
             Segment {
-                addr: abi::SCENE_HEADER_ADDR,
-                bytes: header_bytes(&header),
-            },
-            Segment {
-                addr: HEADER_ONLY_CAMERA_ADDR,
-                bytes: camera_bytes(&p.camera),
-            },
-            Segment {
+                name: "framebuffer".into(),
                 addr: HEADER_ONLY_FRAMEBUFFER_ADDR,
-                bytes: vec![0; fb_len as usize],
+                data: Vec::new(),
+                size: fb_len as u32,
+                perms: Perms::RW,
             },
         ],
     };
@@ -384,54 +160,6 @@ pub fn framebuffer_rgb8(fb: &[u8], width: u32, height: u32) -> Vec<u8> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::mem::offset_of;
-
-    #[test]
-    fn header_serialisation_matches_repr_c_offsets() {
-        // Give fields distinct values, then check each lands at its offset.
-        let mut reserved = [0; 8];
-        reserved[7] = 44;
-        let h = SceneHeader {
-            magic: 1,
-            version: 2,
-            width: 3,
-            height: 4,
-            seed: 10,
-            camera: 14,
-            framebuffer: Component {
-                addr: 15,
-                count: 16,
-            },
-            treelet_ids: Component {
-                addr: 35,
-                count: 36,
-            },
-            reserved,
-            ..SceneHeader::default()
-        };
-        let b = header_bytes(&h);
-        assert_eq!(b.len(), abi::SCENE_HEADER_SIZE);
-        let at = |off: usize| u32::from_le_bytes(b[off..off + 4].try_into().unwrap());
-        assert_eq!(at(offset_of!(SceneHeader, magic)), 1);
-        assert_eq!(at(offset_of!(SceneHeader, height)), 4);
-        assert_eq!(at(offset_of!(SceneHeader, seed)), 10);
-        assert_eq!(at(offset_of!(SceneHeader, camera)), 14);
-        assert_eq!(at(offset_of!(SceneHeader, framebuffer) + 4), 16);
-        assert_eq!(at(offset_of!(SceneHeader, treelet_ids)), 35);
-        assert_eq!(at(offset_of!(SceneHeader, reserved) + 28), 44);
-    }
-
-    #[test]
-    fn camera_serialisation_matches_repr_c_offsets() {
-        let c = look_at_camera([1.0, 2.0, 3.0], [0.0; 3], [0.0, 1.0, 0.0], 60.0, 2.0);
-        let b = camera_bytes(&c);
-        assert_eq!(b.len(), std::mem::size_of::<Camera>());
-        let at = |off: usize| f32::from_le_bytes(b[off..off + 4].try_into().unwrap());
-        assert_eq!(at(offset_of!(Camera, eye) + 8), 3.0);
-        assert_eq!(at(offset_of!(Camera, right)), c.right);
-        assert_eq!(at(offset_of!(Camera, distance)), 1.0);
-        assert!((c.right - 2.0 * c.top).abs() < 1e-6);
-    }
 
     #[test]
     fn framebuffer_to_rgb8_clamps_and_rounds() {
@@ -447,52 +175,23 @@ mod tests {
     }
 
     #[test]
-    fn round_trip_and_lookup() {
+    fn header_only_image_round_trips_with_permissions() {
         let img = header_only_image(&HeaderParams::default()).unwrap();
         let back = MemoryImage::parse(&img.to_bytes()).unwrap();
         assert_eq!(back, img);
-        assert_eq!(back.u32_at(abi::SCENE_HEADER_ADDR), Some(abi::SCENE_MAGIC));
-        assert_eq!(back.u32_at(abi::SCENE_HEADER_ADDR + 8), Some(128));
-        assert_eq!(back.u32_at(0x20), None);
-    }
-
-    #[test]
-    fn rejects_bad_images() {
-        assert!(matches!(
-            MemoryImage::parse(b"NOTANIMG\0\0\0\0"),
-            Err(ImageError::BadMagic)
-        ));
-        let mut b = header_only_image(&HeaderParams::default())
-            .unwrap()
-            .to_bytes();
-        b.truncate(b.len() - 1);
-        assert!(matches!(
-            MemoryImage::parse(&b),
-            Err(ImageError::Truncated { .. })
-        ));
-        let overlap = MemoryImage {
-            segments: vec![
-                Segment {
-                    addr: 0x10000,
-                    bytes: vec![0; 8],
-                },
-                Segment {
-                    addr: 0x10004,
-                    bytes: vec![0; 4],
-                },
-            ],
-        };
-        assert!(matches!(
-            MemoryImage::parse(&overlap.to_bytes()),
-            Err(ImageError::BadSegment { index: 1, .. })
-        ));
-        let null = MemoryImage {
-            segments: vec![Segment {
-                addr: 0,
-                bytes: vec![0; 4],
-            }],
-        };
-        assert!(null.validate().is_err());
+        assert_eq!(
+            back.read_u32(abi::SCENE_HEADER_ADDR),
+            Some(abi::SCENE_MAGIC)
+        );
+        assert_eq!(back.read_u32(abi::SCENE_HEADER_ADDR + 8), Some(128));
+        assert_eq!(back.read_u32(0x20), None);
+        let fb = back.segment("framebuffer").unwrap();
+        assert_eq!(
+            (fb.size, fb.perms),
+            (128 * 128 * abi::PIXEL_BYTES, Perms::RW)
+        );
+        assert_eq!(back.read_u32(fb.addr + fb.size - 4), Some(0));
+        assert_eq!(back.segment("camera").unwrap().perms, Perms::R);
         let p = HeaderParams {
             width: 0,
             ..HeaderParams::default()

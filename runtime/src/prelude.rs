@@ -1,9 +1,10 @@
 //! The kernel prelude (crate `trax`) sources, embedded for the compiler and for
 //! `trax native`.
 //!
-//! Paths are relative to the prelude directory [`DIR`]. Three entries lie outside it
-//! (`../src/rng.rs`, `../src/fops.rs`, `../src/pipes.rs`): the host implementation
-//! shares the emulator's RNG, f32 operation and pipeline semantics verbatim. Writers of these files to disk must keep
+//! Paths are relative to the prelude directory [`DIR`]. Four entries lie outside it
+//! (`../src/rng.rs`, `../src/fops.rs`, `../src/pipes.rs`, `../src/image.rs`): the host
+//! implementation shares the emulator's RNG, f32 operation and pipeline semantics and the
+//! memory-image format verbatim. Writers of these files to disk must keep
 //! the relative layout (write `p` to `<root>/prelude/<p>`).
 
 /// Root file of crate `trax`.
@@ -32,6 +33,7 @@ pub static FILES: &[(&str, &str)] = &[
     ("../src/rng.rs", include_str!("rng.rs")),
     ("../src/fops.rs", include_str!("fops.rs")),
     ("../src/pipes.rs", include_str!("pipes.rs")),
+    ("../src/image.rs", include_str!("image.rs")),
 ];
 
 /// The source of prelude file `path` (as listed in [`FILES`]).
@@ -82,6 +84,80 @@ impl Default for Fnv1a {
     }
 }
 
+/// The prelude's `layout.rs`, rendered from the scene contract ([`crate::abi`]): the
+/// header address, magic and version; for every contract struct (header, component,
+/// elements) the byte offset of each field as `PREFIX_FIELD` and its size as
+/// `PREFIX_SIZE`; for every component its element stride as `NAME_STRIDE`. The prelude
+/// keeps the rendered text in `prelude/layout.rs` (TRaX-Rust cannot use the Rust structs);
+/// a test fails when the file and the contract differ (`TRAX_BLESS=1` rewrites it).
+pub fn render_layout() -> String {
+    use crate::abi::{self, Kind, Struct, StructLayout};
+    use std::fmt::Write as _;
+    let mut out = String::from(
+        "//! Byte layouts of the scene data in simulated memory, generated from the scene\n\
+         //! contract (`trax_runtime::abi`) by `trax_runtime::prelude::render_layout`: do not\n\
+         //! edit; after changing the contract run\n\
+         //! `TRAX_BLESS=1 cargo test -p trax-runtime --lib prelude` to rewrite this file.\n\
+         //!\n\
+         //! Header offsets are used by the host implementation only (on TRaX the linker\n\
+         //! resolves `__trax_scene_<field>` symbols).\n\n",
+    );
+    // The first line of a doc comment, without rustdoc links (the prelude has no `abi`).
+    let first_line = |doc: &str| {
+        let line = doc.lines().next().unwrap_or("").trim();
+        line.replace("[`", "`").replace("`]", "`")
+    };
+    let _ = writeln!(out, "/// Address of the scene header.");
+    let _ = writeln!(
+        out,
+        "pub const SCENE_HEADER_ADDR: u32 = {:#x};",
+        abi::SCENE_HEADER_ADDR
+    );
+    let _ = writeln!(out, "/// Value of the header's `magic` field (\"TRAX\").");
+    let _ = writeln!(out, "pub const SCENE_MAGIC: u32 = {:#x};", abi::SCENE_MAGIC);
+    let _ = writeln!(out, "/// Value of the header's `version` field.");
+    let _ = writeln!(
+        out,
+        "pub const SCENE_VERSION: u32 = {};",
+        abi::SCENE_VERSION
+    );
+    let mut structs: Vec<StructLayout> = vec![abi::SceneHeader::layout(), abi::Component::layout()];
+    for c in abi::SCENE_COMPONENTS {
+        if let Kind::Struct(l) = c.element {
+            let l = l();
+            if !structs.iter().any(|s| s.name == l.name) {
+                structs.push(l);
+            }
+        }
+    }
+    for l in &structs {
+        let _ = writeln!(out, "\n// `abi::{}` (C: `{}`).", l.name, l.c_name);
+        for f in &l.fields {
+            let _ = writeln!(out, "/// {}", first_line(f.doc));
+            let _ = writeln!(
+                out,
+                "pub const {}_{}: u32 = {};",
+                l.prefix,
+                f.name.to_uppercase(),
+                f.offset
+            );
+        }
+        let _ = writeln!(out, "/// Size of `{}` in bytes.", l.name);
+        let _ = writeln!(out, "pub const {}_SIZE: u32 = {};", l.prefix, l.size);
+    }
+    let _ = writeln!(out, "\n// Bytes per element of each component.");
+    for c in abi::SCENE_COMPONENTS {
+        let _ = writeln!(out, "/// `{}`: {}.", c.name, c.element.rust_type());
+        let _ = writeln!(
+            out,
+            "pub const {}_STRIDE: u32 = {};",
+            c.name.to_uppercase(),
+            c.element_bytes
+        );
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -109,6 +185,21 @@ mod tests {
             assert_eq!(&disk, src, "{p}");
         }
         assert!(file(ROOT).unwrap().contains("pub fn global_id() -> u32"));
+    }
+
+    #[test]
+    fn layout_rs_is_rendered_from_the_contract() {
+        let want = render_layout();
+        let path = format!("{DIR}/layout.rs");
+        if std::env::var_os("TRAX_BLESS").is_some() {
+            std::fs::write(&path, &want).unwrap();
+        }
+        let have = std::fs::read_to_string(&path).unwrap();
+        assert!(
+            have == want,
+            "{path} differs from the scene contract: run `TRAX_BLESS=1 cargo test -p \
+             trax-runtime --lib prelude` to rewrite it\n--- rendered:\n{want}"
+        );
     }
 
     #[test]

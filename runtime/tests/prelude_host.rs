@@ -1,5 +1,6 @@
 //! The kernel prelude compiled by rustc for the host: proves it is valid Rust, that its
-//! view of the scene header matches `abi::SceneHeader` byte for byte, that the TRaX side
+//! accessors read every scene component exactly as the runtime's encoders write it (real
+//! bytes of the scene contract, `abi::SCENE_COMPONENTS`), that the TRaX side
 //! only names real instructions and header symbols, and tests the host implementation
 //! (threads, memory, RNG, Vec3 math, camera rays, BVH traversal, SIMD semantics).
 
@@ -10,8 +11,9 @@ mod trax;
 use std::mem::{offset_of, size_of};
 use trax::layout as L;
 use trax::{Ray, Vec3};
-use trax_runtime::abi::{self, Camera, Component, SceneHeader};
-use trax_runtime::host::{header_only_image, look_at_camera, HeaderParams, MemoryImage, Segment};
+use trax_runtime::abi::{self, Camera, Component, Field, SceneHeader, Struct};
+use trax_runtime::host::{header_only_image, look_at_camera, HeaderParams};
+use trax_runtime::image::{MemoryImage, Perms, Segment};
 
 // ---------------------------------------------------------------------------------------
 // Layout: the prelude's constants against the Rust definitions.
@@ -80,40 +82,204 @@ fn camera_offsets_match_abi() {
     }
 }
 
+/// Where the contract kernel writes back what it read.
+const CONTRACT_PROBE: u32 = 0x0070_0000;
+/// Elements per component in the contract image.
+const N: u32 = 3;
+
+/// A value of `T` whose every word is distinct (word `k` is `base + k`), as f32 bits
+/// that are finite and exactly representable (so arithmetic on them stays exact).
+fn distinct<T: Field>(base: u32) -> T {
+    let bytes: Vec<u8> = (0..std::mem::size_of::<T>() as u32 / 4)
+        .flat_map(|k| ((base + k) as f32).to_bits().to_le_bytes())
+        .collect();
+    abi::decode(&bytes).unwrap()
+}
+
+/// Every component of the contract with `N` distinct elements (unit normals, so the
+/// prelude's normalisation is exact), encoded by the runtime, and the header pointing
+/// at them.
+fn contract_image() -> (MemoryImage, Vec<(&'static str, Vec<u8>)>) {
+    let mut header = SceneHeader {
+        magic: abi::SCENE_MAGIC,
+        version: abi::SCENE_VERSION,
+        width: 4,
+        height: 2,
+        ..distinct::<SceneHeader>(100)
+    };
+    let mut segments = Vec::new();
+    let mut encoded = Vec::new();
+    for (k, c) in abi::SCENE_COMPONENTS.iter().enumerate() {
+        let addr = 0x0050_0000 + 0x1000 * k as u32;
+        let base = 1000 * (k as u32 + 1);
+        let (count, bytes) = match c.name {
+            "camera" => (1, distinct::<Camera>(base).to_bytes()),
+            "framebuffer" => (8, vec![0; 8 * abi::PIXEL_BYTES as usize]),
+            "normals" => {
+                let unit = |a: usize| {
+                    let mut v = [0.0f32; 3];
+                    v[a % 3] = 1.0;
+                    v
+                };
+                let n = (0..N as usize).map(|i| abi::VertexNormals {
+                    n0: unit(i),
+                    n1: unit(i + 1),
+                    n2: unit(i + 2),
+                });
+                (N, abi::encode(n))
+            }
+            // Index components hold small indices (the prelude indexes with them).
+            "material_ids" | "emitters" | "bvh_parents" | "treelet_ids" => {
+                (N, abi::encode((0..N).map(|i| (i * 7 + k as u32) % 5)))
+            }
+            _ => {
+                let n = c.element_bytes / 4;
+                let words = (0..N * n).map(|w| ((base + w) as f32).to_bits());
+                (N, abi::encode(words))
+            }
+        };
+        (c.set)(&mut header, Component { addr, count });
+        let perms = match c.access {
+            abi::Access::ReadOnly => Perms::R,
+            abi::Access::ReadWrite => Perms::RW,
+        };
+        segments.push(Segment::new(c.name, addr, bytes.clone(), perms));
+        encoded.push((c.name, bytes));
+    }
+    segments.push(Segment::new(
+        "scene_header",
+        abi::SCENE_HEADER_ADDR,
+        header.to_bytes(),
+        Perms::R,
+    ));
+    segments.push(Segment::new(
+        "probe",
+        CONTRACT_PROBE,
+        vec![0; 0x1_0000],
+        Perms::RW,
+    ));
+    (MemoryImage { segments }, encoded)
+}
+
+/// Reads every component through the prelude's accessors and writes what it read, field
+/// by field in the contract's order, to `CONTRACT_PROBE` (one component after another,
+/// in table order); writes the framebuffer through `set_pixel_index`.
+fn contract_kernel() {
+    use trax::scene as S;
+    let mut at = CONTRACT_PROBE;
+    let mut put = |w: u32| {
+        trax::store_u32(at, w);
+        at += 4;
+    };
+    let v3 = |put: &mut dyn FnMut(u32), v: Vec3| {
+        for x in [v.x, v.y, v.z] {
+            put(x.to_bits());
+        }
+    };
+    let cam = trax::Camera::load();
+    for v in [cam.eye, cam.u, cam.v, cam.w] {
+        v3(&mut put, v);
+    }
+    for x in [cam.left, cam.right, cam.bottom, cam.top, cam.distance] {
+        put(x.to_bits());
+    }
+    for i in 0..S::width() * S::height() {
+        S::set_pixel_index(i, Vec3::new(i as f32, 0.5, -2.0));
+    }
+    for i in 0..S::bvh_node_count() {
+        let n = S::bvh_node(i);
+        v3(&mut put, n.min);
+        v3(&mut put, n.max);
+        put(n.a);
+        put(n.b);
+    }
+    for i in 0..S::triangle_count() {
+        let t = S::triangle(i);
+        for v in [t.v0, t.v1, t.v2] {
+            v3(&mut put, v);
+        }
+    }
+    for i in 0..S::normals_count() {
+        for (u, v) in [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)] {
+            v3(&mut put, S::shading_normal(i, u, v));
+        }
+    }
+    for i in 0..S::texcoords_count() {
+        for (u, v) in [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)] {
+            let t = S::texcoord(i, u, v);
+            put(t.x.to_bits());
+            put(t.y.to_bits());
+        }
+    }
+    for i in 0..N {
+        put(S::material_id(i));
+    }
+    for m in 0..S::material_count() {
+        let m = S::material(m);
+        for v in [m.diffuse, m.specular, m.emission] {
+            v3(&mut put, v);
+        }
+        put(m.shininess.to_bits());
+        put(m.flags);
+    }
+    for k in 0..S::emitter_count() {
+        put(S::emitter(k));
+    }
+    for k in 0..S::point_light_count() {
+        let l = S::point_light(k);
+        v3(&mut put, l.position);
+        v3(&mut put, l.color);
+    }
+    for i in 0..N {
+        put(S::bvh_parent(i));
+    }
+    for i in 0..N {
+        put(S::treelet_id(i));
+    }
+}
+
 #[test]
-fn element_layouts_match_abi_docs() {
-    // The element layouts are documented in abi.rs (no Rust struct): check the sizes
-    // the docs state and that fields tile each element.
-    let doc = include_str!("../src/abi.rs");
-    assert!(doc.contains("BVH nodes, 32 bytes each"));
-    assert!(doc.contains("Triangles, 36 bytes each"));
-    assert!(doc.contains("Materials, 48 bytes each"));
-    assert!(doc.contains("Point lights, 24 bytes each"));
-    assert!(doc.contains("24 bytes per triangle"));
-    assert!(doc.contains("36 bytes per triangle"));
-    assert!(doc.contains("3 × f32 linear RGB"));
-    assert_eq!(L::BVH_NODE_SIZE, 32);
-    assert_eq!(
-        (L::BVH_MIN, L::BVH_MAX, L::BVH_A, L::BVH_B),
-        (0, 12, 24, 28)
-    );
-    assert_eq!(L::TRIANGLE_SIZE, 36);
-    assert_eq!(L::NORMALS_SIZE, 36);
-    assert_eq!(L::TEXCOORDS_SIZE, 24);
-    assert_eq!(L::MATERIAL_SIZE, 48);
-    assert_eq!(
-        (
-            L::MAT_DIFFUSE,
-            L::MAT_SPECULAR,
-            L::MAT_EMISSION,
-            L::MAT_SHININESS,
-            L::MAT_FLAGS
-        ),
-        (0, 12, 24, 36, 40)
-    );
-    assert_eq!(L::POINT_LIGHT_SIZE, 24);
-    assert_eq!((L::LIGHT_POSITION, L::LIGHT_COLOR), (0, 12));
-    assert_eq!(L::PIXEL_SIZE, 12);
+fn prelude_reads_every_component_as_the_runtime_encodes_it() {
+    let (img, encoded) = contract_image();
+    let out = trax::host::run_image(&to_image(&img), 1, 1, contract_kernel).unwrap();
+    // What the kernel read, component by component, must be the encoded bytes (the
+    // prelude does not read the camera's aperture nor a material's reserved word).
+    let mut at = CONTRACT_PROBE;
+    for (name, bytes) in &encoded {
+        let want: Vec<u8> = match *name {
+            "framebuffer" => continue,
+            "camera" => bytes[..abi::Camera::layout().field("aperture").unwrap().offset].to_vec(),
+            "materials" => bytes
+                .chunks(std::mem::size_of::<abi::Material>())
+                .flat_map(|m| m[..44].to_vec())
+                .collect(),
+            _ => bytes.clone(),
+        };
+        let got = out.read(at, want.len() as u32).unwrap();
+        assert_eq!(got, want, "component `{name}` read through the prelude");
+        at += want.len() as u32;
+    }
+    // The framebuffer the kernel wrote decodes as the runtime's pixels.
+    let fb = img.segment("framebuffer").unwrap().addr;
+    for i in 0..8u32 {
+        let b = out
+            .read(fb + i * abi::PIXEL_BYTES, abi::PIXEL_BYTES)
+            .unwrap();
+        let p: abi::Pixel = abi::decode(&b).unwrap();
+        assert_eq!(p.rgb, [i as f32, 0.5, -2.0]);
+    }
+}
+
+#[test]
+fn prelude_stores_to_read_only_memory_panic() {
+    fn store_to_scene() {
+        trax::store_u32(trax::scene::camera_addr(), 1);
+    }
+    let (img, _) = contract_image();
+    match trax::host::run_image(&to_image(&img), 1, 1, store_to_scene) {
+        Err(trax::host::RunError::Panicked(ids)) => assert_eq!(ids, vec![0]),
+        other => panic!("expected a panic, got {:?}", other.map(|_| ())),
+    }
 }
 
 /// `fn NAME() -> u32 { BODY }` items of a source file, as (name, body).
@@ -184,7 +350,7 @@ fn host_header_accessors_match_offsets() {
     // by reading a header whose every word is distinct.
     let mut img = header_only_image(&HeaderParams::default()).unwrap();
     let words = abi::SCENE_HEADER_SIZE / 4;
-    img.segments[0].bytes = (0..words as u32)
+    img.segments[0].data = (0..words as u32)
         .flat_map(|w| (1000 + w).to_le_bytes())
         .collect();
     let out = run(&img, 1, 1, read_header_kernel);
@@ -287,18 +453,15 @@ fn prelude_files_are_the_embedded_ones() {
 // ---------------------------------------------------------------------------------------
 // Host runner helpers.
 
+/// The runtime's image as the prelude's (the same source compiled into the prelude crate),
+/// through the one file format.
 fn to_image(m: &MemoryImage) -> trax::host::Image {
-    m.segments
-        .iter()
-        .map(|s| (s.addr, s.bytes.clone()))
-        .collect()
+    trax::host::parse_image(&m.to_bytes()).unwrap()
 }
 
 fn with_probe(mut m: MemoryImage) -> MemoryImage {
-    m.segments.push(Segment {
-        addr: FB_PROBE,
-        bytes: vec![0; 4096],
-    });
+    m.segments
+        .push(Segment::new("probe", FB_PROBE, vec![0; 4096], Perms::RW));
     m
 }
 
@@ -308,12 +471,8 @@ fn run(m: &MemoryImage, tms: u32, threads: u32, k: fn()) -> trax::host::Image {
 }
 
 fn read_words(img: &trax::host::Image, addr: u32, n: usize) -> Vec<u32> {
-    let (a, b) = img
-        .iter()
-        .find(|(a, b)| *a <= addr && addr - a < b.len() as u32)
-        .unwrap();
-    let off = (addr - a) as usize;
-    b[off..off + 4 * n]
+    img.read(addr, 4 * n as u32)
+        .unwrap()
         .chunks(4)
         .map(|c| u32::from_le_bytes(c.try_into().unwrap()))
         .collect()
@@ -511,13 +670,17 @@ fn image_format_round_trips_between_runtime_and_prelude() {
     let img = header_only_image(&HeaderParams::default()).unwrap();
     let bytes = img.to_bytes();
     let parsed = trax::host::parse_image(&bytes).unwrap();
-    assert_eq!(parsed, to_image(&img));
     assert_eq!(trax::host::image_bytes(&parsed), bytes);
+    assert_eq!(parsed.segments.len(), img.segments.len());
     assert!(trax::host::parse_image(&bytes[..bytes.len() - 2]).is_err());
-    assert!(trax::host::parse_image(b"TRAXIMG2\0\0\0\0").is_err());
+    assert!(trax::host::parse_image(b"TRAXIMG1\0\0\0\0").is_err());
     let fb = trax::host::framebuffer_segment(&parsed);
-    assert_eq!(fb.len(), 1);
-    assert_eq!(fb[0].1.len(), 128 * 128 * 12);
+    assert_eq!(fb.segments.len(), 1);
+    assert_eq!(
+        fb.segments[0].data.len() as u32,
+        128 * 128 * abi::PIXEL_BYTES
+    );
+    assert!(fb.segments[0].perms.write());
 }
 
 // ---------------------------------------------------------------------------------------
@@ -1045,15 +1208,11 @@ fn scene_image(
         })
         .collect();
     let (tri_addr, node_addr) = (0x0050_0000u32, 0x0060_0000u32);
-    img.segments.push(Segment {
-        addr: tri_addr,
-        bytes: tri_bytes,
-    });
-    img.segments.push(Segment {
-        addr: node_addr,
-        bytes: node_bytes,
-    });
-    let hdr = &mut img.segments[0].bytes;
+    img.segments
+        .push(Segment::new("triangles", tri_addr, tri_bytes, Perms::R));
+    img.segments
+        .push(Segment::new("bvh_nodes", node_addr, node_bytes, Perms::R));
+    let hdr = &mut img.segments[0].data;
     let mut put =
         |off: u32, v: u32| hdr[off as usize..off as usize + 4].copy_from_slice(&v.to_le_bytes());
     put(L::HDR_TRIANGLES, tri_addr);

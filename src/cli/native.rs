@@ -13,7 +13,7 @@
 //! an rlib named `trax`; (2) the kernel is compiled from stdin with the current directory
 //! set to the kernel's directory (so `mod x;` files resolve), with
 //! `fn main() { trax::host::host_main(trax_main) }` appended; (3) a memory image (format:
-//! `trax_runtime::host`) is written, the program runs over it and writes the framebuffer
+//! `trax_runtime::image`, segments with permissions) is written, the program runs over it and writes the framebuffer
 //! back; (4) the framebuffer becomes a PNG. Builds are cached in `$TRAX_CACHE_DIR` (default
 //! `~/.cache/trax`) keyed by a hash of the sources and the rustc version. Diagnostics
 //! and panic locations name the kernel file (rustc calls stdin `<anon>`; we rewrite it).
@@ -27,8 +27,8 @@ use clap::Args;
 
 use super::common::{RenderArgs, ShapeArgs};
 use trax::pipeline::{self, chip_config, scene_report, PrepareError, DEFAULT_OPT_LEVEL};
-use trax_assembler::image::MemoryImage as SceneImage;
-use trax_runtime::host::{framebuffer_rgb8, ImageError, MemoryImage, Segment};
+use trax_runtime::host::framebuffer_rgb8;
+use trax_runtime::image::{ImageError, MemoryImage};
 use trax_runtime::prelude::{self, Fnv1a};
 
 /// Arguments of `trax native`.
@@ -135,13 +135,12 @@ fn native(a: &NativeArgs) -> Result<(), NativeError> {
     for w in &warnings {
         eprintln!("warning: {w}");
     }
-    let image = host_image(&scene_image)?;
-    let fb = run_kernel(&exe, &a.kernel, &image, tms, threads, &cache)?;
+    let fb = run_kernel(&exe, &a.kernel, &scene_image.memory, tms, threads, &cache)?;
     eprint!("{}", scene_report(&scene_image));
     let bytes = fb
         .segments
         .first()
-        .map(|s| s.bytes.as_slice())
+        .map(|s| s.data.as_slice())
         .unwrap_or(&[]);
     if let Some(out) = &a.output {
         let (w, h) = (a.render.width, a.render.height);
@@ -168,25 +167,6 @@ fn check_writable(out: &Path) -> Result<(), NativeError> {
         }
     }
     Ok(())
-}
-
-/// The scene image in the host runner's file format.
-fn host_image(img: &SceneImage) -> Result<MemoryImage, NativeError> {
-    let segments = img
-        .segments
-        .iter()
-        .map(|s| {
-            let mut bytes = s.data.clone();
-            bytes.resize((s.size as usize).next_multiple_of(4), 0);
-            Segment {
-                addr: s.addr,
-                bytes,
-            }
-        })
-        .collect();
-    let image = MemoryImage { segments };
-    image.validate()?;
-    Ok(image)
 }
 
 /// The build cache directory (shared with the C/C++ builds, see `trax::clang::cache_dir`).
@@ -496,7 +476,7 @@ fn run_in(
 ) -> Result<MemoryImage, NativeError> {
     let input = tmp.join("image.bin");
     let output = tmp.join("framebuffer.bin");
-    image.write(&input)?;
+    image.write_file(&input)?;
     let mut child = Command::new(exe)
         .arg(&input)
         .arg(&output)
@@ -522,7 +502,7 @@ fn run_in(
             status: status.code().unwrap_or(-1),
         });
     }
-    Ok(MemoryImage::read(&output)?)
+    Ok(MemoryImage::read_file(&output)?)
 }
 
 /// Writes 8-bit RGB pixels (`width*height*3` bytes, top row first) as a PNG file.

@@ -9,8 +9,9 @@ use std::time::Instant;
 use clap::{Args, Subcommand};
 use trax::pipeline::lay_out_scene;
 use trax_assembler::bvh::{Bvh, BvhOptions, TreeletOptions};
-use trax_assembler::image::{RenderOptions, OPTIONAL_COMPONENTS};
+use trax_assembler::image::{on_demand_components, RenderOptions};
 use trax_assembler::scene::{load_scene, LoadOptions};
+use trax_runtime::abi::BvhNode;
 
 /// Arguments of `trax scene`.
 #[derive(Args, Debug)]
@@ -149,7 +150,7 @@ fn info(a: &InfoArgs) -> Result<(), Box<dyn std::error::Error>> {
             let fill: f64 = t
                 .node_ranges
                 .iter()
-                .map(|r| (r.end - r.start) as f64 * 32.0)
+                .map(|r| (r.end - r.start) as f64 * size_of::<BvhNode>() as f64)
                 .sum::<f64>()
                 / (t.node_ranges.len() as f64 * t.options.budget_bytes as f64);
             outln!(
@@ -170,7 +171,7 @@ fn info(a: &InfoArgs) -> Result<(), Box<dyn std::error::Error>> {
         ..RenderOptions::default()
     };
     let t2 = Instant::now();
-    let image = lay_out_scene(&scene, &OPTIONAL_COMPONENTS, &opts)?;
+    let image = lay_out_scene(&scene, &on_demand_components(), &opts)?;
     let image_time = t2.elapsed();
     outln!("memory (all components referenced):");
     for c in &image.components {

@@ -1,5 +1,5 @@
 //! Bounding volume hierarchy in the memory layout of `trax_runtime::abi` (`bvh_nodes`):
-//! 32-byte nodes, root at index 0, siblings adjacent, triangles reordered into leaf order;
+//! `abi::BvhNode` nodes, root at index 0, siblings adjacent, triangles reordered into leaf order;
 //! optional parent pointers and treelets.
 //!
 //! [`Bvh::build`] runs the binned SAH builder ([`binned`]), then, if asked, groups nodes and
@@ -24,7 +24,7 @@ pub const C_TRAV: f32 = 1.0;
 /// Cost of one triangle intersection test.
 pub const C_ISEC: f32 = 1.0;
 
-/// One node, exactly as stored in memory (32 bytes, little-endian words).
+/// One node, with the fields of its memory layout ([`Node::to_abi`]).
 ///
 /// Interior: `b == 0`, children at `a` and `a + 1`. Leaf: `b` triangles from slot `a`.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -53,23 +53,14 @@ impl Node {
         }
     }
 
-    /// The 32 bytes stored in memory.
-    pub fn to_bytes(&self) -> [u8; 32] {
-        let mut out = [0u8; 32];
-        let words = [
-            self.min[0].to_bits(),
-            self.min[1].to_bits(),
-            self.min[2].to_bits(),
-            self.max[0].to_bits(),
-            self.max[1].to_bits(),
-            self.max[2].to_bits(),
-            self.a,
-            self.b,
-        ];
-        for (i, w) in words.iter().enumerate() {
-            out[i * 4..i * 4 + 4].copy_from_slice(&w.to_le_bytes());
+    /// The node as stored in memory ([`trax_runtime::abi::BvhNode`]).
+    pub fn to_abi(&self) -> trax_runtime::abi::BvhNode {
+        trax_runtime::abi::BvhNode {
+            min: self.min,
+            max: self.max,
+            a: self.a,
+            b: self.b,
         }
-        out
     }
 }
 

@@ -21,8 +21,8 @@ use super::{Bvh, BvhError, Node, PAD};
 const LIMIT: u64 = trax_runtime::abi::STACK_TOP as u64;
 
 /// Bytes per node and per triangle as stored.
-const NODE_BYTES: u32 = 32;
-const TRI_BYTES: u32 = 36;
+const NODE_BYTES: u32 = std::mem::size_of::<trax_runtime::abi::BvhNode>() as u32;
+const TRI_BYTES: u32 = std::mem::size_of::<trax_runtime::abi::Triangle>() as u32;
 
 /// Treelet settings.
 #[derive(Clone, Debug, PartialEq, Eq)]

@@ -20,8 +20,8 @@
 //! Scene header fields: an undefined symbol `__trax_scene_<field>` (a field name of
 //! [`trax_runtime::abi::scene_header_fields`]) resolves to the field's absolute address and
 //! stays in `.symtab` as an `SHN_ABS` global, so the memory-image builder knows which scene
-//! components the program uses ([`Linked::scene_components`],
-//! [`Executable::scene_components`]).
+//! components the program uses ([`Linked::scene_components`];
+//! `trax_runtime::exe::Executable::referenced` reads them back from the executable).
 //!
 //! Behaviour worth knowing:
 //! - Input order is kept within each output section; `.init_array` is sorted by priority
@@ -41,7 +41,6 @@
 //! and symbols, and run a linked program under qemu-user.
 
 mod error;
-mod exec;
 mod flags;
 mod input;
 mod layout;
@@ -52,7 +51,6 @@ pub mod startup;
 mod symbols;
 
 pub use error::{LinkError, RelocationOverflow};
-pub use exec::{read_executable, ExecSymbol, Executable, Segment};
 
 use trax_runtime::abi;
 

@@ -239,8 +239,11 @@ pub enum SceneError {
     },
 }
 
-/// Largest triangle count whose 36-byte array fits below the stack window.
-pub const MAX_TRIANGLES: u64 = (abi_limit() as u64) / 36;
+/// Bytes of one stored triangle ([`trax_runtime::abi::Triangle`]).
+pub const TRIANGLE_BYTES: u64 = std::mem::size_of::<trax_runtime::abi::Triangle>() as u64;
+
+/// Largest triangle count whose triangle array fits below the stack window.
+pub const MAX_TRIANGLES: u64 = (abi_limit() as u64) / TRIANGLE_BYTES;
 
 const fn abi_limit() -> u32 {
     trax_runtime::abi::STACK_TOP
@@ -317,7 +320,7 @@ impl Scene {
             return Err(SceneError::TooLarge {
                 scene: self.name.clone(),
                 what: "triangles",
-                bytes: n as u64 * 36,
+                bytes: n as u64 * TRIANGLE_BYTES,
             });
         }
         for (what, len) in [

@@ -115,7 +115,7 @@ pub fn procedural(n: u64) -> Result<Scene, SceneError> {
         return Err(SceneError::TooLarge {
             scene: format!("procedural:{n}"),
             what: "triangles",
-            bytes: n * 36,
+            bytes: n * super::TRIANGLE_BYTES,
         });
     }
     let r = ROOM;

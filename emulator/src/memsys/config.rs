@@ -252,23 +252,7 @@ where
     };
     let mut merged =
         toml::Value::try_from(&base).map_err(|e| MemSysError::Config(format!("[{table}]: {e}")))?;
-    merge(&mut merged, toml::Value::Table(user));
+    crate::tomlerr::merge(&mut merged, toml::Value::Table(user));
     let (text, prefix) = source.unzip();
     crate::tomlerr::deserialize(merged, text, prefix.unwrap_or(&[table])).map_err(field_err)
-}
-
-fn merge(base: &mut toml::Value, over: toml::Value) {
-    match (base, over) {
-        (toml::Value::Table(b), toml::Value::Table(o)) => {
-            for (k, v) in o {
-                match b.get_mut(&k) {
-                    Some(slot) if slot.is_table() && v.is_table() => merge(slot, v),
-                    _ => {
-                        b.insert(k, v);
-                    }
-                }
-            }
-        }
-        (b, o) => *b = o,
-    }
 }

@@ -422,7 +422,7 @@ impl ChipConfig {
                 }
             }
         }
-        merge(&mut base_val, toml::Value::Table(user));
+        crate::tomlerr::merge(&mut base_val, toml::Value::Table(user));
         let cfg: ChipConfig =
             crate::tomlerr::deserialize(base_val, Some(text), &[]).map_err(|e| {
                 ConfigError::Parse {
@@ -605,21 +605,5 @@ impl ChipConfig {
         cfg.validate()?;
         *self = cfg;
         Ok(())
-    }
-}
-
-fn merge(base: &mut toml::Value, over: toml::Value) {
-    match (base, over) {
-        (toml::Value::Table(b), toml::Value::Table(o)) => {
-            for (k, v) in o {
-                match b.get_mut(&k) {
-                    Some(slot) if slot.is_table() && v.is_table() => merge(slot, v),
-                    _ => {
-                        b.insert(k, v);
-                    }
-                }
-            }
-        }
-        (b, o) => *b = o,
     }
 }

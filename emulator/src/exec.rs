@@ -12,7 +12,7 @@
 //! defined):
 //! - `div`/`mod`/`divu`/`modu` by zero give `rs` / `0` (QEMU's choice); `INT_MIN / -1`
 //!   gives `INT_MIN` and `INT_MIN mod -1` gives 0 (LLVM guards division with `teq`).
-//! - Misaligned loads/stores fault (see [`crate::memory`]).
+//! - Misaligned loads/stores are performed; only `ll`/`sc` fault (see [`crate::memory`]).
 //! - A branch or jump in a delay slot or forbidden slot is a reserved instruction.
 //! - `jalr` with `rd == rs` reads `rs` before linking.
 //! - Single-precision results leave the upper half of the 64-bit FPU register unchanged.
@@ -543,11 +543,17 @@ impl Thread {
             Sw { rt, base, off } => store!(base, off, g!(rt).to_le_bytes()),
             Ll { rt, base, off } => {
                 let a = ea!(base, off);
+                if a & 3 != 0 {
+                    fault!(mem_fault(sh.shared().mem.misaligned(a, 4, false)));
+                }
                 g!(rt) = u32::from_le_bytes(load!(4, base, off));
                 self.ll_addr = Some(a);
             }
             Sc { rt, base, off } => {
                 let a = ea!(base, off);
+                if a & 3 != 0 {
+                    fault!(mem_fault(sh.shared().mem.misaligned(a, 4, true)));
+                }
                 if self.ll_addr == Some(a) {
                     store!(base, off, g!(rt).to_le_bytes());
                     g!(rt) = 1;

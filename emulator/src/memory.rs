@@ -15,9 +15,13 @@
 //! even though it lies in the same page. Bytes outside every segment are unmapped; the
 //! null guard `[0, NULL_GUARD_END)` is never mapped.
 //!
-//! Misaligned accesses (a `lw` at an address not a multiple of 4, etc.) are reported as
-//! faults: MIPS32r6 lets an implementation either support them or raise an Address Error,
-//! and trapping catches kernel bugs early.
+//! Misaligned loads and stores (a `lw` at an address not a multiple of 4, etc.) are
+//! performed, as MIPS32r6 allows and as LLVM's r6 backend assumes: it copies byte arrays
+//! and packed fields with `lw`/`sw` at any address, with no option to stop it. Each byte is
+//! checked like a one-byte access, and a store writes nothing unless every byte may be
+//! written. Only `ll`/`sc` need alignment ([`Memory::misaligned`], an Address Error on
+//! r6). The timing model charges a misaligned access that crosses a cache line as an
+//! access to its first line.
 
 use trax_runtime::abi;
 
@@ -288,8 +292,6 @@ impl Memory {
     fn fault(&self, addr: u32, size: u8, write: bool) -> MemFault {
         let kind = if addr < abi::NULL_GUARD_END {
             MemFaultKind::Null
-        } else if addr & (size as u32 - 1) != 0 {
-            MemFaultKind::Misaligned
         } else if addr < self.stack_base && addr >= self.stack_base.saturating_sub(STACK_GUARD) {
             MemFaultKind::StackOverflow
         } else if write
@@ -365,12 +367,13 @@ impl Memory {
         ((addr as u64) < s.addr as u64 + s.size as u64).then_some(s)
     }
 
-    /// Reads `N` bytes at an `N`-aligned address from global memory or `local`.
+    /// Reads `N` bytes at `addr` from global memory or `local` (any alignment; an aligned
+    /// access is the fast path).
     #[inline(always)]
     pub fn read<const N: usize>(&self, local: &[u8], addr: u32) -> Result<[u8; N], MemFault> {
         const { assert!(N.is_power_of_two() && N <= 1 << PAGE_SHIFT) };
         if addr & (N as u32 - 1) != 0 {
-            return Err(self.fault(addr, N as u8, false));
+            return self.read_misaligned(local, addr);
         }
         let a = addr as usize;
         if a < self.bytes.len() {
@@ -398,7 +401,8 @@ impl Memory {
         Err(self.fault(addr, N as u8, false))
     }
 
-    /// Writes `N` bytes at an `N`-aligned address to global memory or `local`.
+    /// Writes `N` bytes at `addr` to global memory or `local` (any alignment; an aligned
+    /// access is the fast path).
     #[inline(always)]
     pub fn write<const N: usize>(
         &mut self,
@@ -408,16 +412,13 @@ impl Memory {
     ) -> Result<(), MemFault> {
         const { assert!(N.is_power_of_two() && N <= 1 << PAGE_SHIFT) };
         if addr & (N as u32 - 1) != 0 {
-            return Err(self.fault(addr, N as u8, true));
+            return self.write_misaligned(local, addr, v);
         }
         let a = addr as usize;
         if a < self.bytes.len() {
-            // SAFETY: as in `read`: the page index and `a..a + N` are in bounds.
-            let perm = unsafe { *self.perms.get_unchecked(a >> PAGE_SHIFT) };
-            if perm & PERM_W != 0
-                || (perm & PERM_PART_W != 0 && Self::in_part(perm, a, N))
-                || (perm == PERM_MULTI && self.partial_ok(addr, N as u32, true))
-            {
+            if self.global_writable::<N>(a) {
+                // SAFETY: as in `read`: `a..a + N` is in bounds (`global_writable` read the
+                // page entry under the same argument).
                 unsafe { self.bytes.get_unchecked_mut(a..a + N) }.copy_from_slice(&v);
                 return Ok(());
             }
@@ -445,9 +446,8 @@ impl Memory {
         if (addr as usize) < self.bytes.len() {
             return Ok(false);
         }
-        if addr & (N as u32 - 1) != 0 {
-            return Err(self.fault(addr, N as u8, true));
-        }
+        // Any alignment: the local store is one range (an access running off its end
+        // faults below).
         let o = addr.wrapping_sub(self.stack_base) as usize;
         match local.get_mut(o..o + N) {
             Some(b) => {
@@ -455,6 +455,87 @@ impl Memory {
                 Ok(true)
             }
             None => Err(self.fault(addr, N as u8, true)),
+        }
+    }
+
+    /// Whether the `N`-aligned global address `a < bytes.len()` may be written.
+    #[inline(always)]
+    fn global_writable<const N: usize>(&self, a: usize) -> bool {
+        debug_assert!(a < self.bytes.len() && a.is_multiple_of(N));
+        // SAFETY: `a < bytes.len()` (callers check), a multiple of the page size, so the
+        // page index `a >> PAGE_SHIFT` is below `perms.len()`, the page count.
+        let perm = unsafe { *self.perms.get_unchecked(a >> PAGE_SHIFT) };
+        perm & PERM_W != 0
+            || (perm & PERM_PART_W != 0 && Self::in_part(perm, a, N))
+            || (perm == PERM_MULTI && self.partial_ok(a as u32, N as u32, true))
+    }
+
+    /// A misaligned load: byte by byte, each byte checked as a one-byte load. A fault
+    /// names the whole access (its address and size) with the first failing byte's kind.
+    #[cold]
+    #[inline(never)]
+    fn read_misaligned<const N: usize>(
+        &self,
+        local: &[u8],
+        addr: u32,
+    ) -> Result<[u8; N], MemFault> {
+        let mut out = [0u8; N];
+        for (i, b) in out.iter_mut().enumerate() {
+            match self.read::<1>(local, addr.wrapping_add(i as u32)) {
+                Ok([v]) => *b = v,
+                Err(f) => {
+                    return Err(MemFault {
+                        addr,
+                        size: N as u8,
+                        ..f
+                    })
+                }
+            }
+        }
+        Ok(out)
+    }
+
+    /// A misaligned store: all or nothing. Every byte is checked as a one-byte store
+    /// first; then the bytes are written.
+    #[cold]
+    #[inline(never)]
+    fn write_misaligned<const N: usize>(
+        &mut self,
+        local: &mut [u8],
+        addr: u32,
+        v: [u8; N],
+    ) -> Result<(), MemFault> {
+        for i in 0..N as u32 {
+            let b = addr.wrapping_add(i);
+            let ok = if (b as usize) < self.bytes.len() {
+                self.global_writable::<1>(b as usize)
+            } else {
+                (b.wrapping_sub(self.stack_base) as usize) < local.len()
+            };
+            if !ok {
+                let f = self.fault(b, 1, true);
+                return Err(MemFault {
+                    addr,
+                    size: N as u8,
+                    ..f
+                });
+            }
+        }
+        for (i, b) in v.into_iter().enumerate() {
+            self.write::<1>(local, addr.wrapping_add(i as u32), [b])?;
+        }
+        Ok(())
+    }
+
+    /// The Address Error of an access that must be aligned (`ll`/`sc`) at a misaligned
+    /// `addr`.
+    #[cold]
+    pub fn misaligned(&self, addr: u32, size: u8, write: bool) -> MemFault {
+        MemFault {
+            kind: MemFaultKind::Misaligned,
+            addr,
+            size,
+            write,
         }
     }
 
@@ -525,9 +606,13 @@ mod tests {
         let mut local = vec![0u8; 4096];
         assert_eq!(m.read::<4>(&local, 0x10_0000).unwrap(), [1, 2, 3, 4]);
         assert_eq!(m.read::<4>(&local, 8).unwrap_err().kind, MemFaultKind::Null);
+        // Misaligned: performed inside the segment; running off its end is a bad address
+        // naming the whole access.
+        assert_eq!(m.read::<2>(&local, 0x10_0001).unwrap(), [2, 3]);
+        let f = m.read::<4>(&local, 0x10_0002).unwrap_err();
         assert_eq!(
-            m.read::<4>(&local, 0x10_0002).unwrap_err().kind,
-            MemFaultKind::Misaligned
+            (f.kind, f.addr, f.size),
+            (MemFaultKind::BadAddress, 0x10_0002, 4)
         );
         assert_eq!(
             m.write::<4>(&mut local, 0x10_0000, [0; 4])
@@ -549,6 +634,65 @@ mod tests {
         assert_eq!(local[4092..], [9, 8, 7, 6]);
         m.write::<2>(&mut local, 0x20_1ffe, [5, 5]).unwrap();
         assert_eq!(m.read::<2>(&local, 0x20_1ffe).unwrap(), [5, 5]);
+    }
+
+    #[test]
+    fn misaligned_accesses_are_byte_exact_and_stores_all_or_nothing() {
+        // A read-only page followed directly by a writable one, and the stack.
+        let segs = vec![
+            Segment {
+                name: "ro".into(),
+                addr: 0x10_0000,
+                data: vec![7; 4096],
+                size: 4096,
+                perms: Perms::R,
+            },
+            Segment {
+                name: "rw".into(),
+                addr: 0x10_1000,
+                data: vec![],
+                size: 4096,
+                perms: Perms::RW,
+            },
+        ];
+        let mut m = Memory::new(&segs, 4096).unwrap();
+        let mut local = vec![0u8; 4096];
+        // Across the page boundary into the writable page: the store needs every byte.
+        let f = m
+            .write::<4>(&mut local, 0x10_0ffe, [1, 2, 3, 4])
+            .unwrap_err();
+        assert_eq!(
+            (f.kind, f.addr, f.size),
+            (MemFaultKind::ReadOnly, 0x10_0ffe, 4)
+        );
+        assert_eq!(
+            m.read::<2>(&local, 0x10_1000).unwrap(),
+            [0, 0],
+            "nothing written"
+        );
+        assert_eq!(m.read::<4>(&local, 0x10_0ffe).unwrap(), [7, 7, 0, 0]);
+        // Inside the writable page, every misalignment of every size.
+        for (k, a) in (0x10_1001u32..0x10_1008).enumerate() {
+            let v = [k as u8, 0x11, 0x22, 0x33, 0x44, 0x55, 0x66, 0x77];
+            m.write::<8>(&mut local, a, v).unwrap();
+            assert_eq!(m.read::<8>(&local, a).unwrap(), v);
+            assert_eq!(
+                m.read::<4>(&local, a + 2).unwrap(),
+                [0x22, 0x33, 0x44, 0x55]
+            );
+            assert_eq!(m.read::<2>(&local, a + 5).unwrap(), [0x55, 0x66]);
+        }
+        // Off the end of the last page: faults, nothing written.
+        let f = m.write::<4>(&mut local, 0x10_1ffe, [9; 4]).unwrap_err();
+        assert_eq!((f.kind, f.addr), (MemFaultKind::BadAddress, 0x10_1ffe));
+        assert_eq!(m.read::<2>(&local, 0x10_1ffe).unwrap(), [0, 0]);
+        // The stack: any alignment inside; the top faults.
+        let top = abi::STACK_TOP;
+        m.write::<4>(&mut local, top - 7, [1, 2, 3, 4]).unwrap();
+        assert_eq!(m.read::<4>(&local, top - 7).unwrap(), [1, 2, 3, 4]);
+        assert_eq!(local[4089..4093], [1, 2, 3, 4]);
+        assert!(m.write_local::<4>(&mut local, top - 3, [0; 4]).is_err());
+        assert!(m.read::<4>(&local, top - 2).is_err());
     }
 
     #[test]

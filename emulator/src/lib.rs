@@ -40,6 +40,7 @@ mod program;
 mod regs;
 mod run;
 mod sched;
+mod streams;
 pub mod softfloat;
 mod thread;
 pub mod timing;

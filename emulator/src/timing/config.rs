@@ -496,7 +496,8 @@ impl ChipConfig {
     /// DRAM), `baseline` (thesis Table 2.5 top row: 80 TMs x 32 threads, 4 L2s of 256 KB /
     /// 16 banks, 32 KB / 4-bank L1s, 2 int-mul, 8 fp-mul, 8 fp-add, 1 fp-invsqrt per TM,
     /// 2 I-caches of 16 banks, thesis GDDR5), `strata` (chapter 3/5: 128 TMs x 32 threads,
-    /// 4 L2s of 512 KB, thesis GDDR5).
+    /// 16 KB L1s, 4 L2s of 512 KB, a 4 MB ray stream memory, the box and triangle
+    /// pipelines, thesis GDDR5; sources at each value).
     pub fn preset(name: &str) -> Option<ChipConfig> {
         let mut c = ChipConfig {
             name: name.to_string(),
@@ -524,10 +525,23 @@ impl ChipConfig {
                 c.memory.dram = DramConfig::gddr5_thesis();
             }
             "strata" => {
+                // Thesis §3.2.4: 128 TMs of 32 threads (the TM of Table 2.5: 8 FP
+                // multipliers and 8 adders, so both pipelines of §3.2.3 fit with 2 of
+                // each left for general use).
                 c.tms = 128;
                 c.tms_per_l2 = 32;
+                // §5 (treelets "as close to the capacity of the L1 cache as possible ...
+                // which is 16KB").
+                c.memory.l1.capacity_bytes = 16 * 1024;
+                // §3.2.4: "a small 512KB L2 cache in addition to the stream memory".
                 c.memory.l2.capacity_bytes = 512 * 1024;
                 c.memory.l2.banks = 16;
+                // §3.2.4, Figure 3.7: the stream memory is the size of the baseline's L2
+                // (4 MB, "near-future L2 cache capacity"); the rest of
+                // `StreamMemoryConfig::default()` (48-byte rays, 32 banks, Table 3.3).
+                c.stream_memory = StreamMemoryConfig::default();
+                // §3.2.3: box and triangle pipelines (`PipelinesConfig::default()`).
+                c.pipelines = PipelinesConfig::default();
                 c.memory.dram = DramConfig::gddr5_thesis();
             }
             _ => return None,
@@ -846,5 +860,62 @@ fn merge(base: &mut toml::Value, over: toml::Value) {
             }
         }
         (b, o) => *b = o,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn stream_energy_follows_table_3_3() {
+        for &(cap, e) in STREAM_ENERGY_TABLE {
+            assert_eq!(stream_energy_nj(cap), e, "{cap}");
+        }
+        // Halfway between rows in log2(capacity): the mean of the two rows.
+        let mid = |a: u32| (f64::from(a) * std::f64::consts::SQRT_2).round() as u32;
+        assert!((stream_energy_nj(mid(512 << 10)) - (0.524 + 0.579) / 2.0).abs() < 1e-6);
+        assert!((stream_energy_nj(mid(4 << 20)) - (0.901 + 1.17) / 2.0).abs() < 1e-6);
+        // 3 MB: log2(3/2) of the way from 2 MB to 4 MB.
+        let f = (1.5f64).log2();
+        assert!((stream_energy_nj(3 << 20) - (0.686 + (0.901 - 0.686) * f)).abs() < 1e-12);
+        // Outside: the end rows scaled by sqrt(capacity ratio).
+        assert!((stream_energy_nj(128 << 10) - 0.524 / 2.0).abs() < 1e-12);
+        assert!((stream_energy_nj(64 << 20) - 1.61 * 2.0).abs() < 1e-12);
+        // Monotone over the whole range.
+        let mut last = 0.0;
+        for k in 10..=30 {
+            let e = stream_energy_nj(1 << k);
+            assert!(e > last, "{k}");
+            last = e;
+        }
+    }
+
+    #[test]
+    fn stream_memory_and_pipeline_fields_are_checked() {
+        let mut c = ChipConfig::preset("strata").unwrap();
+        assert!(c.stream_memory.capacity_bytes > 0);
+        c.set_field("stream_memory.ray_bytes", toml::Value::Integer(50))
+            .unwrap_err();
+        let e = c
+            .set_field("stream_memory.capacity_bytes", toml::Value::Integer(100))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("holds no ray"), "{e}");
+        c.set_field("pipelines.tri.ii", toml::Value::Integer(0))
+            .unwrap_err();
+        c.set_field("pipelines.box.latency", toml::Value::Integer(12))
+            .unwrap();
+        assert_eq!(c.pipelines.box_pipe.latency, 12);
+        let e = c
+            .set_field("units.box_pipe.count", toml::Value::Integer(1))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("unknown unit class"), "{e}");
+        // Modes need the reserved units plus one of each left over.
+        let p = PipelinesConfig::default();
+        assert_eq!(p.modes_available(8, 8), 0b111);
+        assert_eq!(p.modes_available(6, 8), 0b101);
+        assert_eq!(p.modes_available(1, 1), 0b001);
     }
 }

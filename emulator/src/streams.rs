@@ -244,6 +244,9 @@ mod tests {
         assert_eq!(m.pop(1).unwrap()[0], 1);
         assert_eq!(m.pop(1), None);
         assert_eq!(m.pop(3).unwrap()[0], 5);
-        assert_eq!((m.in_flight, m.max_in_flight, m.writes, m.reads), (1, 3, 4, 3));
+        assert_eq!(
+            (m.in_flight, m.max_in_flight, m.writes, m.reads),
+            (1, 3, 4, 3)
+        );
     }
 }

@@ -82,7 +82,10 @@ fn capacity_is_exact_and_overflow_is_a_fault_naming_the_line() {
     // One byte less: nine rays.
     let mut small = chip.clone();
     small.stream_memory.capacity_bytes -= 1;
-    assert_eq!(numbers(&finished(&fits, &small, Mode::Functional).1), [9, 9]);
+    assert_eq!(
+        numbers(&finished(&fits, &small, Mode::Functional).1),
+        [9, 9]
+    );
     let over = common::build_c("s_fill1", &FILL.replace("EXTRA", "1"), "-O1");
     for mode in [Mode::Functional, Mode::Timing] {
         let (r, _, out) = go(&over, &chip, mode);
@@ -98,7 +101,10 @@ fn capacity_is_exact_and_overflow_is_a_fault_naming_the_line() {
     // A chip without a stream memory says so.
     let (r, _, _) = go(&over, &common::chip(1, 1), Mode::Functional);
     let report = r.failure.unwrap_or_default();
-    assert!(report.contains("this chip has no ray stream memory"), "{report}");
+    assert!(
+        report.contains("this chip has no ray stream memory"),
+        "{report}"
+    );
 }
 
 const LIFO: &str = r#"
@@ -318,12 +324,21 @@ fn box_tests_pipeline_with_ii_1_and_latency_8() {
         let t = t.unwrap();
         assert_eq!(t.pipelines.box_ops, u64::from(k));
         let e = pipe_op_energy_nj(&chip, &chip.pipelines.box_pipe);
-        let (em, ea) = (chip.units["fp_mul"].energy_nj, chip.units["fp_add"].energy_nj);
-        assert!((e - 6.0 * (em + ea)).abs() < 1e-15, "6 mul + 6 add per box test");
+        let (em, ea) = (
+            chip.units["fp_mul"].energy_nj,
+            chip.units["fp_add"].energy_nj,
+        );
+        assert!(
+            (e - 6.0 * (em + ea)).abs() < 1e-15,
+            "6 mul + 6 add per box test"
+        );
         assert!((t.energy.pipelines - f64::from(k) * e * 1e-9).abs() < 1e-18);
         // 6 + 6 units reserved from the mode change to the end of the run.
         let r = t.pipelines.reserved_unit_cycles;
-        assert!(r % 12 == 0 && r > 12 * u64::from(k + 7) && r <= 12 * t.cycles, "{r}");
+        assert!(
+            r % 12 == 0 && r > 12 * u64::from(k + 7) && r <= 12 * t.cycles,
+            "{r}"
+        );
     }
 }
 
@@ -342,15 +357,25 @@ fn triangle_tests_issue_18_apart_two_per_initiation() {
         // issue. Two threads share each initiation (width 2); a third waits for the next.
         let expect = 18 * u64::from(k - 1) + 31 + 1;
         if threads <= 2 {
-            assert_eq!(dts, vec![expect; threads as usize], "{threads} threads, {k} tests");
+            assert_eq!(
+                dts,
+                vec![expect; threads as usize],
+                "{threads} threads, {k} tests"
+            );
         } else {
             let slowest = *dts.iter().max().unwrap();
-            assert!(slowest >= expect + 18, "{threads} threads, {k} tests: {dts:?}");
+            assert!(
+                slowest >= expect + 18,
+                "{threads} threads, {k} tests: {dts:?}"
+            );
         }
         let t = t.unwrap();
         assert_eq!(t.pipelines.tri_ops, u64::from(threads * k));
         let e = pipe_op_energy_nj(&chip, &chip.pipelines.tri);
-        let (em, ea) = (chip.units["fp_mul"].energy_nj, chip.units["fp_add"].energy_nj);
+        let (em, ea) = (
+            chip.units["fp_mul"].energy_nj,
+            chip.units["fp_add"].energy_nj,
+        );
         assert!((e - (4.0 * em + 2.0 * ea) * 9.0).abs() < 1e-15);
         assert!((t.energy.pipelines - f64::from(threads * k) * e * 1e-9).abs() < 1e-18);
     }
@@ -430,5 +455,8 @@ fn a_pipeline_test_in_the_wrong_mode_is_a_fault_naming_the_line() {
     // The tiny chip's single FP multiplier cannot host a pipeline.
     let (r, _, _) = go(&elf, &common::chip(1, 1), Mode::Functional);
     let report = r.failure.unwrap_or_default();
-    assert!(report.contains("pipeline mode (the TM lacks the FP units it reserves) index 2"), "{report}");
+    assert!(
+        report.contains("pipeline mode (the TM lacks the FP units it reserves) index 2"),
+        "{report}"
+    );
 }

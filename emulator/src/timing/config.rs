@@ -246,9 +246,8 @@ impl StreamMemoryConfig {
 
     /// Area, mm² (configured, or a cache's of the same capacity and banks).
     pub fn area(&self) -> f64 {
-        self.area_mm2.unwrap_or_else(|| {
-            memsys::cacti::dcache(self.capacity_bytes, self.banks, 64).area_mm2
-        })
+        self.area_mm2
+            .unwrap_or_else(|| memsys::cacti::dcache(self.capacity_bytes, self.banks, 64).area_mm2)
     }
 }
 
@@ -276,7 +275,10 @@ pub fn stream_energy_nj(capacity: u32) -> f64 {
     if capacity >= last.0 {
         return last.1 * (c / f64::from(last.0)).sqrt();
     }
-    let k = t.iter().position(|r| r.0 >= capacity).unwrap_or(t.len() - 1);
+    let k = t
+        .iter()
+        .position(|r| r.0 >= capacity)
+        .unwrap_or(t.len() - 1);
     let (lo, hi) = (t[k - 1], t[k]);
     let f = (c.log2() - f64::from(lo.0).log2()) / (f64::from(hi.0).log2() - f64::from(lo.0).log2());
     lo.1 + (hi.1 - lo.1) * f
@@ -718,9 +720,7 @@ impl ChipConfig {
             ));
         }
         if sm.banks == 0 || sm.bank_busy_cycles == 0 || sm.latency == 0 {
-            return bad(
-                "stream_memory.banks, bank_busy_cycles and latency must be >= 1".into(),
-            );
+            return bad("stream_memory.banks, bank_busy_cycles and latency must be >= 1".into());
         }
         if sm.capacity_bytes > 0 && sm.geometry().capacity_rays() == 0 {
             return bad(format!(
@@ -734,7 +734,10 @@ impl ChipConfig {
         if !(sm.energy_nj.is_none_or(|e| e >= 0.0) && sm.area_mm2.is_none_or(|a| a >= 0.0)) {
             return bad("stream_memory.energy_nj and area_mm2 must be >= 0".into());
         }
-        for (name, p) in [("box", &self.pipelines.box_pipe), ("tri", &self.pipelines.tri)] {
+        for (name, p) in [
+            ("box", &self.pipelines.box_pipe),
+            ("tri", &self.pipelines.tri),
+        ] {
             if p.ii == 0 || p.latency == 0 || p.width == 0 || p.latency > 10_000 {
                 return bad(format!(
                     "pipelines.{name}: ii, latency (<= 10000) and width must be >= 1"

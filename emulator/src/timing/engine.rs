@@ -183,7 +183,8 @@ impl Shape {
 
     /// Units the pipeline of `mode` reserves.
     pub fn reserved(&self, mode: u8) -> u64 {
-        self.pipe(mode).map_or(0, |p| u64::from(p.fp_mul + p.fp_add))
+        self.pipe(mode)
+            .map_or(0, |p| u64::from(p.fp_mul + p.fp_add))
     }
 
     /// Text index of `pc` (`info.len()` when outside the text or misaligned).

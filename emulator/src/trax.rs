@@ -22,8 +22,8 @@
 //!   otherwise), on the host as on the machine.
 //! - Box pipeline: slab test with the ray's inverse direction; NaN slab distances (0 * inf)
 //!   are ignored; returns the entry distance `max(tmin, 0)` when `tmax >= max(tmin, 0)`,
-//!   else +inf. Triangle pipeline: Möller–Trumbore in f32, hits with `t > 0` and
-//!   barycentrics in [0, 1]; barycentrics go to cop2 21 and 22.
+//!   else +inf. Triangle pipeline: the Plücker-coordinate test of `pipes::tri_test`
+//!   (hits with `t > 0`, edges inside); barycentrics go to cop2 21 and 22.
 
 use crate::chip::Chip;
 use crate::thread::{Fault, RunState, Thread, NUM_GLOBALS, NUM_STATS};

@@ -273,7 +273,11 @@ pub fn invsqrt(x: f32) -> f32 {
 // ---- Fused pipelines: the exact TRaX semantics, shared with the emulator ----
 
 /// A pipeline test needs its TM in the pipeline's `trax.setpipe` mode (as on the machine).
+/// Outside a kernel thread (host unit tests) there is no TM and no mode to check.
 fn need_pipe_mode(needed: u32, instr: &str) {
+    if MACHINE.with(|m| m.get().is_null()) {
+        return;
+    }
     let name = |m: u32| match m {
         0 => "general-purpose",
         1 => "box-pipeline",
@@ -290,6 +294,9 @@ fn need_pipe_mode(needed: u32, instr: &str) {
 }
 
 fn set_pipe(mode: u32) {
+    if MACHINE.with(|m| m.get().is_null()) {
+        return;
+    }
     with_machine(|m| m.pipe_modes[ids().tmid as usize].store(mode, Ordering::SeqCst));
 }
 

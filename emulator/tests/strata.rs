@@ -12,11 +12,20 @@ use trax_runtime::isa::{instr, TraxOp};
 
 /// Runs `elf` on `chip` in `mode`: the report, the timing statistics and the output.
 fn go(elf: &Path, chip: &ChipConfig, mode: Mode) -> (RunReport, Option<TimingStats>, String) {
+    go_on(elf, chip, mode, 1)
+}
+
+fn go_on(
+    elf: &Path,
+    chip: &ChipConfig,
+    mode: Mode,
+    host_threads: usize,
+) -> (RunReport, Option<TimingStats>, String) {
     let data = std::fs::read(elf).unwrap();
     let path = elf.display().to_string();
     let mut out = Vec::new();
     let mut req = RunRequest::new(&path, &data, chip, mode);
-    req.host_threads = Some(1);
+    req.host_threads = Some(host_threads);
     if mode == Mode::Timing {
         req.limits = Limits {
             max_cycles: Some(10_000_000),
@@ -459,4 +468,44 @@ fn a_pipeline_test_in_the_wrong_mode_is_a_fault_naming_the_line() {
         report.contains("pipeline mode (the TM lacks the FP units it reserves) index 2"),
         "{report}"
     );
+}
+
+const MANY: &str = r#"
+#include "trax.h"
+void trax_main(void) {
+    unsigned g = trax_gid();
+    for (unsigned i = 0; i < 3; i++) {
+        trax_strwstart((g + i) % 5);
+        trax_strw(g * 10 + i);
+        trax_strwend();
+    }
+    unsigned sum = 0, n = 0;
+    for (unsigned k = 0; k < 4; k++) {
+        if (trax_strsched() == 0xFFFFFFFFu) break;
+        while (n < 3 && trax_strrstart()) {
+            sum += trax_strr();
+            trax_strrend();
+            n++;
+        }
+    }
+    trax_atomadd(2, sum);
+}
+"#;
+
+#[test]
+fn streams_are_deterministic_over_host_threads() {
+    let elf = common::build_c("s_many", MANY, "-O1");
+    let mut chip = stream_chip(4, 8, 200, 2);
+    chip.tms = 3;
+    chip.tms_per_l2 = 3;
+    let (r1, t1, o1) = go_on(&elf, &chip, Mode::Timing, 1);
+    let (r2, t2, o2) = go_on(&elf, &chip, Mode::Timing, 2);
+    assert!(matches!(r1.outcome, Outcome::Finished), "{:?}", r1.failure);
+    assert!(matches!(r2.outcome, Outcome::Finished), "{:?}", r2.failure);
+    let (t1, t2) = (t1.unwrap(), t2.unwrap());
+    assert_eq!(o1, o2);
+    assert_eq!(t1.cycles, t2.cycles);
+    assert_eq!(t1.stream, t2.stream);
+    assert_eq!(t1.stream.writes, 36);
+    assert!(t1.stream.bank_conflicts > 0, "{:?}", t1.stream);
 }

@@ -673,8 +673,13 @@ impl ChipConfig {
         for (k, u) in &self.units {
             if !UNIT_NAMES.iter().any(|(_, n)| n == k) {
                 let names: Vec<&str> = UNIT_NAMES.iter().map(|(_, n)| *n).collect();
+                let hint = if k == "box_pipe" || k == "tri_pipe" {
+                    "; the fused pipelines are configured in [pipelines.box] and [pipelines.tri]"
+                } else {
+                    ""
+                };
                 return bad(format!(
-                    "units.{k}: unknown unit class (expected one of {})",
+                    "units.{k}: unknown unit class (expected one of {}){hint}",
                     names.join(", ")
                 ));
             }
@@ -914,7 +919,10 @@ mod tests {
             .set_field("units.box_pipe.count", toml::Value::Integer(1))
             .unwrap_err()
             .to_string();
-        assert!(e.contains("unknown unit class"), "{e}");
+        assert!(
+            e.contains("unknown unit class") && e.contains("[pipelines.box]"),
+            "{e}"
+        );
         // Modes need the reserved units plus one of each left over.
         let p = PipelinesConfig::default();
         assert_eq!(p.modes_available(8, 8), 0b111);

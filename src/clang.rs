@@ -403,7 +403,8 @@ pub fn host_shim() -> String {
             Op::PrintI64 => "out(&((u64::from(rt) << 32 | u64::from(rs)) as i64).to_string())".into(),
             Op::PrintU64 => "out(&(u64::from(rt) << 32 | u64::from(rs)).to_string())".into(),
             Op::Stat => "if sa == 0 { trax::count_ray() }".into(),
-            Op::ProfBegin | Op::ProfEnd | Op::SetPipe => "let _ = sa;".into(),
+            Op::ProfBegin | Op::ProfEnd => "let _ = sa;".into(),
+            Op::SetPipe => "match sa { 0 => trax::host::set_pipe_general(), 1 => trax::host::set_pipe_box(), 2 => trax::host::set_pipe_tri(), m => panic!(\"trax native: trax.setpipe {m}: no such pipeline mode\") }".into(),
             Op::BoxTest => "let r = cop2(); trax::host::pipe_box_test([r[0], r[1], r[2]], [r[3], r[4], r[5]], [r[6], r[7], r[8]], [r[9], r[10], r[11]])".into(),
             Op::TriTest => "let r = cop2(); let t = trax::host::pipe_tri_test([r[0], r[1], r[2]], [r[3], r[4], r[5]], [r[12], r[13], r[14]], [r[15], r[16], r[17]], [r[18], r[19], r[20]]); set_cop2(21, trax::host::pipe_tri_u()); set_cop2(22, trax::host::pipe_tri_v()); t".into(),
             Op::PrintStr | Op::Abort | Op::PrintFmt => unsupported("takes a simulated address; use trax_print_str / trax_panic"),
@@ -415,7 +416,8 @@ pub fn host_shim() -> String {
             | Op::StreamRead
             | Op::StreamReadEnd
             | Op::StreamSize
-            | Op::StreamSchedule => unsupported("(ray streams) is not available natively"),
+            | Op::StreamSchedule
+            | Op::StreamCapacity => unsupported("(ray streams) is not available natively"),
         };
         let allow = if body.starts_with("panic!") {
             "#[allow(unused_variables)]\n"

@@ -551,3 +551,49 @@ fn panic_messages_match_native() {
         );
     }
 }
+
+/// The fused pipelines give the same results natively and on the machine, and a test in
+/// the wrong `trax.setpipe` mode fails on both with the source line.
+#[test]
+fn pipeline_modes_are_checked_natively_as_on_the_machine() {
+    let dir = scratch("pipes");
+    let k = dir.join("pipes.rs");
+    std::fs::write(
+        &k,
+        "use trax::{pipe, Vec3};\n\
+         fn trax_main() {\n\
+         \x20   let inf = f32::INFINITY;\n\
+         \x20   let o = Vec3::new(-1.0, 0.5, 0.5);\n\
+         \x20   let inv = Vec3::new(1.0, inf, inf);\n\
+         \x20   let lo = Vec3::new(0.0, 0.0, 0.0);\n\
+         \x20   let hi = Vec3::new(1.0, 1.0, 1.0);\n\
+         \x20   pipe::use_box_pipeline();\n\
+         \x20   println!(\"{}\", pipe::box_test(o, inv, lo, hi));\n\
+         \x20   pipe::use_triangle_pipeline();\n\
+         \x20   println!(\"{}\", pipe::box_test(o, inv, lo, hi));\n\
+         }\n",
+    )
+    .unwrap();
+    let ks = k.to_str().unwrap();
+    let shape = ["--tms", "1", "--threads", "1"];
+    let nat = native(&[&[ks][..], &shape].concat());
+    let emu = Command::new(env!("CARGO_BIN_EXE_trax"))
+        .args([&["run", ks, "--config", "baseline"][..], &shape].concat())
+        .output()
+        .unwrap();
+    for (what, out) in [("native", &nat), ("emulator", &emu)] {
+        assert_eq!(out.status.code(), Some(1), "{what}");
+        assert_eq!(text(&out.stdout), "1\n", "{what}");
+        let err = text(&out.stderr);
+        assert!(
+            err.contains("trax.boxtest while this TM's units are in triangle-pipeline mode"),
+            "{what}: {err}"
+        );
+    }
+    assert!(
+        text(&emu.stderr).contains(&format!("{ks}:11")),
+        "{}",
+        text(&emu.stderr)
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -41,6 +41,7 @@ mod regs;
 mod run;
 mod sched;
 pub mod softfloat;
+mod streams;
 mod thread;
 pub mod timing;
 mod tomlerr;

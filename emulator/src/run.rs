@@ -25,6 +25,7 @@ use crate::profile::{profile_run, Profile, Profiler};
 use crate::sched::Executor;
 use crate::thread::{Shared, Thread};
 use crate::timing::{self, ChipConfig, ConfigError, TimingStats};
+use trax_runtime::isa::UnitClass;
 
 /// Instructions a thread runs per turn of the functional interleaving by default.
 pub const DEFAULT_QUANTUM: u32 = 1000;
@@ -249,7 +250,13 @@ fn load(req: &RunRequest<'_>, quantum: u32) -> Result<(Executable, Machine), Run
             Mode::Timing => None,
         },
     };
-    let machine = Machine::load(&exe, req.segments.as_deref(), config)?;
+    let mut machine = Machine::load(&exe, req.segments.as_deref(), config)?;
+    // The stream memory and the pipelines the chip has (the same in both modes).
+    machine.shared.streams = crate::streams::StreamMemory::new(req.chip.stream_memory.geometry());
+    machine.shared.pipe_modes = req.chip.pipelines.modes_available(
+        req.chip.unit(UnitClass::FpMul).count,
+        req.chip.unit(UnitClass::FpAdd).count,
+    );
     Ok((exe, machine))
 }
 
@@ -325,6 +332,7 @@ fn run_timing(mut req: RunRequest<'_>, out: &mut dyn Write) -> Result<RunReport,
         &machine.shared.program,
         engine.mem().stats(),
         &machine.shared.stats,
+        &machine.shared.streams,
     );
     finish(
         &req,

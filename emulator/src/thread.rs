@@ -93,6 +93,39 @@ pub enum Fault {
         /// The index.
         index: u32,
     },
+    /// `trax.strwend` with every slot of the ray stream memory taken.
+    StreamFull {
+        /// The stream written.
+        stream: u32,
+        /// Rays the memory holds.
+        capacity_rays: u32,
+        /// Bytes of a ray record.
+        ray_bytes: u32,
+    },
+    /// `trax.strw` past the end of a ray record.
+    RayTooLong {
+        /// Bytes of a ray record.
+        ray_bytes: u32,
+    },
+    /// A fused-pipeline instruction while the TM's units are configured otherwise.
+    PipeMode {
+        /// The instruction's mnemonic.
+        instr: &'static str,
+        /// The TM's current `trax.setpipe` mode.
+        mode: u8,
+        /// The mode it needs.
+        needed: u8,
+    },
+}
+
+/// Name of a `trax.setpipe` mode.
+pub fn pipe_mode_name(mode: u8) -> &'static str {
+    match mode {
+        0 => "general-purpose",
+        1 => "box-pipeline",
+        2 => "triangle-pipeline",
+        _ => "unknown",
+    }
 }
 
 impl std::fmt::Display for Fault {
@@ -155,6 +188,36 @@ impl std::fmt::Display for Fault {
                 }
             }
             Fault::BadIndex { what, index } => write!(f, "{what} index {index} out of range"),
+            Fault::StreamFull {
+                capacity_rays: 0, ..
+            } => write!(
+                f,
+                "this chip has no ray stream memory (stream_memory.capacity_bytes = 0)"
+            ),
+            Fault::StreamFull {
+                stream,
+                capacity_rays,
+                ray_bytes,
+            } => write!(
+                f,
+                "ray stream memory full: writing a ray to stream {stream}, but all \
+                 {capacity_rays} slots of {ray_bytes}-byte rays are taken"
+            ),
+            Fault::RayTooLong { ray_bytes } => write!(
+                f,
+                "ray too long: trax.strw past the end of a {ray_bytes}-byte ray record \
+                 (stream_memory.ray_bytes)"
+            ),
+            Fault::PipeMode {
+                instr,
+                mode,
+                needed,
+            } => write!(
+                f,
+                "{instr} while this TM's units are in {} mode (needs trax.setpipe {needed}, {} mode)",
+                pipe_mode_name(*mode),
+                pipe_mode_name(*needed)
+            ),
         }
     }
 }
@@ -198,12 +261,14 @@ pub struct Shared {
     pub stats: [u64; NUM_STATS],
     /// Instructions executed inside each profile region (`trax.profbegin/profend`).
     pub profile: [u64; 32],
-    /// Ray stream queues (STRaTA), indexed by stream id.
-    pub streams: Vec<std::collections::VecDeque<Vec<u32>>>,
+    /// The ray stream memory (STRaTA).
+    pub streams: crate::streams::StreamMemory,
     /// Stream each TM reads from (set by `trax.strsched`).
     pub tm_stream: Vec<u32>,
     /// Pipeline mode per TM (`trax.setpipe`).
     pub tm_pipe_mode: Vec<u8>,
+    /// Bit `m` set when the chip's TMs have the units for `trax.setpipe m`.
+    pub pipe_modes: u8,
 }
 
 impl Shared {
@@ -220,9 +285,10 @@ impl Shared {
             output: Vec::new(),
             stats: [0; NUM_STATS],
             profile: [0; 32],
-            streams: Vec::new(),
+            streams: crate::streams::StreamMemory::new(Default::default()),
             tm_stream: vec![u32::MAX; shape.tms as usize],
             tm_pipe_mode: vec![0; shape.tms as usize],
+            pipe_modes: 0b111,
         }
     }
 }

@@ -13,12 +13,17 @@
 //!   the stream of pixel `rs`, sample `rt` (`Rng::for_sample`, independent of the thread).
 //! - `trax.fmin/fmax/invsqrt`: `trax_runtime::fops`; `trax.boxtest/tritest`:
 //!   `trax_runtime::pipes` (both identical to `trax native`).
-//! - Streams: unbounded FIFO queues of rays; `trax.strsched` picks the non-empty stream
-//!   with the most rays (lowest id on ties) and makes it the TM's current stream.
+//! - Streams: the ray stream memory of `crate::streams` (fixed capacity, LIFO buffers;
+//!   a write to a full memory and `trax.strw` past a ray record are faults);
+//!   `trax.strsched` picks the non-empty stream with the most rays (lowest id on ties)
+//!   and makes it the TM's current stream.
+//! - `trax.setpipe`: modes 0 (general), 1 (box pipeline), 2 (triangle pipeline); another
+//!   value is a fault. `trax.boxtest` needs mode 1 and `trax.tritest` mode 2 (a fault
+//!   otherwise), on the host as on the machine.
 //! - Box pipeline: slab test with the ray's inverse direction; NaN slab distances (0 * inf)
 //!   are ignored; returns the entry distance `max(tmin, 0)` when `tmax >= max(tmin, 0)`,
-//!   else +inf. Triangle pipeline: Möller–Trumbore in f32, hits with `t > 0` and
-//!   barycentrics in [0, 1]; barycentrics go to cop2 21 and 22.
+//!   else +inf. Triangle pipeline: the Plücker-coordinate test of `pipes::tri_test`
+//!   (hits with `t > 0`, edges inside); barycentrics go to cop2 21 and 22.
 
 use crate::chip::Chip;
 use crate::thread::{Fault, RunState, Thread, NUM_GLOBALS, NUM_STATS};
@@ -265,26 +270,37 @@ pub fn exec_trax<C: Chip>(
             }
             chip.stats()[i] += 1;
         }
-        StreamWriteStart => t.stream_write = Some((vs, Vec::new())),
+        StreamWriteStart => {
+            chip.shared().streams.buffer(vs)?;
+            t.stream_write = Some((vs, Vec::new()));
+        }
         StreamWrite => {
+            let geom = *chip.shared().streams.geometry();
             if let Some((_, w)) = &mut t.stream_write {
+                if w.len() >= geom.ray_words() {
+                    return Err(Fault::RayTooLong {
+                        ray_bytes: geom.ray_bytes,
+                    });
+                }
                 w.push(vs);
             }
         }
         StreamWriteEnd => {
-            let sh = exclusive!();
-            if let Some((id, words)) = t.stream_write.take() {
-                let id = stream_index(id)?;
-                if sh.streams.len() <= id {
-                    sh.streams.resize_with(id + 1, Default::default);
+            if t.stream_write.is_some() {
+                let sh = exclusive!();
+                if let Some((id, words)) = t.stream_write.take() {
+                    let b = sh.streams.buffer(id)?;
+                    sh.streams.push(b, &words)?;
                 }
-                sh.streams[id].push_back(words);
             }
         }
         StreamReadStart => {
             let sh = exclusive!();
             let cur = sh.tm_stream[t.tm as usize];
-            let ray = sh.streams.get_mut(cur as usize).and_then(|q| q.pop_front());
+            let ray = match sh.streams.buffer(cur) {
+                Ok(b) => sh.streams.pop(b),
+                Err(_) => None,
+            };
             let got = ray.is_some();
             t.stream_read = ray.map(|r| (r, 0));
             set(t, got as u32);
@@ -302,27 +318,37 @@ pub fn exec_trax<C: Chip>(
         }
         StreamReadEnd => t.stream_read = None,
         StreamSize => {
-            let n = chip
-                .shared()
-                .streams
-                .get(vs as usize)
-                .map_or(0, |q| q.len() as u32);
+            let streams = &chip.shared().streams;
+            let n = streams.buffer(vs).map_or(0, |b| streams.len(b));
             set(t, n);
         }
         StreamSchedule => {
             let sh = exclusive!();
-            let best = sh
-                .streams
-                .iter()
-                .enumerate()
-                .filter(|(_, q)| !q.is_empty())
-                .max_by(|a, b| a.1.len().cmp(&b.1.len()).then(b.0.cmp(&a.0)))
-                .map_or(u32::MAX, |(i, _)| i as u32);
+            let best = sh.streams.fullest().unwrap_or(u32::MAX);
             sh.tm_stream[t.tm as usize] = best;
             set(t, best);
         }
-        SetPipe => exclusive!().tm_pipe_mode[t.tm as usize] = sa,
+        StreamCapacity => {
+            let n = chip.shared().streams.capacity_rays();
+            set(t, n);
+        }
+        SetPipe => {
+            if sa > 2 {
+                return Err(Fault::BadIndex {
+                    what: "pipeline mode",
+                    index: sa as u32,
+                });
+            }
+            if chip.shared().pipe_modes & (1 << sa) == 0 {
+                return Err(Fault::BadIndex {
+                    what: "pipeline mode (the TM lacks the FP units it reserves)",
+                    index: sa as u32,
+                });
+            }
+            exclusive!().tm_pipe_mode[t.tm as usize] = sa;
+        }
         BoxTest => {
+            need_mode(chip.shared().tm_pipe_mode[t.tm as usize], 1, "trax.boxtest")?;
             let c = |i: usize| f32::from_bits(t.cop2[i]);
             let r = pipes::box_test(
                 [c(0), c(1), c(2)],
@@ -333,6 +359,7 @@ pub fn exec_trax<C: Chip>(
             t.regs.set_f32_bits(rd, r.to_bits());
         }
         TriTest => {
+            need_mode(chip.shared().tm_pipe_mode[t.tm as usize], 2, "trax.tritest")?;
             let c = |i: usize| f32::from_bits(t.cop2[i]);
             let (r, u, v) = pipes::tri_test(
                 [c(0), c(1), c(2)],
@@ -349,13 +376,15 @@ pub fn exec_trax<C: Chip>(
     Ok(TraxFlow::Next)
 }
 
-fn stream_index(id: u32) -> Result<usize, Fault> {
-    if id < 4096 {
-        Ok(id as usize)
+/// A fused-pipeline instruction runs only in its `trax.setpipe` mode.
+fn need_mode(mode: u8, needed: u8, instr: &'static str) -> Result<(), Fault> {
+    if mode == needed {
+        Ok(())
     } else {
-        Err(Fault::BadIndex {
-            what: "stream",
-            index: id,
+        Err(Fault::PipeMode {
+            instr,
+            mode,
+            needed,
         })
     }
 }

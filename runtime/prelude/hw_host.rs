@@ -60,6 +60,8 @@ struct Machine {
     start: Instant,
     /// Rays counted by threads that have finished (`count_ray`).
     rays: AtomicU64,
+    /// `trax.setpipe` mode per TM.
+    pipe_modes: Vec<AtomicU32>,
 }
 
 #[derive(Clone, Copy)]
@@ -306,11 +308,41 @@ pub fn host_ptr(addr: u32) -> *mut u8 {
 
 // ---- Fused pipelines: the exact TRaX semantics, shared with the emulator ----
 
+/// A pipeline test needs its TM in the pipeline's `trax.setpipe` mode (as on the machine).
+/// Outside a kernel thread (host unit tests) there is no TM and no mode to check.
+fn need_pipe_mode(needed: u32, instr: &str) {
+    if MACHINE.with(|m| m.get().is_null()) {
+        return;
+    }
+    let name = |m: u32| match m {
+        0 => "general-purpose",
+        1 => "box-pipeline",
+        _ => "triangle-pipeline",
+    };
+    let mode = with_machine(|m| m.pipe_modes[ids().tmid as usize].load(Ordering::SeqCst));
+    if mode != needed {
+        panic!(
+            "trax: {instr} while this TM's units are in {} mode (needs trax.setpipe {needed}, {} mode)",
+            name(mode),
+            name(needed)
+        );
+    }
+}
+
+fn set_pipe(mode: u32) {
+    if MACHINE.with(|m| m.get().is_null()) {
+        return;
+    }
+    with_machine(|m| m.pipe_modes[ids().tmid as usize].store(mode, Ordering::SeqCst));
+}
+
 pub fn pipe_box_test(o: [f32; 3], inv: [f32; 3], lo: [f32; 3], hi: [f32; 3]) -> f32 {
+    need_pipe_mode(1, "trax.boxtest");
     pipes::box_test(o, inv, lo, hi)
 }
 
 pub fn pipe_tri_test(o: [f32; 3], d: [f32; 3], a: [f32; 3], b: [f32; 3], c: [f32; 3]) -> f32 {
+    need_pipe_mode(2, "trax.tritest");
     let (t, u, v) = pipes::tri_test(o, d, a, b, c);
     TRI_UV.with(|uv| uv.set([u, v]));
     t
@@ -324,10 +356,16 @@ pub fn pipe_tri_v() -> f32 {
     TRI_UV.with(|uv| uv.get()[1])
 }
 
-/// Unit configuration has no effect on the host.
-pub fn set_pipe_general() {}
-pub fn set_pipe_box() {}
-pub fn set_pipe_tri() {}
+/// The TM's `trax.setpipe` mode (checked by the pipeline tests; no timing on the host).
+pub fn set_pipe_general() {
+    set_pipe(0);
+}
+pub fn set_pipe_box() {
+    set_pipe(1);
+}
+pub fn set_pipe_tri() {
+    set_pipe(2);
+}
 
 // ---- Statistics ----
 
@@ -514,6 +552,7 @@ fn build_machine(image: &Image, num_tms: u32, threads_per_tm: u32) -> Result<Mac
         seed: 0,
         start: Instant::now(),
         rays: AtomicU64::new(0),
+        pipe_modes: (0..num_tms).map(|_| AtomicU32::new(0)).collect(),
     };
     // The random streams' seed comes from the header when the image has one.
     let seed_addr = layout::SCENE_HEADER_ADDR + layout::HDR_SEED;

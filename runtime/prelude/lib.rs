@@ -64,8 +64,8 @@ pub use scene::{set_pixel, BvhNode, Material, PointLight, Triangle};
 pub mod host {
     pub use super::hw::{
         framebuffer_segment, host_main, host_ptr, image_bytes, parse_image, pipe_box_test,
-        pipe_tri_test, pipe_tri_u, pipe_tri_v, run_image, run_image_stats, seed, Image, RunError,
-        RunStats, NUM_GLOBAL_REGS,
+        pipe_tri_test, pipe_tri_u, pipe_tri_v, run_image, run_image_stats, seed, set_pipe_box,
+        set_pipe_general, set_pipe_tri, Image, RunError, RunStats, NUM_GLOBAL_REGS,
     };
 }
 

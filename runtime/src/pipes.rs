@@ -72,16 +72,26 @@ pub fn pow2_scale(m: f32) -> f32 {
 /// 2^126.
 const POW2_126: f32 = 8.507_059e37;
 
-/// `trax.tritest`: Möller–Trumbore ray/triangle test. Returns `(t, u, v)`: the hit
-/// distance (`+inf` on a miss, and for hits at `t <= 0`) and the barycentric weights of
-/// `v1` and `v2` (both 0 on a miss).
+/// `trax.tritest`: the Plücker-coordinate ray/triangle test of the thesis's triangle
+/// pipeline (§3.2.3, after Shevtsov et al.): hit or miss from the signs of the ray's
+/// permuted inner products with the three edges, and the one divide only for a hit.
+/// Returns `(t, u, v)`: the hit distance (`+inf` on a miss, and for hits at `t <= 0`)
+/// and the barycentric weights of `v1` and `v2` (both 0 on a miss).
 ///
-/// The edges and the origin's offset from `v0` are first multiplied by the power of two
-/// that brings the largest of their coordinates to about 1 (an exponent adjustment in
-/// hardware), and `t` divided by it at the end: the determinant and the distance's
-/// numerator (products of two and three lengths) then neither overflow nor underflow at
-/// any scene scale, and since the scaling is exact the result is bit for bit the plain
-/// computation's wherever that one was in range (lengths from about 1e-12 to 1e12).
+/// With the vertices taken relative to the ray's origin (`a, b, c`), the ray passes
+/// through the origin and its inner product with edge `p -> q` is the triple product
+/// `d . (p x q)`: `w0` for edge `b -> c`, `w1` for `c -> a`, `w2` for `a -> b`. The ray
+/// hits when all three have one sign (zero counts as either: edges and vertices are
+/// inside) and their sum `d . n` is not 0; then `u = w1 / sum`, `v = w2 / sum` and
+/// `t = a . (b x c) / sum`. An edge shared by two triangles gives exactly opposite
+/// products in the two (`p x q` and `q x p` are exact negations), so a ray cannot pass
+/// between them.
+///
+/// The vertex offsets are first multiplied by the power of two that brings the largest of
+/// their coordinates to about 1 (an exponent adjustment in hardware), and `t` divided by
+/// it at the end: the products of two and three lengths then neither overflow nor
+/// underflow at any scene scale, and since the scaling is exact the result is bit for bit
+/// the plain computation's wherever that one was in range.
 pub fn tri_test(
     origin: [f32; 3],
     dir: [f32; 3],
@@ -90,29 +100,26 @@ pub fn tri_test(
     v2: [f32; 3],
 ) -> (f32, f32, f32) {
     let miss = (f32::INFINITY, 0.0, 0.0);
-    let e1 = sub(v1, v0);
-    let e2 = sub(v2, v0);
-    let s = sub(origin, v0);
-    let k = pow2_scale(fops::fmax(max_abs(e1), fops::fmax(max_abs(e2), max_abs(s))));
-    let (e1, e2, s) = (scale(e1, k), scale(e2, k), scale(s, k));
-    let p = cross(dir, e2);
-    let det = dot(e1, p);
-    if det == 0.0 || det.is_nan() {
+    let a = sub(v0, origin);
+    let b = sub(v1, origin);
+    let c = sub(v2, origin);
+    let k = pow2_scale(fops::fmax(max_abs(a), fops::fmax(max_abs(b), max_abs(c))));
+    let (a, b, c) = (scale(a, k), scale(b, k), scale(c, k));
+    let bc = cross(b, c);
+    let w0 = dot(dir, bc);
+    let w1 = dot(dir, cross(c, a));
+    let w2 = dot(dir, cross(a, b));
+    let all_pos = w0 >= 0.0 && w1 >= 0.0 && w2 >= 0.0;
+    let all_neg = w0 <= 0.0 && w1 <= 0.0 && w2 <= 0.0;
+    let sum = w0 + w1 + w2;
+    if !(all_pos || all_neg) || sum == 0.0 || sum.is_nan() {
         return miss;
     }
-    let inv = 1.0 / det;
-    let u = dot(s, p) * inv;
-    if !(0.0..=1.0).contains(&u) {
-        return miss;
-    }
-    let q = cross(s, e1);
-    let v = dot(dir, q) * inv;
-    if !(v >= 0.0 && u + v <= 1.0) {
-        return miss;
-    }
-    let t = dot(e2, q) * inv / k;
+    // The pipeline's result is the hit; the divide follows only for one.
+    let inv = 1.0 / sum;
+    let t = dot(a, bc) * inv / k;
     if t > 0.0 {
-        (t, u, v)
+        (t, w1 * inv, w2 * inv)
     } else {
         miss
     }
@@ -201,6 +208,26 @@ mod tests {
         assert_eq!(pow2_scale(f32::MIN_POSITIVE), 2f32.powi(126));
         assert_eq!(pow2_scale(f32::INFINITY), 2f32.powi(-126));
         assert_eq!(pow2_scale(f32::NAN), 2f32.powi(-126));
+    }
+
+    #[test]
+    fn shared_edges_leave_no_gap() {
+        // Two triangles sharing the edge (0,0,-2)-(1,1,-2); rays through points on and
+        // next to it hit at least one of them.
+        let (p, q) = ([0.0, 0.0, -2.0], [1.0, 1.0, -2.0]);
+        let (r, s) = ([1.0, 0.0, -2.0], [0.0, 1.0, -2.0]);
+        let d = [0.0, 0.0, -1.0];
+        // Inside the square the two make up (its corners and border are its own edges).
+        for i in 1..64 {
+            let x = i as f32 / 64.0;
+            for e in [-1e-7f32, 0.0, 1e-7] {
+                let o = [x + e, x, 0.3];
+                let h1 = tri_test(o, d, p, r, q).0;
+                let h2 = tri_test(o, d, p, q, s).0;
+                let t = h1.min(h2);
+                assert!((t - 2.3).abs() < 1e-6, "{o:?}: {h1} {h2}");
+            }
+        }
     }
 
     #[test]

@@ -98,7 +98,7 @@ fn expected_layouts() -> Vec<Layout> {
         ),
         (
             "trax_bvh_node_t",
-            u(L::BVH_NODE_SIZE),
+            u(L::BVH_NODES_STRIDE),
             vec![
                 ("min", u(L::BVH_MIN)),
                 ("max", u(L::BVH_MAX)),
@@ -108,7 +108,7 @@ fn expected_layouts() -> Vec<Layout> {
         ),
         (
             "trax_triangle_t",
-            u(L::TRIANGLE_SIZE),
+            u(L::TRIANGLES_STRIDE),
             vec![("v0", 0), ("v1", 12), ("v2", 24)],
         ),
         (
@@ -123,7 +123,7 @@ fn expected_layouts() -> Vec<Layout> {
         ),
         (
             "trax_material_t",
-            u(L::MATERIAL_SIZE),
+            u(L::MATERIALS_STRIDE),
             vec![
                 ("diffuse", u(L::MAT_DIFFUSE)),
                 ("specular", u(L::MAT_SPECULAR)),
@@ -134,7 +134,7 @@ fn expected_layouts() -> Vec<Layout> {
         ),
         (
             "trax_point_light_t",
-            u(L::POINT_LIGHT_SIZE),
+            u(L::POINT_LIGHTS_STRIDE),
             vec![
                 ("position", u(L::LIGHT_POSITION)),
                 ("color", u(L::LIGHT_COLOR)),

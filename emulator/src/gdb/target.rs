@@ -195,7 +195,11 @@ fn tid_of(idx: usize) -> Tid {
 pub fn signal_for(f: &Fault) -> Signal {
     match f {
         Fault::Memory { fault, .. } if fault.kind == MemFaultKind::Misaligned => Signal::SIGBUS,
-        Fault::Memory { .. } | Fault::BadIndex { .. } => Signal::SIGSEGV,
+        Fault::Memory { .. }
+        | Fault::BadIndex { .. }
+        | Fault::StreamFull { .. }
+        | Fault::RayTooLong { .. } => Signal::SIGSEGV,
+        Fault::PipeMode { .. } => Signal::SIGILL,
         Fault::ReservedInstruction(_) | Fault::BranchInSlot => Signal::SIGILL,
         Fault::IntegerOverflow | Fault::FpException { .. } | Fault::Trap { code: 7 } => {
             Signal::SIGFPE

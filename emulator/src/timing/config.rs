@@ -177,6 +177,189 @@ impl Default for GlobalRegConfig {
     }
 }
 
+/// The STRaTA ray stream memory (thesis §3.2.1): an on-chip SRAM of ray records in
+/// per-treelet linked LIFO lists (see `crate::streams` for the layout). It costs nothing
+/// unless a kernel uses the stream instructions.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct StreamMemoryConfig {
+    /// SRAM bytes, pointers included; 0 = the chip has no stream memory (TRaX chips:
+    /// `ChipConfig::default()`, `tiny`, `baseline`). Default of this table 4 MiB (§3.2.4:
+    /// the stream memory is the size of the baseline's 4 MB L2 it replaces).
+    pub capacity_bytes: u32,
+    /// Bytes of one ray record, a multiple of 4. Default 48 (§3.2.1: origin and direction
+    /// 24, ray state 20, traversal stack 4).
+    pub ray_bytes: u32,
+    /// Ray buffers (stream ids `0..buffers`, one per treelet), each with a 4-byte head
+    /// pointer in the SRAM. Default 1024 (an assumption: head pointers then take 0.1% of
+    /// 4 MB; with the links the overhead is 7.8%, the thesis's "eight percent or less").
+    pub buffers: u32,
+    /// Banks; a ray record lives in bank `slot % banks`. Default 32 (the 4 MB, 32-bank
+    /// on-chip memory of thesis Table 2.2).
+    pub banks: u32,
+    /// Cycles a bank is busy per access. Default 1 (as the caches' banks).
+    pub bank_busy_cycles: u32,
+    /// Cycles from a read's issue until its ray is ready. Default 3 (assumed equal to the
+    /// default L2 hit latency: the stream memory takes the L2's place, §3.2.1).
+    pub latency: u32,
+    /// Energy per access, nJ. Default: thesis Table 3.3 by capacity (512 KB 0.524 ...
+    /// 16 MB 1.61 nJ), linear in log2(capacity) between its rows and scaled with the
+    /// square root of capacity outside them ([`stream_energy_nj`]).
+    pub energy_nj: Option<f64>,
+    /// Area, mm². Default: a data cache of the same capacity and banks
+    /// (`memsys::cacti::dcache`, 64-byte lines; Table 2.2's 4 MB, 32 banks = 33.5 mm²),
+    /// the linked-list logic taken to be the size of the cache's tags (§3.2.1).
+    pub area_mm2: Option<f64>,
+}
+
+impl Default for StreamMemoryConfig {
+    fn default() -> Self {
+        StreamMemoryConfig {
+            capacity_bytes: 4 << 20,
+            ray_bytes: 48,
+            buffers: 1024,
+            banks: 32,
+            bank_busy_cycles: 1,
+            latency: 3,
+            energy_nj: None,
+            area_mm2: None,
+        }
+    }
+}
+
+impl StreamMemoryConfig {
+    /// The functional shape.
+    pub fn geometry(&self) -> crate::streams::StreamGeometry {
+        crate::streams::StreamGeometry {
+            capacity_bytes: self.capacity_bytes,
+            ray_bytes: self.ray_bytes,
+            buffers: self.buffers,
+            banks: self.banks,
+        }
+    }
+
+    /// Energy per access, nJ (configured, or from Table 3.3).
+    pub fn energy_per_access_nj(&self) -> f64 {
+        self.energy_nj
+            .unwrap_or_else(|| stream_energy_nj(self.capacity_bytes))
+    }
+
+    /// Area, mm² (configured, or a cache's of the same capacity and banks).
+    pub fn area(&self) -> f64 {
+        self.area_mm2
+            .unwrap_or_else(|| memsys::cacti::dcache(self.capacity_bytes, self.banks, 64).area_mm2)
+    }
+}
+
+/// Thesis Table 3.3: energy per access (nJ) of L2/stream memories of 512 KB .. 16 MB.
+pub const STREAM_ENERGY_TABLE: &[(u32, f64)] = &[
+    (512 << 10, 0.524),
+    (1 << 20, 0.579),
+    (2 << 20, 0.686),
+    (4 << 20, 0.901),
+    (8 << 20, 1.17),
+    (16 << 20, 1.61),
+];
+
+/// Energy per access of a stream memory of `capacity` bytes: Table 3.3's row when there is
+/// one, linear in log2(capacity) between two rows, and outside the table the nearest end
+/// row scaled by the square root of the capacity ratio (Cacti's trend, as
+/// `memsys::cacti` scales caches).
+pub fn stream_energy_nj(capacity: u32) -> f64 {
+    let t = STREAM_ENERGY_TABLE;
+    let c = f64::from(capacity.max(1));
+    let (first, last) = (t[0], t[t.len() - 1]);
+    if capacity <= first.0 {
+        return first.1 * (c / f64::from(first.0)).sqrt();
+    }
+    if capacity >= last.0 {
+        return last.1 * (c / f64::from(last.0)).sqrt();
+    }
+    let k = t
+        .iter()
+        .position(|r| r.0 >= capacity)
+        .unwrap_or(t.len() - 1);
+    let (lo, hi) = (t[k - 1], t[k]);
+    let f = (c.log2() - f64::from(lo.0).log2()) / (f64::from(hi.0).log2() - f64::from(lo.0).log2());
+    lo.1 + (hi.1 - lo.1) * f
+}
+
+/// One fused intersection pipeline (thesis §3.2.3): built from the TM's shared FP
+/// multipliers and adders, which it reserves while the TM is in its mode.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PipeConfig {
+    /// FP multipliers reserved (taken from `units.fp_mul`).
+    pub fp_mul: u32,
+    /// FP adders reserved (taken from `units.fp_add`).
+    pub fp_add: u32,
+    /// Initiation interval: cycles between the pipeline's initiations.
+    pub ii: u32,
+    /// Cycles from issue until the result is ready.
+    pub latency: u32,
+    /// Tests one initiation accepts (issued in the same cycle).
+    pub width: u32,
+}
+
+/// The phase-specific pipelines (`trax.setpipe`, thesis §3.2.3). An op's energy is the sum
+/// of its reserved units' energies (one op each); their area is the units' (the MUXes and
+/// latches are taken as negligible, as the thesis does).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct PipelinesConfig {
+    /// Cycles a `trax.setpipe` that changes the mode keeps the TM's FP multipliers and
+    /// adders unavailable. Default 1 (an assumption: the thesis calls the time overhead
+    /// "fairly low", §3.2.3).
+    pub reconfig_cycles: u32,
+    /// Box test: 6 multipliers, 6 adders, II 1, latency 8, width 1 (§3.2.3).
+    #[serde(rename = "box")]
+    pub box_pipe: PipeConfig,
+    /// Triangle test (Plücker coordinates): 4 multipliers, 2 adders, II 18, latency 31,
+    /// width 2 (§3.2.3).
+    pub tri: PipeConfig,
+}
+
+impl Default for PipelinesConfig {
+    fn default() -> Self {
+        PipelinesConfig {
+            reconfig_cycles: 1,
+            box_pipe: PipeConfig {
+                fp_mul: 6,
+                fp_add: 6,
+                ii: 1,
+                latency: 8,
+                width: 1,
+            },
+            tri: PipeConfig {
+                fp_mul: 4,
+                fp_add: 2,
+                ii: 18,
+                latency: 31,
+                width: 2,
+            },
+        }
+    }
+}
+
+impl PipelinesConfig {
+    /// Bit `m` set when `trax.setpipe m` is possible on a TM with `fp_mul` multipliers and
+    /// `fp_add` adders (mode 0 always is): a pipeline needs the units it reserves plus at
+    /// least one of each left for ordinary instructions.
+    pub fn modes_available(&self, fp_mul: u32, fp_add: u32) -> u8 {
+        let fits = |p: &PipeConfig| p.fp_mul < fp_mul && p.fp_add < fp_add;
+        1 | (u8::from(fits(&self.box_pipe)) << 1) | (u8::from(fits(&self.tri)) << 2)
+    }
+
+    /// The pipeline of `trax.setpipe` mode 1 or 2.
+    pub fn of_mode(&self, mode: u8) -> Option<&PipeConfig> {
+        match mode {
+            1 => Some(&self.box_pipe),
+            2 => Some(&self.tri),
+            _ => None,
+        }
+    }
+}
+
 /// The whole chip.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -193,7 +376,7 @@ pub struct ChipConfig {
     pub clock_ghz: f64,
     /// Execution units per TM, keyed by class (`int_add`, `int_mul`, `int_div`, `bitwise`,
     /// `branch`, `fp_add`, `fp_mul`, `fp_min_max`, `fp_cmp`, `fp_div`, `fp_inv_sqrt`, `conv`,
-    /// `stream`, `box_pipe`, `tri_pipe`). A class not listed gets one unit per thread with
+    /// `stream`; the fused pipelines are configured in `pipelines`). A class not listed gets one unit per thread with
     /// latency 1 and no area or energy. Default: the baseline TM (Table 2.5).
     pub units: BTreeMap<String, UnitConfig>,
     /// Instruction caches.
@@ -206,6 +389,10 @@ pub struct ChipConfig {
     pub global_registers: GlobalRegConfig,
     /// L1, L2 and DRAM (see [`crate::memsys::config`]).
     pub memory: MemSysConfig,
+    /// The ray stream memory.
+    pub stream_memory: StreamMemoryConfig,
+    /// The fused intersection pipelines.
+    pub pipelines: PipelinesConfig,
 }
 
 /// Execution-unit classes that can be configured, with their config key.
@@ -223,8 +410,6 @@ pub const UNIT_NAMES: &[(UnitClass, &str)] = &[
     (UnitClass::FpInvSqrt, "fp_inv_sqrt"),
     (UnitClass::Conv, "conv"),
     (UnitClass::Stream, "stream"),
-    (UnitClass::BoxPipe, "box_pipe"),
-    (UnitClass::TriPipe, "tri_pipe"),
 ];
 
 /// Config key / stats name of a unit class.
@@ -235,6 +420,8 @@ pub fn class_name(c: UnitClass) -> &'static str {
         UnitClass::LocalStore => "local_store",
         UnitClass::GlobalRegs => "global_regs",
         UnitClass::Debug => "debug",
+        UnitClass::BoxPipe => "box_pipe",
+        UnitClass::TriPipe => "tri_pipe",
         c => UNIT_NAMES
             .iter()
             .find(|(k, _)| *k == c)
@@ -280,8 +467,6 @@ fn tm_units(
     put("fp_div", unit(fp_inv, 16, 0.11, 0.1563));
     put("int_div", unit(fp_inv, 16, 0.11, 0.1563));
     put("stream", unit(1, 1, 0.0, 0.0));
-    put("box_pipe", unit(1, 8, 0.0, 0.0));
-    put("tri_pipe", unit(1, 12, 0.0, 0.0));
     m
 }
 
@@ -299,6 +484,11 @@ impl Default for ChipConfig {
             local_store: LocalStoreConfig::default(),
             global_registers: GlobalRegConfig::default(),
             memory: MemSysConfig::default(),
+            stream_memory: StreamMemoryConfig {
+                capacity_bytes: 0,
+                ..StreamMemoryConfig::default()
+            },
+            pipelines: PipelinesConfig::default(),
         }
     }
 }
@@ -308,7 +498,8 @@ impl ChipConfig {
     /// DRAM), `baseline` (thesis Table 2.5 top row: 80 TMs x 32 threads, 4 L2s of 256 KB /
     /// 16 banks, 32 KB / 4-bank L1s, 2 int-mul, 8 fp-mul, 8 fp-add, 1 fp-invsqrt per TM,
     /// 2 I-caches of 16 banks, thesis GDDR5), `strata` (chapter 3/5: 128 TMs x 32 threads,
-    /// 4 L2s of 512 KB, thesis GDDR5).
+    /// 16 KB L1s, 4 L2s of 512 KB, a 4 MB ray stream memory, the box and triangle
+    /// pipelines, thesis GDDR5; sources at each value).
     pub fn preset(name: &str) -> Option<ChipConfig> {
         let mut c = ChipConfig {
             name: name.to_string(),
@@ -336,10 +527,23 @@ impl ChipConfig {
                 c.memory.dram = DramConfig::gddr5_thesis();
             }
             "strata" => {
+                // Thesis §3.2.4: 128 TMs of 32 threads (the TM of Table 2.5: 8 FP
+                // multipliers and 8 adders, so both pipelines of §3.2.3 fit with 2 of
+                // each left for general use).
                 c.tms = 128;
                 c.tms_per_l2 = 32;
+                // §5 (treelets "as close to the capacity of the L1 cache as possible ...
+                // which is 16KB").
+                c.memory.l1.capacity_bytes = 16 * 1024;
+                // §3.2.4: "a small 512KB L2 cache in addition to the stream memory".
                 c.memory.l2.capacity_bytes = 512 * 1024;
                 c.memory.l2.banks = 16;
+                // §3.2.4, Figure 3.7: the stream memory is the size of the baseline's L2
+                // (4 MB, "near-future L2 cache capacity"); the rest of
+                // `StreamMemoryConfig::default()` (48-byte rays, 32 banks, Table 3.3).
+                c.stream_memory = StreamMemoryConfig::default();
+                // §3.2.3: box and triangle pipelines (`PipelinesConfig::default()`).
+                c.pipelines = PipelinesConfig::default();
                 c.memory.dram = DramConfig::gddr5_thesis();
             }
             _ => return None,
@@ -469,8 +673,13 @@ impl ChipConfig {
         for (k, u) in &self.units {
             if !UNIT_NAMES.iter().any(|(_, n)| n == k) {
                 let names: Vec<&str> = UNIT_NAMES.iter().map(|(_, n)| *n).collect();
+                let hint = if k == "box_pipe" || k == "tri_pipe" {
+                    "; the fused pipelines are configured in [pipelines.box] and [pipelines.tri]"
+                } else {
+                    ""
+                };
                 return bad(format!(
-                    "units.{k}: unknown unit class (expected one of {})",
+                    "units.{k}: unknown unit class (expected one of {}){hint}",
                     names.join(", ")
                 ));
             }
@@ -501,6 +710,44 @@ impl ChipConfig {
             return bad(format!(
                 "local_store.bytes = {b} must be a non-zero multiple of 16 up to 64 MiB"
             ));
+        }
+        let sm = &self.stream_memory;
+        if sm.ray_bytes == 0 || !sm.ray_bytes.is_multiple_of(4) || sm.ray_bytes > 4096 {
+            return bad(format!(
+                "stream_memory.ray_bytes = {} must be a non-zero multiple of 4 up to 4096",
+                sm.ray_bytes
+            ));
+        }
+        if sm.buffers == 0 || sm.buffers > 65536 {
+            return bad(format!(
+                "stream_memory.buffers = {} must be in 1..=65536",
+                sm.buffers
+            ));
+        }
+        if sm.banks == 0 || sm.bank_busy_cycles == 0 || sm.latency == 0 {
+            return bad("stream_memory.banks, bank_busy_cycles and latency must be >= 1".into());
+        }
+        if sm.capacity_bytes > 0 && sm.geometry().capacity_rays() == 0 {
+            return bad(format!(
+                "stream_memory.capacity_bytes = {} holds no ray: it needs {} bytes of head \
+                 pointers and {} per ray",
+                sm.capacity_bytes,
+                sm.geometry().head_bytes(),
+                sm.ray_bytes + crate::streams::POINTER_BYTES
+            ));
+        }
+        if !(sm.energy_nj.is_none_or(|e| e >= 0.0) && sm.area_mm2.is_none_or(|a| a >= 0.0)) {
+            return bad("stream_memory.energy_nj and area_mm2 must be >= 0".into());
+        }
+        for (name, p) in [
+            ("box", &self.pipelines.box_pipe),
+            ("tri", &self.pipelines.tri),
+        ] {
+            if p.ii == 0 || p.latency == 0 || p.width == 0 || p.latency > 10_000 {
+                return bad(format!(
+                    "pipelines.{name}: ii, latency (<= 10000) and width must be >= 1"
+                ));
+            }
         }
         if self.global_registers.latency == 0 || self.global_registers.ops_per_cycle == 0 {
             return bad("global_registers.latency and ops_per_cycle must be >= 1".into());
@@ -605,5 +852,65 @@ impl ChipConfig {
         cfg.validate()?;
         *self = cfg;
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn stream_energy_follows_table_3_3() {
+        for &(cap, e) in STREAM_ENERGY_TABLE {
+            assert_eq!(stream_energy_nj(cap), e, "{cap}");
+        }
+        // Halfway between rows in log2(capacity): the mean of the two rows.
+        let mid = |a: u32| (f64::from(a) * std::f64::consts::SQRT_2).round() as u32;
+        assert!((stream_energy_nj(mid(512 << 10)) - (0.524 + 0.579) / 2.0).abs() < 1e-6);
+        assert!((stream_energy_nj(mid(4 << 20)) - (0.901 + 1.17) / 2.0).abs() < 1e-6);
+        // 3 MB: log2(3/2) of the way from 2 MB to 4 MB.
+        let f = (1.5f64).log2();
+        assert!((stream_energy_nj(3 << 20) - (0.686 + (0.901 - 0.686) * f)).abs() < 1e-12);
+        // Outside: the end rows scaled by sqrt(capacity ratio).
+        assert!((stream_energy_nj(128 << 10) - 0.524 / 2.0).abs() < 1e-12);
+        assert!((stream_energy_nj(64 << 20) - 1.61 * 2.0).abs() < 1e-12);
+        // Monotone over the whole range.
+        let mut last = 0.0;
+        for k in 10..=30 {
+            let e = stream_energy_nj(1 << k);
+            assert!(e > last, "{k}");
+            last = e;
+        }
+    }
+
+    #[test]
+    fn stream_memory_and_pipeline_fields_are_checked() {
+        let mut c = ChipConfig::preset("strata").unwrap();
+        assert!(c.stream_memory.capacity_bytes > 0);
+        c.set_field("stream_memory.ray_bytes", toml::Value::Integer(50))
+            .unwrap_err();
+        let e = c
+            .set_field("stream_memory.capacity_bytes", toml::Value::Integer(100))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("holds no ray"), "{e}");
+        c.set_field("pipelines.tri.ii", toml::Value::Integer(0))
+            .unwrap_err();
+        c.set_field("pipelines.box.latency", toml::Value::Integer(12))
+            .unwrap();
+        assert_eq!(c.pipelines.box_pipe.latency, 12);
+        let e = c
+            .set_field("units.box_pipe.count", toml::Value::Integer(1))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("unknown unit class") && e.contains("[pipelines.box]"),
+            "{e}"
+        );
+        // Modes need the reserved units plus one of each left over.
+        let p = PipelinesConfig::default();
+        assert_eq!(p.modes_available(8, 8), 0b111);
+        assert_eq!(p.modes_available(6, 8), 0b101);
+        assert_eq!(p.modes_available(1, 1), 0b001);
     }
 }

@@ -27,13 +27,14 @@
 use std::io::Write;
 use std::sync::Mutex;
 
-use trax_runtime::isa::UnitClass;
+use trax_runtime::isa::{TraxOp, UnitClass};
 
 use super::config::ChipConfig;
 use super::operands::{classify, OpInfo};
 use super::tm::{retire, Deferred, Summary, TmSim};
 use super::workers::{rebalance, Batch, Crew, RoundCell, Rounds};
 use crate::chip::Effects;
+use crate::decode::Inst;
 use crate::exec::Stop;
 use crate::machine::{drain, release_barriers, Crash, Machine, Outcome};
 use crate::memsys::MemSystem;
@@ -91,6 +92,16 @@ pub struct Counters {
     pub fetches: u64,
     /// Debug-class ops (zero cost).
     pub debug_ops: u64,
+    /// FP unit-cycles reserved by fused pipelines (units x cycles in a pipeline mode).
+    pub reserved_unit_cycles: u64,
+    /// Stream memory: accesses delayed by a busy bank, and the cycles they waited.
+    pub stream_bank_conflicts: u64,
+    pub stream_conflict_cycles: u64,
+    /// Stream memory: rays in flight integrated over cycles (for the mean).
+    pub stream_ray_cycles: u64,
+    /// TM-cycles from a `trax.strsched` that found every stream empty until the TM's next
+    /// one that found rays (or its last thread's halt).
+    pub stream_starved_tm_cycles: u64,
 }
 
 /// Receives a [`Progress`] report every few host milliseconds.
@@ -118,6 +129,17 @@ pub(crate) struct UnitSpec {
     pub pipelined: bool,
 }
 
+/// Timing facts of one fused pipeline.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct PipeSpec {
+    pub ii: u64,
+    pub latency: u64,
+    pub width: u32,
+    /// FP multipliers and adders reserved.
+    pub fp_mul: u32,
+    pub fp_add: u32,
+}
+
 /// What every TM reads and nobody changes during a run.
 pub(crate) struct Shape {
     /// Timing facts per text word.
@@ -134,9 +156,37 @@ pub(crate) struct Shape {
     /// I-cache bank slots per TM.
     pub icache_slots: usize,
     pub local_latency: u64,
+    /// The box (0) and triangle (1) pipelines.
+    pub pipes: [PipeSpec; 2],
+    /// Cycles a mode change keeps the FP multipliers and adders unavailable.
+    pub reconfig_cycles: u64,
 }
 
 impl Shape {
+    /// The pipeline of `trax.setpipe` mode `mode`, if any.
+    pub fn pipe(&self, mode: u8) -> Option<&PipeSpec> {
+        match mode {
+            1 => Some(&self.pipes[0]),
+            2 => Some(&self.pipes[1]),
+            _ => None,
+        }
+    }
+
+    /// Units of `class` (FP multiply or add) the pipeline of `mode` reserves.
+    pub fn reserve(&self, mode: u8, class: UnitClass) -> u32 {
+        match (self.pipe(mode), class) {
+            (Some(p), UnitClass::FpMul) => p.fp_mul,
+            (Some(p), UnitClass::FpAdd) => p.fp_add,
+            _ => 0,
+        }
+    }
+
+    /// Units the pipeline of `mode` reserves.
+    pub fn reserved(&self, mode: u8) -> u64 {
+        self.pipe(mode)
+            .map_or(0, |p| u64::from(p.fp_mul + p.fp_add))
+    }
+
     /// Text index of `pc` (`info.len()` when outside the text or misaligned).
     #[inline(always)]
     pub fn slot_idx(&self, pc: u32) -> usize {
@@ -223,6 +273,14 @@ impl<'c> Engine<'c> {
                 fetches_per_bank: ic.fetches_per_bank,
                 icache_slots: (ic.per_tm * ic.banks) as usize,
                 local_latency: cfg.local_store.latency as u64,
+                pipes: [&cfg.pipelines.box_pipe, &cfg.pipelines.tri].map(|p| PipeSpec {
+                    ii: u64::from(p.ii),
+                    latency: u64::from(p.latency),
+                    width: p.width,
+                    fp_mul: p.fp_mul,
+                    fp_add: p.fp_add,
+                }),
+                reconfig_cycles: u64::from(cfg.pipelines.reconfig_cycles),
             },
             mem,
             c: Counters {
@@ -320,13 +378,18 @@ impl<'c> Engine<'c> {
                     halted_excess: &mut halted_excess,
                     progress: progress.as_deref_mut(),
                     fx: Effects::default(),
+                    streams: StreamTiming {
+                        last_halt: vec![None; tms],
+                        ..StreamTiming::default()
+                    },
                 };
                 let mut leader_job = |k: usize, window| job(0, k, window, profiler.as_mut());
                 let outcome = d.drive(&shared, &parts, &sims, &rounds, &crew, &mut leader_job, out);
-                (outcome, d.fx)
+                (outcome, d.fx, d.streams)
             })
         };
-        let (outcome, mut fx) = outcome;
+        let (outcome, mut fx, mut streams) = outcome;
+        streams.finish(&mut self.c, self.now);
         self.profiler = profiler;
         self.progress = progress;
         // Take everything back.
@@ -337,6 +400,9 @@ impl<'c> Engine<'c> {
         let mut tm_mems = Vec::with_capacity(tms);
         for t in sims {
             let mut t = t.into_inner();
+            // The last pipeline mode's reserved unit-cycles.
+            let mode = t.mode;
+            t.set_mode(&self.shape, &mut self.c, mode, self.now);
             // Counters stay with their TM until the end (only prints are merged as they
             // come; sums do not depend on when they are taken).
             t.fx.merge_into(&mut fx, None);
@@ -348,6 +414,72 @@ impl<'c> Engine<'c> {
         self.c.tc.halted -= halted_excess.min(self.c.tc.halted);
         drain(&mut m.shared.output, out);
         outcome
+    }
+}
+
+/// The stream memory's timing state (serial phase).
+#[derive(Default)]
+struct StreamTiming {
+    /// Per bank: first cycle it accepts an access (allocated on the first access).
+    bank_free: Vec<u64>,
+    /// Rays in flight since cycle `last`.
+    in_flight: u64,
+    last: u64,
+    /// Per TM: the cycle its `trax.strsched` found every stream empty (until one finds
+    /// rays), and the cycle of its last halt.
+    starved_since: Vec<Option<u64>>,
+    last_halt: Vec<Option<u64>>,
+}
+
+impl StreamTiming {
+    /// An access to ray slot `slot` issued at `cycle`: returns the cycle its data is ready.
+    fn access(&mut self, cfg: &ChipConfig, c: &mut Counters, slot: u32, cycle: u64) -> u64 {
+        let sm = &cfg.stream_memory;
+        if self.bank_free.is_empty() {
+            self.bank_free = vec![0; sm.banks as usize];
+        }
+        let bank = &mut self.bank_free[(slot % sm.banks) as usize];
+        let start = cycle.max(*bank);
+        if start > cycle {
+            c.stream_bank_conflicts += 1;
+            c.stream_conflict_cycles += start - cycle;
+        }
+        *bank = start + u64::from(sm.bank_busy_cycles);
+        start + u64::from(sm.latency)
+    }
+
+    /// Integrates rays in flight up to `cycle`, when the count becomes `now_in_flight`.
+    fn rays(&mut self, c: &mut Counters, cycle: u64, now_in_flight: u32) {
+        c.stream_ray_cycles += self.in_flight * cycle.saturating_sub(self.last);
+        self.last = self.last.max(cycle);
+        self.in_flight = u64::from(now_in_flight);
+    }
+
+    /// A `trax.strsched` of TM `tm` at `cycle` found a stream (`found`) or none.
+    fn scheduled(&mut self, c: &mut Counters, tms: usize, tm: usize, cycle: u64, found: bool) {
+        if self.starved_since.is_empty() {
+            self.starved_since = vec![None; tms];
+        }
+        let since = &mut self.starved_since[tm];
+        match (found, *since) {
+            (true, Some(s)) => {
+                c.stream_starved_tm_cycles += cycle.saturating_sub(s);
+                *since = None;
+            }
+            (false, None) => *since = Some(cycle),
+            _ => {}
+        }
+    }
+
+    /// Closes the open intervals at the end of the run (`end`).
+    fn finish(&mut self, c: &mut Counters, end: u64) {
+        c.stream_ray_cycles += self.in_flight * end.saturating_sub(self.last);
+        for (tm, s) in self.starved_since.iter().enumerate() {
+            if let Some(s) = s {
+                let stop = self.last_halt.get(tm).copied().flatten().unwrap_or(end);
+                c.stream_starved_tm_cycles += stop.min(end).saturating_sub(*s);
+            }
+        }
     }
 }
 
@@ -363,6 +495,8 @@ struct Driver<'a, 'p> {
     /// Counters and prints of the TMs, merged each quantum; folded into the chip at the
     /// end (the chip's own lines stay unwritten, so TMs keep reading them from cache).
     fx: Effects,
+    /// The stream memory's timing.
+    streams: StreamTiming,
 }
 
 impl Driver<'_, '_> {
@@ -501,6 +635,7 @@ impl Driver<'_, '_> {
                     sh.live_threads -= 1;
                     release_barriers(sh);
                     last_halt = Some(d.cycle);
+                    self.streams.last_halt[d.tm as usize] = Some(d.cycle);
                 }
                 if d.halted {
                     continue;
@@ -510,6 +645,22 @@ impl Driver<'_, '_> {
                 c.issued_at[idx.min(last)] += 1;
                 let info = d.info;
                 let mut ready = d.ready_at;
+                if info.class == UnitClass::Stream {
+                    // A ray pushed or popped: one access to its slot's bank.
+                    if let Some(slot) = sh.streams.last_slot.take() {
+                        ready = self.streams.access(self.cfg, c, slot, d.cycle);
+                        self.streams.rays(c, d.cycle, sh.streams.in_flight);
+                    }
+                    if let Some(Inst::Trax {
+                        op: TraxOp::StreamSchedule,
+                        ..
+                    }) = sh.program.insts.get(idx)
+                    {
+                        let found = sh.tm_stream[d.tm as usize] != u32::MAX;
+                        self.streams
+                            .scheduled(c, tms as usize, d.tm as usize, d.cycle, found);
+                    }
+                }
                 if info.class == UnitClass::GlobalRegs {
                     let g = &self.cfg.global_registers;
                     if gr.0 < d.cycle {
@@ -641,6 +792,11 @@ impl Counters {
         self.local_accesses += o.local_accesses;
         self.fetches += o.fetches;
         self.debug_ops += o.debug_ops;
+        self.reserved_unit_cycles += o.reserved_unit_cycles;
+        self.stream_bank_conflicts += o.stream_bank_conflicts;
+        self.stream_conflict_cycles += o.stream_conflict_cycles;
+        self.stream_ray_cycles += o.stream_ray_cycles;
+        self.stream_starved_tm_cycles += o.stream_starved_tm_cycles;
     }
 }
 

@@ -22,8 +22,11 @@ mod tm;
 mod workers;
 
 pub use config::{
-    class_name, ChipConfig, ConfigError, GlobalRegConfig, ICacheConfig, LocalStoreConfig,
-    RegisterFileConfig, UnitConfig, CHIP_PRESETS, DEFAULT_CHIP, UNIT_NAMES,
+    class_name, stream_energy_nj, ChipConfig, ConfigError, GlobalRegConfig, ICacheConfig,
+    LocalStoreConfig, PipeConfig, PipelinesConfig, RegisterFileConfig, StreamMemoryConfig,
+    UnitConfig, CHIP_PRESETS, DEFAULT_CHIP, STREAM_ENERGY_TABLE, UNIT_NAMES,
 };
 pub use engine::ThreadCycles;
-pub use stats::{AreaBreakdown, EnergyBreakdown, TimingStats};
+pub use stats::{
+    pipe_op_energy_nj, AreaBreakdown, EnergyBreakdown, PipelineStats, StreamStats, TimingStats,
+};

@@ -27,6 +27,10 @@ pub struct EnergyBreakdown {
     pub l1: f64,
     /// L2 data caches.
     pub l2: f64,
+    /// Ray stream memory (STRaTA).
+    pub stream_memory: f64,
+    /// Fused box and triangle pipelines (their units' operations).
+    pub pipelines: f64,
     /// Off-chip DRAM.
     pub dram: f64,
     /// Sum.
@@ -48,8 +52,64 @@ pub struct AreaBreakdown {
     pub l1: f64,
     /// L2 data caches.
     pub l2: f64,
+    /// Ray stream memory (0 without one).
+    pub stream_memory: f64,
+    /// Fused pipelines beyond their units (MUXes and latches, taken as negligible, thesis
+    /// §3.2.3; the units are in `execution_units`): 0.
+    pub pipelines: f64,
     /// Sum.
     pub total: f64,
+}
+
+/// The ray stream memory's activity (all zero when the kernel uses no stream).
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct StreamStats {
+    /// Rays the memory holds.
+    pub capacity_rays: u32,
+    /// Rays written (`trax.strwend`), one SRAM access each.
+    pub writes: u64,
+    /// Rays read (`trax.strrstart` that found one), one SRAM access each.
+    pub reads: u64,
+    /// Most rays stored at once.
+    pub max_rays_in_flight: u32,
+    /// Rays stored, averaged over the run's cycles.
+    pub mean_rays_in_flight: f64,
+    /// Accesses delayed by a busy bank.
+    pub bank_conflicts: u64,
+    /// Cycles those accesses waited.
+    pub bank_conflict_cycles: u64,
+    /// TM-cycles from a `trax.strsched` that found every stream empty until the TM's next
+    /// one that found rays (or its last halt): TMs idle for lack of rays.
+    pub starved_tm_cycles: u64,
+    /// Energy per access, nJ.
+    pub energy_per_access_nj: f64,
+}
+
+/// The fused pipelines' activity.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct PipelineStats {
+    /// `trax.boxtest` operations.
+    pub box_ops: u64,
+    /// `trax.tritest` operations.
+    pub tri_ops: u64,
+    /// FP multiplier and adder unit-cycles reserved by a pipeline mode (all TMs).
+    pub reserved_unit_cycles: u64,
+    /// Energy of one box test, nJ (see [`pipe_op_energy_nj`]).
+    pub box_op_energy_nj: f64,
+    /// Energy of one triangle test, nJ.
+    pub tri_op_energy_nj: f64,
+}
+
+/// Energy of one pipeline op: the reserved units each do one operation per cycle of the
+/// initiation interval, shared by the `width` tests of an initiation:
+/// `(fp_mul x E(fp_mul) + fp_add x E(fp_add)) x ii / width`. For the box test that is the
+/// thesis's 6 multiplies and 6 subtracts (§3.2.3); for the triangle test an upper bound
+/// (every reserved unit busy every cycle).
+pub fn pipe_op_energy_nj(cfg: &ChipConfig, p: &super::config::PipeConfig) -> f64 {
+    let e = |c: UnitClass| cfg.unit(c).energy_nj;
+    (f64::from(p.fp_mul) * e(UnitClass::FpMul) + f64::from(p.fp_add) * e(UnitClass::FpAdd))
+        * f64::from(p.ii)
+        / f64::from(p.width)
 }
 
 /// Everything a timing run reports. Serialized as the `timing` object of the statistics
@@ -122,6 +182,10 @@ pub struct TimingStats {
     pub area: AreaBreakdown,
     /// MRPS per mm².
     pub mrps_per_mm2: f64,
+    /// The ray stream memory.
+    pub stream: StreamStats,
+    /// The fused pipelines.
+    pub pipelines: PipelineStats,
     /// The `trax.stat` counters.
     #[serde(skip)]
     pub counters: Vec<u64>,
@@ -163,6 +227,7 @@ pub fn build(
     program: &Program,
     mem: MemStats,
     counters: &[u64],
+    streams: &crate::streams::StreamMemory,
 ) -> TimingStats {
     let threads = cfg.tms as u64 * cfg.threads_per_tm as u64;
     let hz = cfg.clock_ghz * 1e9;
@@ -190,6 +255,30 @@ pub fn build(
     }
     let bw = |bytes: u64| ratio(bytes as f64, seconds) / 1e9;
     let nj = 1e-9;
+    let sm = &cfg.stream_memory;
+    let has_stream = sm.capacity_bytes > 0;
+    let stream = StreamStats {
+        capacity_rays: streams.capacity_rays(),
+        writes: streams.writes,
+        reads: streams.reads,
+        max_rays_in_flight: streams.max_in_flight,
+        mean_rays_in_flight: ratio(c.stream_ray_cycles as f64, cycles as f64),
+        bank_conflicts: c.stream_bank_conflicts,
+        bank_conflict_cycles: c.stream_conflict_cycles,
+        starved_tm_cycles: c.stream_starved_tm_cycles,
+        energy_per_access_nj: if has_stream {
+            sm.energy_per_access_nj()
+        } else {
+            0.0
+        },
+    };
+    let pipelines = PipelineStats {
+        box_ops: c.class_ops[UnitClass::BoxPipe as usize],
+        tri_ops: c.class_ops[UnitClass::TriPipe as usize],
+        reserved_unit_cycles: c.reserved_unit_cycles,
+        box_op_energy_nj: pipe_op_energy_nj(cfg, &cfg.pipelines.box_pipe),
+        tri_op_energy_nj: pipe_op_energy_nj(cfg, &cfg.pipelines.tri),
+    };
     let mut energy = EnergyBreakdown {
         execution_units: eu_energy * nj,
         register_files: cfg.register_file.energy_nj * c.reg_accesses as f64 * nj,
@@ -197,6 +286,10 @@ pub fn build(
         local_stores: cfg.local_store.energy_nj * c.local_accesses as f64 * nj,
         l1: mem.l1_energy_nj * nj,
         l2: mem.l2_energy_nj * nj,
+        stream_memory: stream.energy_per_access_nj * (stream.reads + stream.writes) as f64 * nj,
+        pipelines: (pipelines.box_ops as f64 * pipelines.box_op_energy_nj
+            + pipelines.tri_ops as f64 * pipelines.tri_op_energy_nj)
+            * nj,
         dram: mem.dram.energy.total_nj() * nj,
         total: 0.0,
     };
@@ -206,6 +299,8 @@ pub fn build(
         + energy.local_stores
         + energy.l1
         + energy.l2
+        + energy.stream_memory
+        + energy.pipelines
         + energy.dram;
     let tms = cfg.tms as f64;
     let per_tm_units: f64 = UNIT_NAMES
@@ -222,6 +317,8 @@ pub fn build(
         local_stores: cfg.local_store.area_mm2 * threads as f64,
         l1: mem.l1_area_mm2,
         l2: mem.l2_area_mm2,
+        stream_memory: if has_stream { sm.area() } else { 0.0 },
+        pipelines: 0.0,
         total: 0.0,
     };
     area.total = area.execution_units
@@ -229,7 +326,9 @@ pub fn build(
         + area.instruction_caches
         + area.local_stores
         + area.l1
-        + area.l2;
+        + area.l2
+        + area.stream_memory
+        + area.pipelines;
     TimingStats {
         chip: cfg.name.clone(),
         tms: cfg.tms,
@@ -260,6 +359,8 @@ pub fn build(
         area,
         memory: mem,
         counters: counters.to_vec(),
+        stream,
+        pipelines,
     }
 }
 
@@ -389,15 +490,32 @@ impl TimingStats {
         let a = &self.area;
         let _ = writeln!(
             s,
-            "area (mm2): units {:.2}  regs {:.2}  icache {:.2}  local {:.2}  L1 {:.2}  L2 {:.2}  total {:.2}",
-            a.execution_units, a.register_files, a.instruction_caches, a.local_stores, a.l1, a.l2, a.total
+            "area (mm2): units {:.2}  regs {:.2}  icache {:.2}  local {:.2}  L1 {:.2}  L2 {:.2}  stream {:.2}  pipelines {:.2}  total {:.2}",
+            a.execution_units, a.register_files, a.instruction_caches, a.local_stores, a.l1, a.l2, a.stream_memory, a.pipelines, a.total
         );
         let e = &self.energy;
         let _ = writeln!(
             s,
-            "energy (J): units {:.3e}  regs {:.3e}  icache {:.3e}  local {:.3e}  L1 {:.3e}  L2 {:.3e}  DRAM {:.3e}  total {:.3e}  ({:.2} W)",
-            e.execution_units, e.register_files, e.instruction_caches, e.local_stores, e.l1, e.l2, e.dram, e.total, self.power_w
+            "energy (J): units {:.3e}  regs {:.3e}  icache {:.3e}  local {:.3e}  L1 {:.3e}  L2 {:.3e}  stream {:.3e}  pipelines {:.3e}  DRAM {:.3e}  total {:.3e}  ({:.2} W)",
+            e.execution_units, e.register_files, e.instruction_caches, e.local_stores, e.l1, e.l2, e.stream_memory, e.pipelines, e.dram, e.total, self.power_w
         );
+        let st = &self.stream;
+        if st.reads + st.writes > 0 {
+            let _ = writeln!(
+                s,
+                "stream memory: {} rays capacity, {} writes, {} reads, rays in flight max {} mean {:.1}, {} bank conflicts ({} cycles), {} TM-cycles starved",
+                st.capacity_rays, st.writes, st.reads, st.max_rays_in_flight, st.mean_rays_in_flight,
+                st.bank_conflicts, st.bank_conflict_cycles, st.starved_tm_cycles
+            );
+        }
+        let p = &self.pipelines;
+        if p.box_ops + p.tri_ops + p.reserved_unit_cycles > 0 {
+            let _ = writeln!(
+                s,
+                "pipelines: {} box tests ({:.4} nJ each), {} triangle tests ({:.4} nJ each), {} FP unit-cycles reserved",
+                p.box_ops, p.box_op_energy_nj, p.tri_ops, p.tri_op_energy_nj, p.reserved_unit_cycles
+            );
+        }
         s
     }
 }

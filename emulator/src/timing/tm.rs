@@ -120,6 +120,14 @@ pub(crate) struct TmSim {
     /// The first fault of this quantum: (cycle, thread, report).
     pub crash: Option<(u64, usize, Box<Crash>)>,
     completions: Vec<Completion>,
+    /// The `trax.setpipe` mode the units are configured for, and since when.
+    pub mode: u8,
+    pub mode_since: u64,
+    /// The fused pipeline: next initiation cycle, cycle of the current initiation, tests
+    /// it has accepted.
+    pipe_next: u64,
+    pipe_init: u64,
+    pipe_used: u32,
 }
 
 impl TmSim {
@@ -158,7 +166,36 @@ impl TmSim {
             deferred: Vec::new(),
             crash: None,
             completions: Vec::new(),
+            mode: 0,
+            mode_since: 0,
+            pipe_next: 0,
+            pipe_init: 0,
+            pipe_used: 0,
         }
+    }
+
+    /// Reconfigures the units for `trax.setpipe` mode `mode` at cycle `now`: the FP
+    /// multipliers and adders are unavailable for `reconfig_cycles`, then ordinary
+    /// instructions share those the pipeline does not reserve. Closes the old mode's
+    /// reserved unit-cycles into `c`.
+    pub fn set_mode(&mut self, shape: &Shape, c: &mut Counters, mode: u8, now: u64) {
+        c.reserved_unit_cycles += (now - self.mode_since.min(now)) * shape.reserved(self.mode);
+        self.mode = mode;
+        self.mode_since = now;
+        let n = self.threads.len();
+        for class in [UnitClass::FpMul, UnitClass::FpAdd] {
+            let k = class as usize;
+            let total = shape.units[k].count as usize;
+            let avail = total - shape.reserve(mode, class) as usize;
+            for (tid, u) in self.unit_of[k * n..(k + 1) * n].iter_mut().enumerate() {
+                *u = (tid * avail / n) as u32;
+            }
+            for f in &mut self.unit_free[k] {
+                *f = (*f).max(now + shape.reconfig_cycles);
+            }
+        }
+        self.pipe_next = self.pipe_next.max(now + shape.reconfig_cycles);
+        self.pipe_used = u32::MAX;
     }
 
     /// Simulates cycles `[from, to)`.
@@ -190,6 +227,11 @@ impl TmSim {
             }
         }
         self.frozen.iter_mut().for_each(|f| *f = false);
+        // A `trax.setpipe` ordered in the last serial phase takes effect now.
+        let mode = shared.tm_pipe_mode[self.tm];
+        if mode != self.mode {
+            self.set_mode(shape, c, mode, from);
+        }
         let issued_before = c.tc.issued + c.debug_ops;
         let n = self.threads.len();
         let mut first = (from % n as u64) as usize;
@@ -399,6 +441,24 @@ impl TmSim {
             match info.class {
                 // Global-register throughput is chip-wide: the serial phase orders them.
                 UnitClass::RegFile | UnitClass::GlobalRegs => {}
+                // The TM's one fused pipeline: an initiation every `ii` cycles, each
+                // taking up to `width` tests issued in its cycle.
+                UnitClass::BoxPipe | UnitClass::TriPipe => {
+                    let p = &shape.pipes[(info.class == UnitClass::TriPipe) as usize];
+                    if now >= self.pipe_next {
+                        self.pipe_init = now;
+                        self.pipe_used = 1;
+                        self.pipe_next = now + p.ii;
+                    } else if now == self.pipe_init && self.pipe_used < p.width {
+                        self.pipe_used += 1;
+                    } else {
+                        c.tc.unit_conflict += 1;
+                        c.unit_conflicts[info.class as usize] += 1;
+                        charge!(CostKind::ResourceStall);
+                        return;
+                    }
+                    ready_at = now + p.latency;
+                }
                 class => {
                     let u = &shape.units[class as usize];
                     let inst = self.unit_of[class as usize * self.threads.len() + tid] as usize;

@@ -109,7 +109,37 @@ pub const METRICS: &[Metric] = &[
     ),
     e("energy_l1_j", "L1", "timing.energy.l1"),
     e("energy_l2_j", "L2", "timing.energy.l2"),
+    e(
+        "energy_stream_j",
+        "Stream memory",
+        "timing.energy.stream_memory",
+    ),
+    e("energy_pipelines_j", "Pipelines", "timing.energy.pipelines"),
     e("energy_dram_j", "DRAM", "timing.energy.dram"),
+    m(
+        "stream_reads",
+        "Stream memory reads",
+        "",
+        "timing.stream.reads",
+    ),
+    m(
+        "stream_writes",
+        "Stream memory writes",
+        "",
+        "timing.stream.writes",
+    ),
+    m(
+        "rays_in_flight",
+        "Rays in flight (mean)",
+        "",
+        "timing.stream.mean_rays_in_flight",
+    ),
+    m(
+        "stream_starved_tm_cycles",
+        "TM-cycles starved of rays",
+        "cycles",
+        "timing.stream.starved_tm_cycles",
+    ),
     m("area_mm2", "Chip area", "mm²", "timing.area.total"),
     m(
         "mrps_per_mm2",

@@ -1,0 +1,511 @@
+//! STRaTA (thesis §3.2): the ray stream memory (capacity, LIFO buffers, banks, latency)
+//! and the phase-specific pipelines (`trax.setpipe`, unit reservation, II and latency),
+//! against analytic figures, in both modes.
+
+mod common;
+
+use std::path::Path;
+
+use trax_emulator::timing::{pipe_op_energy_nj, ChipConfig, TimingStats};
+use trax_emulator::{run, Limits, Mode, Outcome, RunReport, RunRequest};
+use trax_runtime::isa::{instr, TraxOp};
+
+/// Runs `elf` on `chip` in `mode`: the report, the timing statistics and the output.
+fn go(elf: &Path, chip: &ChipConfig, mode: Mode) -> (RunReport, Option<TimingStats>, String) {
+    go_on(elf, chip, mode, 1)
+}
+
+fn go_on(
+    elf: &Path,
+    chip: &ChipConfig,
+    mode: Mode,
+    host_threads: usize,
+) -> (RunReport, Option<TimingStats>, String) {
+    let data = std::fs::read(elf).unwrap();
+    let path = elf.display().to_string();
+    let mut out = Vec::new();
+    let mut req = RunRequest::new(&path, &data, chip, mode);
+    req.host_threads = Some(host_threads);
+    if mode == Mode::Timing {
+        req.limits = Limits {
+            max_cycles: Some(10_000_000),
+            ..Limits::default()
+        };
+    }
+    let mut r = run(req, &mut out).unwrap();
+    let t = r.timing.take();
+    (r, t, String::from_utf8(out).unwrap())
+}
+
+fn finished(elf: &Path, chip: &ChipConfig, mode: Mode) -> (Option<TimingStats>, String) {
+    let (r, t, out) = go(elf, chip, mode);
+    assert!(
+        matches!(r.outcome, Outcome::Finished),
+        "{:?}: {:?}\n{out}",
+        r.outcome,
+        r.failure
+    );
+    (t, out)
+}
+
+fn numbers(out: &str) -> Vec<u64> {
+    out.split_whitespace().map(|w| w.parse().unwrap()).collect()
+}
+
+/// The tiny chip with `threads` threads and a stream memory of `buffers` buffers holding
+/// exactly `rays` rays of 48 bytes in `banks` banks.
+fn stream_chip(threads: u32, buffers: u32, rays: u32, banks: u32) -> ChipConfig {
+    let mut c = common::chip(1, threads);
+    let sm = &mut c.stream_memory;
+    sm.buffers = buffers;
+    sm.capacity_bytes = 4 * (buffers + 1) + rays * (48 + 4);
+    sm.banks = banks;
+    c.validate().unwrap();
+    c
+}
+
+const FILL: &str = r#"
+#include "trax.h"
+void trax_main(void) {
+    unsigned n = trax_strcap();
+    trax_printu(n);
+    trax_printc(' ');
+    for (unsigned i = 0; i < n + EXTRA; i++) {
+        trax_strwstart(i % 3);
+        trax_strw(i);
+        trax_strwend(); // the write that overflows
+    }
+    trax_printu(trax_strsize(0) + trax_strsize(1) + trax_strsize(2));
+}
+"#;
+
+#[test]
+fn capacity_is_exact_and_overflow_is_a_fault_naming_the_line() {
+    // 4 buffers + the free list: 20 bytes of head pointers, then 52 bytes per ray.
+    let chip = stream_chip(1, 4, 10, 4);
+    let fits = common::build_c("s_fill0", &FILL.replace("EXTRA", "0"), "-O1");
+    for mode in [Mode::Functional, Mode::Timing] {
+        let (_, out) = finished(&fits, &chip, mode);
+        assert_eq!(numbers(&out), [10, 10], "{mode:?}");
+    }
+    // One byte less: nine rays.
+    let mut small = chip.clone();
+    small.stream_memory.capacity_bytes -= 1;
+    assert_eq!(
+        numbers(&finished(&fits, &small, Mode::Functional).1),
+        [9, 9]
+    );
+    let over = common::build_c("s_fill1", &FILL.replace("EXTRA", "1"), "-O1");
+    for mode in [Mode::Functional, Mode::Timing] {
+        let (r, _, out) = go(&over, &chip, mode);
+        assert!(matches!(r.outcome, Outcome::Crashed(_)), "{mode:?}: {out}");
+        let report = r.failure.unwrap_or_default();
+        assert!(
+            report.contains("ray stream memory full: writing a ray to stream 1, but all 10 slots of 48-byte rays are taken"),
+            "{report}"
+        );
+        assert!(report.contains("s_fill1.c:10"), "{report}");
+        assert!(report.contains("thread 0"), "{report}");
+    }
+    // A chip without a stream memory says so.
+    let (r, _, _) = go(&over, &common::chip(1, 1), Mode::Functional);
+    let report = r.failure.unwrap_or_default();
+    assert!(
+        report.contains("this chip has no ray stream memory"),
+        "{report}"
+    );
+}
+
+const LIFO: &str = r#"
+#include "trax.h"
+void trax_main(void) {
+    for (unsigned i = 1; i <= 5; i++) {
+        trax_strwstart(2);
+        trax_strw(i);
+        trax_strw(100 * i);
+        trax_strwend();
+    }
+    trax_strwstart(0);
+    trax_strw(77);
+    trax_strwend();
+    unsigned s;
+    while ((s = trax_strsched()) != 0xFFFFFFFFu) {
+        trax_printu(s);
+        trax_printc(':');
+        while (trax_strrstart()) {
+            unsigned a = trax_strr(), b = trax_strr(), c = trax_strr();
+            trax_strrend();
+            trax_printu(a);
+            trax_printc('/');
+            trax_printu(b);
+            trax_printc('/');
+            trax_printu(c);
+            trax_printc(' ');
+        }
+    }
+}
+"#;
+
+#[test]
+fn buffers_are_lifo_and_both_modes_agree() {
+    let elf = common::build_c("s_lifo", LIFO, "-O1");
+    let chip = stream_chip(1, 4, 100, 4);
+    let (_, f) = finished(&elf, &chip, Mode::Functional);
+    let (t, tm) = finished(&elf, &chip, Mode::Timing);
+    // The fullest stream first; newest ray first; records zero-padded.
+    assert_eq!(f, "2:5/500/0 4/400/0 3/300/0 2/200/0 1/100/0 0:77/0/0 ");
+    assert_eq!(f, tm);
+    let s = t.unwrap().stream;
+    assert_eq!((s.writes, s.reads, s.max_rays_in_flight), (6, 6, 6));
+    assert_eq!(s.capacity_rays, 100);
+    assert!(s.mean_rays_in_flight > 0.0 && s.mean_rays_in_flight < 6.0);
+}
+
+/// Every thread writes one ray; all threads run in lockstep (a stream unit and fetch
+/// slots for each), so the writes reach the stream memory in the same cycle.
+const WRITE_ONE: &str = r#"
+#include "trax.h"
+void trax_main(void) {
+    trax_strwstart(0);
+    trax_strw(trax_tid());
+    trax_strwend();
+}
+"#;
+
+#[test]
+fn simultaneous_writes_conflict_in_shared_banks() {
+    let elf = common::build_c("s_banks", WRITE_ONE, "-O1");
+    for (banks, busy) in [(8u32, 1u32), (4, 1), (2, 1), (1, 1), (1, 3)] {
+        let mut chip = stream_chip(8, 4, 64, banks);
+        chip.units.get_mut("stream").unwrap().count = 8;
+        chip.icache.fetches_per_bank = 8;
+        chip.stream_memory.bank_busy_cycles = busy;
+        let (t, _) = finished(&elf, &chip, Mode::Timing);
+        let s = t.unwrap().stream;
+        // Slots 0..7 in banks slot % banks: m = 8 / banks writes per bank, each waiting
+        // `busy` cycles for each one before it.
+        let m = u64::from(8 / banks);
+        let b = u64::from(banks);
+        assert_eq!(s.writes, 8);
+        assert_eq!(s.bank_conflicts, b * (m - 1), "{banks} banks");
+        assert_eq!(
+            s.bank_conflict_cycles,
+            b * u64::from(busy) * m * (m - 1) / 2,
+            "{banks} banks, busy {busy}"
+        );
+    }
+}
+
+const READ_LATENCY: &str = r#"
+#include "trax.h"
+void trax_main(void) {
+    trax_strwstart(1);
+    trax_strw(5);
+    trax_strwend();
+    trax_strsched();
+    unsigned t0 = trax_clock();
+    unsigned got = trax_strrstart();
+    __asm__ volatile("addu %0, %0, $0" : "+r"(got));
+    unsigned t1 = trax_clock();
+    trax_printu(t1 - t0);
+    trax_printc(' ');
+    trax_printu(got);
+}
+"#;
+
+#[test]
+fn a_read_is_ready_after_the_configured_latency() {
+    let elf = common::build_c("s_latency", READ_LATENCY, "-O1");
+    let mut dts = Vec::new();
+    for lat in [40u32, 70] {
+        let mut chip = stream_chip(1, 4, 8, 4);
+        chip.stream_memory.latency = lat;
+        let (_, out) = finished(&elf, &chip, Mode::Timing);
+        let v = numbers(&out);
+        assert_eq!(v[1], 1);
+        // The read, then its consumer `latency` cycles later, then the clock (at most two
+        // compiler-scheduled instructions between the clock reads).
+        let base = u64::from(lat) + 1;
+        assert!((base..=base + 2).contains(&v[0]), "latency {lat}: {out}");
+        dts.push(v[0]);
+    }
+    assert_eq!(dts[1] - dts[0], 30);
+}
+
+const STARVED: &str = r#"
+#include "trax.h"
+void trax_main(void) {
+    unsigned t0 = trax_clock();
+    unsigned s = trax_strsched();
+    float a = 1.0f, b = 0.5f;
+    __asm__ volatile(".rept 50\n add.s %0, %0, %1\n .endr\n mov.s %0, %0" : "+f"(a) : "f"(b));
+    trax_strwstart(3);
+    trax_strw(1);
+    trax_strwend();
+    unsigned t1 = trax_clock();
+    unsigned s2 = trax_strsched();
+    trax_printu(t1 - t0);
+    trax_printc(' ');
+    trax_printu(s);
+    trax_printc(' ');
+    trax_printu(s2);
+}
+"#;
+
+#[test]
+fn starved_tm_cycles_run_from_an_empty_schedule_to_a_full_one() {
+    let elf = common::build_c("s_starved", STARVED, "-O1");
+    let chip = stream_chip(1, 4, 8, 4);
+    let (t, out) = finished(&elf, &chip, Mode::Timing);
+    let v = numbers(&out);
+    assert_eq!((v[1], v[2]), (u64::from(u32::MAX), 3), "{out}");
+    // Each strsched issues in the cycle the clock before it reads.
+    assert_eq!(t.unwrap().stream.starved_tm_cycles, v[0], "{out}");
+}
+
+/// `report(v)`: thread 0 prints every thread's `v` in thread order, after all arrive
+/// (prints of different threads would interleave).
+const REPORT: &str = r#"
+static unsigned values[64];
+static void report(unsigned v) {
+    values[trax_tid()] = v;
+    trax_barrier(1);
+    if (trax_tid() == 0)
+        for (unsigned i = 0; i < trax_nthreads(); i++) {
+            trax_printu(values[i]);
+            trax_printc(' ');
+        }
+}
+"#;
+
+/// A `trax.boxtest`/`trax.tritest` word writing `$f<fd>`.
+fn pipe_word(op: TraxOp, fd: u32) -> String {
+    format!(".word {:#x}\\n", instr(op).encode(&[fd]))
+}
+
+/// One thread: `k` independent pipeline tests back to back, then a consumer of the last;
+/// prints the cycles from the first test's issue to the cycle after the consumer's.
+fn pipe_kernel(op: TraxOp, mode: u32, k: u32) -> String {
+    let clock = |rd: u32| format!(".word {:#x}\\n", instr(TraxOp::Clock).encode(&[rd]));
+    let tests: String = (1..=k).map(|f| pipe_word(op, f)).collect();
+    format!(
+        r#"
+#include "trax.h"
+{REPORT}
+void trax_main(void) {{
+    trax_setpipe({mode});
+    unsigned t0, t1;
+    __asm__ volatile(".rept 4\n nop\n .endr\n" "{c0}" "{tests}" "mov.s $f20, $f{k}\n" "{c1}"
+        "move %0, $8\n move %1, $9\n"
+        : "=r"(t0), "=r"(t1) : : "$8", "$9", "$f1", "$f2", "$f3", "$f4", "$f5", "$f6", "$f7",
+          "$f8", "$f9", "$f10", "$f11", "$f12", "$f13", "$f14", "$f15", "$f16", "$f20");
+    report(t1 - t0);
+}}
+"#,
+        c0 = clock(8),
+        c1 = clock(9),
+    )
+    .replace("{REPORT}", REPORT)
+}
+
+fn pipe_chip(threads: u32) -> ChipConfig {
+    // A baseline TM (8 FP multipliers, 8 adders) with `threads` threads in lockstep.
+    let mut c = common::chip(1, threads);
+    c.units.get_mut("fp_mul").unwrap().count = 8;
+    c.units.get_mut("fp_add").unwrap().count = 8;
+    c.icache.fetches_per_bank = threads.max(2);
+    c
+}
+
+#[test]
+fn box_tests_pipeline_with_ii_1_and_latency_8() {
+    let chip = pipe_chip(1);
+    for k in [1u32, 8, 16] {
+        let elf = common::build_c(
+            &format!("p_box{k}"),
+            &pipe_kernel(TraxOp::BoxTest, 1, k),
+            "-O1",
+        );
+        let (t, out) = finished(&elf, &chip, Mode::Timing);
+        // K tests take K + 7 cycles from the first issue to the last result; the consumer
+        // issues then, the clock reads the cycle after.
+        assert_eq!(numbers(&out), [u64::from(k) + 7 + 1], "{k} box tests");
+        let t = t.unwrap();
+        assert_eq!(t.pipelines.box_ops, u64::from(k));
+        let e = pipe_op_energy_nj(&chip, &chip.pipelines.box_pipe);
+        let (em, ea) = (
+            chip.units["fp_mul"].energy_nj,
+            chip.units["fp_add"].energy_nj,
+        );
+        assert!(
+            (e - 6.0 * (em + ea)).abs() < 1e-15,
+            "6 mul + 6 add per box test"
+        );
+        assert!((t.energy.pipelines - f64::from(k) * e * 1e-9).abs() < 1e-18);
+        // 6 + 6 units reserved from the mode change to the end of the run.
+        let r = t.pipelines.reserved_unit_cycles;
+        assert!(
+            r % 12 == 0 && r > 12 * u64::from(k + 7) && r <= 12 * t.cycles,
+            "{r}"
+        );
+    }
+}
+
+#[test]
+fn triangle_tests_issue_18_apart_two_per_initiation() {
+    for (threads, k) in [(1u32, 1u32), (1, 4), (2, 4), (3, 2)] {
+        let chip = pipe_chip(threads);
+        let elf = common::build_c(
+            &format!("p_tri{threads}_{k}"),
+            &pipe_kernel(TraxOp::TriTest, 2, k),
+            "-O1",
+        );
+        let (t, out) = finished(&elf, &chip, Mode::Timing);
+        let dts = numbers(&out);
+        // A thread issues every 18 cycles (II 18), the last result 31 cycles after its
+        // issue. Two threads share each initiation (width 2); a third waits for the next.
+        let expect = 18 * u64::from(k - 1) + 31 + 1;
+        if threads <= 2 {
+            assert_eq!(
+                dts,
+                vec![expect; threads as usize],
+                "{threads} threads, {k} tests"
+            );
+        } else {
+            let slowest = *dts.iter().max().unwrap();
+            assert!(
+                slowest >= expect + 18,
+                "{threads} threads, {k} tests: {dts:?}"
+            );
+        }
+        let t = t.unwrap();
+        assert_eq!(t.pipelines.tri_ops, u64::from(threads * k));
+        let e = pipe_op_energy_nj(&chip, &chip.pipelines.tri);
+        let (em, ea) = (
+            chip.units["fp_mul"].energy_nj,
+            chip.units["fp_add"].energy_nj,
+        );
+        assert!((e - (4.0 * em + 2.0 * ea) * 9.0).abs() < 1e-15);
+        assert!((t.energy.pipelines - f64::from(threads * k) * e * 1e-9).abs() < 1e-18);
+    }
+}
+
+const FP_WORK: &str = r#"
+#include "trax.h"
+REPORT
+void trax_main(void) {
+    trax_setpipe(MODE);
+    float a, b, c, d, x = 1.0f;
+    // Wait for x (loaded from memory) before starting the clock.
+    __asm__ volatile("mov.s %0, %0\n .rept 4\n nop\n .endr" : "+f"(x));
+    unsigned t0 = trax_clock();
+    __asm__ volatile(".rept 50\n mul.s %0, %4, %4\n mul.s %1, %4, %4\n mul.s %2, %4, %4\n mul.s %3, %4, %4\n .endr"
+        : "=&f"(a), "=&f"(b), "=&f"(c), "=&f"(d) : "f"(x));
+    unsigned t1 = trax_clock();
+    if (a + b + c + d != 4.0f) trax_printc('X');
+    report(t1 - t0);
+}
+"#;
+
+#[test]
+fn reserved_units_slow_ordinary_fp_work() {
+    // 8 threads, 8 FP multipliers: 200 independent multiplies each. General mode: a
+    // multiplier per thread; box mode leaves 2 (4 threads each), triangle mode 4 (2 each).
+    let chip = pipe_chip(8);
+    let mut dt = Vec::new();
+    for mode in 0..3 {
+        let elf = common::build_c(
+            &format!("p_fp{mode}"),
+            &FP_WORK
+                .replace("MODE", &mode.to_string())
+                .replace("REPORT", REPORT),
+            "-O1",
+        );
+        let (t, out) = finished(&elf, &chip, Mode::Timing);
+        assert!(!out.contains('X'));
+        // The slowest thread: round-robin arbitration is not fair among the threads
+        // sharing a unit, but the group's multiplies take (threads per unit) x 200 cycles.
+        dt.push(*numbers(&out).iter().max().unwrap() as f64);
+        let t = t.unwrap();
+        if mode == 0 {
+            assert_eq!(t.pipelines.reserved_unit_cycles, 0);
+        }
+    }
+    let (g, b, tr) = (dt[0], dt[1], dt[2]);
+    // The slowest thread also waits up to a few dozen cycles for its start (threads
+    // reach the clock at slightly different cycles).
+    assert!((200.0..=225.0).contains(&g), "{dt:?}");
+    assert!((800.0..=825.0).contains(&b), "box mode: {dt:?}");
+    assert!((400.0..=425.0).contains(&tr), "triangle mode: {dt:?}");
+}
+
+const WRONG_MODE: &str = r#"
+#include "trax.h"
+void trax_main(void) {
+    trax_setpipe(2);
+    float r = trax_boxtest();
+    trax_printf(r);
+}
+"#;
+
+#[test]
+fn a_pipeline_test_in_the_wrong_mode_is_a_fault_naming_the_line() {
+    let elf = common::build_c("p_wrong", WRONG_MODE, "-O1");
+    let chip = pipe_chip(1);
+    for mode in [Mode::Functional, Mode::Timing] {
+        let (r, _, _) = go(&elf, &chip, mode);
+        let report = r.failure.unwrap_or_default();
+        assert!(
+            report.contains("trax.boxtest while this TM's units are in triangle-pipeline mode (needs trax.setpipe 1, box-pipeline mode)"),
+            "{mode:?}: {report}"
+        );
+        assert!(report.contains("p_wrong.c:5"), "{report}");
+    }
+    // The tiny chip's single FP multiplier cannot host a pipeline.
+    let (r, _, _) = go(&elf, &common::chip(1, 1), Mode::Functional);
+    let report = r.failure.unwrap_or_default();
+    assert!(
+        report.contains("pipeline mode (the TM lacks the FP units it reserves) index 2"),
+        "{report}"
+    );
+}
+
+const MANY: &str = r#"
+#include "trax.h"
+void trax_main(void) {
+    unsigned g = trax_gid();
+    for (unsigned i = 0; i < 3; i++) {
+        trax_strwstart((g + i) % 5);
+        trax_strw(g * 10 + i);
+        trax_strwend();
+    }
+    unsigned sum = 0, n = 0;
+    for (unsigned k = 0; k < 4; k++) {
+        if (trax_strsched() == 0xFFFFFFFFu) break;
+        while (n < 3 && trax_strrstart()) {
+            sum += trax_strr();
+            trax_strrend();
+            n++;
+        }
+    }
+    trax_atomadd(2, sum);
+}
+"#;
+
+#[test]
+fn streams_are_deterministic_over_host_threads() {
+    let elf = common::build_c("s_many", MANY, "-O1");
+    let mut chip = stream_chip(4, 8, 200, 2);
+    chip.tms = 3;
+    chip.tms_per_l2 = 3;
+    let (r1, t1, o1) = go_on(&elf, &chip, Mode::Timing, 1);
+    let (r2, t2, o2) = go_on(&elf, &chip, Mode::Timing, 2);
+    assert!(matches!(r1.outcome, Outcome::Finished), "{:?}", r1.failure);
+    assert!(matches!(r2.outcome, Outcome::Finished), "{:?}", r2.failure);
+    let (t1, t2) = (t1.unwrap(), t2.unwrap());
+    assert_eq!(o1, o2);
+    assert_eq!(t1.cycles, t2.cycles);
+    assert_eq!(t1.stream, t2.stream);
+    assert_eq!(t1.stream.writes, 36);
+    assert!(t1.stream.bank_conflicts > 0, "{:?}", t1.stream);
+}

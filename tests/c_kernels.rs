@@ -553,3 +553,113 @@ fn native_c_syntax_error_shows_clangs_diagnostic() {
     assert!(err.contains("bad.c:2:"), "{err}");
     assert!(err.contains("error: expected expression"), "{err}");
 }
+
+/// gdb-multiarch on a C++ kernel built by `trax build`: a breakpoint at file:line inside
+/// a class template's method, a backtrace with demangled C++ names, locals and members,
+/// then the run to its end (clang's DWARF 5 through the trax linker and GDB server).
+#[test]
+fn gdb_breaks_and_prints_locals_in_a_cpp_kernel() {
+    use std::io::{BufRead, BufReader, Read};
+    use std::process::Stdio;
+    let src = r#"#include "trax.h"
+template <typename T> struct Accum {
+  T total;
+  T scale;
+  __attribute__((noinline)) void add(T x) {
+    T scaled = x * scale;
+    total += scaled; // BREAK
+  }
+};
+namespace k {
+__attribute__((noinline)) int run(int n) {
+  Accum<int> acc{0, 3};
+  for (int i = 1; i <= n; i++) acc.add(i);
+  return acc.total;
+}
+}
+extern "C" void trax_main(void) { trax_printi(k::run(4)); }
+"#;
+    let brk = src.lines().position(|l| l.contains("// BREAK")).unwrap() + 1;
+    let dir = scratch("gdb-cpp");
+    let k = dir.join("accum.cpp");
+    std::fs::write(&k, src).unwrap();
+    let elf = dir.join("accum.elf");
+    let out = trax(&[
+        "build",
+        k.to_str().unwrap(),
+        "-O0",
+        "-o",
+        elf.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let mut child = Command::new(env!("CARGO_BIN_EXE_trax"))
+        .args(["run", elf.to_str().unwrap(), "--functional", "--tms", "1"])
+        .args(["--threads", "1", "--gdb", "127.0.0.1:0"])
+        .current_dir(root())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("spawn trax");
+    let mut err = BufReader::new(child.stderr.take().unwrap());
+    let mut line = String::new();
+    err.read_line(&mut line).unwrap();
+    let addr = line
+        .trim()
+        .strip_prefix("waiting for gdb on ")
+        .unwrap_or_else(|| panic!("unexpected first line {line:?}"))
+        .to_string();
+    let mut args: Vec<String> = vec!["-batch".into(), "-nx".into()];
+    for c in [
+        "set pagination off".to_string(),
+        "set architecture mips:isa32r6".into(),
+        format!("file {}", elf.display()),
+        format!("target remote {addr}"),
+        format!("break accum.cpp:{brk}"),
+        "continue".into(),
+        "bt".into(),
+        "info locals".into(),
+        "print x".into(),
+        "print this->scale".into(),
+        "continue".into(),
+        "print scaled".into(),
+        "delete".into(),
+        "continue".into(),
+    ] {
+        args.push("-ex".into());
+        args.push(c);
+    }
+    let g = Command::new("timeout")
+        .arg("60")
+        .arg("gdb-multiarch")
+        .args(&args)
+        .output()
+        .expect("run gdb-multiarch");
+    let gdb_out = text(&g.stdout) + &text(&g.stderr);
+    let status = child.wait().unwrap();
+    let mut rest = String::new();
+    err.read_to_string(&mut rest).unwrap();
+    let mut stdout = String::new();
+    child
+        .stdout
+        .take()
+        .unwrap()
+        .read_to_string(&mut stdout)
+        .unwrap();
+    assert!(status.success(), "trax: {rest}\ngdb: {gdb_out}");
+    assert!(gdb_out.contains(&format!("accum.cpp:{brk}")), "{gdb_out}");
+    let bt: Vec<&str> = gdb_out.lines().filter(|l| l.starts_with('#')).collect();
+    assert!(
+        bt.iter().any(|l| l.contains("Accum<int>::add")),
+        "demangled method in the backtrace:\n{gdb_out}"
+    );
+    assert!(bt.iter().any(|l| l.contains("k::run")), "{gdb_out}");
+    assert!(bt.iter().any(|l| l.contains("trax_main")), "{gdb_out}");
+    // First stop: x = 1, scaled = 3; second stop: x = 2, scaled = 6.
+    assert!(gdb_out.contains("scaled = 3"), "info locals:\n{gdb_out}");
+    assert!(gdb_out.contains("$1 = 1"), "{gdb_out}");
+    assert!(gdb_out.contains("$2 = 3"), "{gdb_out}");
+    assert!(gdb_out.contains("$3 = 6"), "{gdb_out}");
+    assert!(gdb_out.contains("exited normally"), "{gdb_out}");
+    // 3 * (1 + 2 + 3 + 4)
+    assert_eq!(stdout.trim(), "30", "{stdout}");
+}

@@ -161,10 +161,14 @@ pub struct TimingStats {
     pub instruction_mix: BTreeMap<String, u64>,
     /// Issued operations by unit class.
     pub class_mix: BTreeMap<String, u64>,
-    /// L1 load hit rate (all TMs).
+    /// L1 load hit rate (all TMs), strict: loads merged into an outstanding fill are misses.
     pub l1_hit_rate: f64,
-    /// L2 load hit rate (all L2s).
+    /// L1 load hit rate counting merged loads as hits (loads that sent no request to the L2).
+    pub l1_hit_rate_merged_as_hits: f64,
+    /// L2 load hit rate (all L2s), strict as for the L1.
     pub l2_hit_rate: f64,
+    /// L2 load hit rate counting merged requests as hits.
+    pub l2_hit_rate_merged_as_hits: f64,
     /// L1 -> register bandwidth, GB/s.
     pub l1_to_register_gbps: f64,
     /// L2 -> L1 bandwidth, GB/s.
@@ -349,7 +353,9 @@ pub fn build(
         instruction_mix: by_mnemonic(program, &c.issued_at),
         class_mix,
         l1_hit_rate: mem.l1.hit_rate(),
+        l1_hit_rate_merged_as_hits: mem.l1.hit_rate_merged_as_hits(),
         l2_hit_rate: l2.hit_rate(),
+        l2_hit_rate_merged_as_hits: l2.hit_rate_merged_as_hits(),
         l1_to_register_gbps: bw(mem.l1.load_bytes),
         l2_to_l1_gbps: bw(l2.load_bytes),
         dram_gbps: bw(mem.dram.bytes),
@@ -457,15 +463,18 @@ impl TimingStats {
         let m = &self.memory;
         let _ = writeln!(
             s,
-            "L1: {} accesses, {:.2}% hit, {} bank conflicts, {} stores; L2: {:.2}% hit ({} L2s)",
+            "L1: {} accesses, {:.2}% hit ({:.2}% counting merged loads as hits), {} bank-busy retry thread-cycles ({} bank conflicts), {} stores; L2: {:.2}% hit ({:.2}% counting merged) ({} L2s)",
             m.l1.accesses,
             self.l1_hit_rate * 100.0,
-            m.l1.bank_conflicts,
+            self.l1_hit_rate_merged_as_hits * 100.0,
+            m.l1.bank_retries,
+            m.l1.bank_conflict_events,
             m.l1.stores,
             self.l2_hit_rate * 100.0,
+            self.l2_hit_rate_merged_as_hits * 100.0,
             m.l2.len()
         );
-        let l2_bank: u64 = m.l2.iter().map(|c| c.bank_conflicts).sum();
+        let l2_bank: u64 = m.l2.iter().map(|c| c.bank_retries).sum();
         let l2_mshr: u64 = m.l2.iter().map(|c| c.mshr_full).sum();
         let _ = writeln!(
             s,

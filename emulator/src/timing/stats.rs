@@ -223,6 +223,44 @@ fn ratio(a: f64, b: f64) -> f64 {
     }
 }
 
+/// Chip area by component: units, register files, I-caches and local stores from the chip
+/// config, the L1s' and L2s' total areas (`MemStats::l1_area_mm2`, `l2_area_mm2`) as given,
+/// the stream memory when it has a capacity. The sources of the `baseline` preset's figures
+/// (thesis Tables 2.2, 2.4, 2.5) are at `ChipConfig::preset`.
+pub fn area_breakdown(cfg: &ChipConfig, l1_area_mm2: f64, l2_area_mm2: f64) -> AreaBreakdown {
+    let threads = cfg.tms as u64 * cfg.threads_per_tm as u64;
+    let sm = &cfg.stream_memory;
+    let has_stream = sm.capacity_bytes > 0;
+    let tms = cfg.tms as f64;
+    let per_tm_units: f64 = UNIT_NAMES
+        .iter()
+        .map(|(cl, _)| {
+            let u = cfg.unit(*cl);
+            u.area_mm2 * u.count as f64
+        })
+        .sum();
+    let mut area = AreaBreakdown {
+        execution_units: per_tm_units * tms,
+        register_files: cfg.register_file.area_mm2 * threads as f64,
+        instruction_caches: cfg.icache.area_mm2 * cfg.icache.per_tm as f64 * tms,
+        local_stores: cfg.local_store.area_mm2 * threads as f64,
+        l1: l1_area_mm2,
+        l2: l2_area_mm2,
+        stream_memory: if has_stream { sm.area() } else { 0.0 },
+        pipelines: 0.0,
+        total: 0.0,
+    };
+    area.total = area.execution_units
+        + area.register_files
+        + area.instruction_caches
+        + area.local_stores
+        + area.l1
+        + area.l2
+        + area.stream_memory
+        + area.pipelines;
+    area
+}
+
 /// Builds the statistics from the raw counters.
 pub fn build(
     cfg: &ChipConfig,
@@ -306,33 +344,7 @@ pub fn build(
         + energy.stream_memory
         + energy.pipelines
         + energy.dram;
-    let tms = cfg.tms as f64;
-    let per_tm_units: f64 = UNIT_NAMES
-        .iter()
-        .map(|(cl, _)| {
-            let u = cfg.unit(*cl);
-            u.area_mm2 * u.count as f64
-        })
-        .sum();
-    let mut area = AreaBreakdown {
-        execution_units: per_tm_units * tms,
-        register_files: cfg.register_file.area_mm2 * threads as f64,
-        instruction_caches: cfg.icache.area_mm2 * cfg.icache.per_tm as f64 * tms,
-        local_stores: cfg.local_store.area_mm2 * threads as f64,
-        l1: mem.l1_area_mm2,
-        l2: mem.l2_area_mm2,
-        stream_memory: if has_stream { sm.area() } else { 0.0 },
-        pipelines: 0.0,
-        total: 0.0,
-    };
-    area.total = area.execution_units
-        + area.register_files
-        + area.instruction_caches
-        + area.local_stores
-        + area.l1
-        + area.l2
-        + area.stream_memory
-        + area.pipelines;
+    let area = area_breakdown(cfg, mem.l1_area_mm2, mem.l2_area_mm2);
     TimingStats {
         chip: cfg.name.clone(),
         tms: cfg.tms,

@@ -94,7 +94,7 @@ fn bank_conflicts_for_known_pattern() {
         m.access(0, &load(i * 64, 100 + u64::from(i)), u64::from(i));
     }
     drain(&mut m, 10);
-    let base = m.stats().l1.bank_conflicts;
+    let base = m.stats().l1.bank_retries;
     assert_eq!(base, 0);
     // Cycle 1000: 4 banks, word interleaved. Words 0..3 hit banks 0..3: no conflict.
     for w in 0..4u32 {
@@ -113,12 +113,25 @@ fn bank_conflicts_for_known_pattern() {
         }
     }
     assert_eq!(stalls, 7);
-    assert_eq!(m.stats().l1.bank_conflicts, 7);
+    assert_eq!(m.stats().l1.bank_retries, 7);
+    // 7 refused attempts, but one conflict: bank 0 at cycle 1001.
+    assert_eq!(m.stats().l1.bank_conflict_events, 1);
     // Cycle 1002: the same word 8 times: 7 conflicts without read_copy.
     for _ in 0..8 {
         m.access(0, &load(8, 0), 1002);
     }
-    assert_eq!(m.stats().l1.bank_conflicts, 14);
+    assert_eq!(m.stats().l1.bank_retries, 14);
+    assert_eq!(m.stats().l1.bank_conflict_events, 2);
+    // Cycle 1003: the 7 losers retry (bank 0 again: 6 refused, one event), and two
+    // accesses each to banks 1 and 2 (one refused in each: two events).
+    for k in 1..8u32 {
+        m.access(0, &load(k * 16, 0), 1003);
+    }
+    for addr in [4, 20, 8, 24] {
+        m.access(0, &load(addr, 0), 1003);
+    }
+    assert_eq!(m.stats().l1.bank_retries, 14 + 6 + 2);
+    assert_eq!(m.stats().l1.bank_conflict_events, 2 + 3);
 
     // With read_copy, same-word accesses share the bank.
     let mut cfg = simple_cfg();
@@ -127,7 +140,7 @@ fn bank_conflicts_for_known_pattern() {
     for _ in 0..8 {
         m.access(0, &load(8, 0), 5);
     }
-    assert_eq!(m.stats().l1.bank_conflicts, 0);
+    assert_eq!(m.stats().l1.bank_retries, 0);
 }
 
 #[test]
@@ -140,7 +153,7 @@ fn l2_bank_conflicts_between_tms() {
     // Cycle 0 serves TM 0 first (the order rotates with the cycle); TM 1's request waits
     // for the bank and is served at cycle 1, one cycle later.
     let done = drain(&mut m, 2);
-    assert_eq!(m.stats().l2[0].bank_conflicts, 1);
+    assert_eq!(m.stats().l2[0].bank_retries, 1);
     assert_eq!(
         done,
         vec![
@@ -153,7 +166,7 @@ fn l2_bank_conflicts_between_tms() {
     assert_eq!(m.access(1, &load(0xC0, 4), 3), Access::Pending);
     let mut done = drain(&mut m, 5);
     done.sort_by_key(|c| c.id);
-    assert_eq!(m.stats().l2[0].bank_conflicts, 2);
+    assert_eq!(m.stats().l2[0].bank_retries, 2);
     assert!(done[1].cycle < done[0].cycle, "{done:?}");
 }
 
@@ -354,4 +367,39 @@ fn toml_presets_overrides_and_errors() {
     assert!(e.contains("cache"), "{e}");
     let e = err("[l1]\nline_bytes = 32\n");
     assert!(e.contains("line_bytes"), "{e}");
+}
+
+/// The two L1 hit rates on a stream whose counts are worked out by hand (one TM, simple
+/// DRAM: a miss's line is valid at cycle 104 after the L2 fill is routed back).
+#[test]
+fn l1_hit_rate_strict_and_merged_as_hits() {
+    let mut m = simple_system(1, 1);
+    // Cycle 0: line 0x1000 misses (1 miss), a second word of it joins the MSHR (merged).
+    assert_eq!(m.access(0, &load(0x1000, 1), 0), Access::Pending);
+    assert_eq!(m.access(0, &load(0x1004, 2), 0), Access::Pending);
+    // Cycle 1: a third line misses (1 miss).
+    assert_eq!(m.access(0, &load(0x2000, 3), 1), Access::Pending);
+    drain(&mut m, 2);
+    // Cycle 50: both fills are known but not yet valid: two merged loads.
+    assert!(matches!(
+        m.access(0, &load(0x1008, 4), 50),
+        Access::Ready(_)
+    ));
+    assert!(matches!(
+        m.access(0, &load(0x2004, 5), 50),
+        Access::Ready(_)
+    ));
+    // Cycle 300: three hits; a store (not a load: in neither rate).
+    for (i, a) in [0x1000u32, 0x100c, 0x2008].into_iter().enumerate() {
+        assert_eq!(
+            m.access(0, &load(a, 10 + i as u64), 300),
+            Access::Ready(301)
+        );
+    }
+    assert_eq!(m.access(0, &store(0x3000), 301), Access::Ready(302));
+    let s = m.stats().l1;
+    // Loads: 8 = 3 hits + 5 misses, of which 3 merged (1 MSHR join + 2 known-fill).
+    assert_eq!((s.hits, s.misses, s.merged, s.stores), (3, 5, 3, 1));
+    assert!((s.hit_rate() - 3.0 / 8.0).abs() < 1e-12);
+    assert!((s.hit_rate_merged_as_hits() - 6.0 / 8.0).abs() < 1e-12);
 }

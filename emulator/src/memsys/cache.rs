@@ -18,8 +18,13 @@ pub struct CacheStats {
     pub misses: u64,
     /// Misses merged into an outstanding fill of the same line (hit under miss).
     pub merged: u64,
-    /// Attempts refused because their bank was already used this cycle.
-    pub bank_conflicts: u64,
+    /// Attempts refused because their bank was already used this cycle. A refused requester
+    /// retries, so each is one requester-cycle lost to a busy bank (a thread-cycle for the
+    /// L1, a request-cycle for the L2), not one conflict. Formerly `bank_conflicts`.
+    pub bank_retries: u64,
+    /// Bank conflicts: (bank, cycle) pairs in which at least one attempt was refused because
+    /// another access had the bank, however many attempts lost.
+    pub bank_conflict_events: u64,
     /// Attempts refused because every MSHR was busy.
     pub mshr_full: u64,
     /// Stores (write-around: forwarded to the next level, no allocation).
@@ -33,7 +38,8 @@ pub struct CacheStats {
 }
 
 impl CacheStats {
-    /// Load hit rate, hits / (hits + misses), 0..1.
+    /// Strict load hit rate, hits / (hits + misses), 0..1: a load merged into an outstanding
+    /// fill of its line (MSHR or known fill time) counts as a miss.
     pub fn hit_rate(&self) -> f64 {
         let loads = self.hits + self.misses;
         if loads == 0 {
@@ -43,13 +49,25 @@ impl CacheStats {
         }
     }
 
+    /// Load hit rate counting merged loads as hits, (hits + merged) / (hits + misses), 0..1:
+    /// the fraction of loads that sent no request to the next level.
+    pub fn hit_rate_merged_as_hits(&self) -> f64 {
+        let loads = self.hits + self.misses;
+        if loads == 0 {
+            0.0
+        } else {
+            (self.hits + self.merged) as f64 / loads as f64
+        }
+    }
+
     /// Adds `o` into `self`.
     pub fn add(&mut self, o: &CacheStats) {
         self.accesses += o.accesses;
         self.hits += o.hits;
         self.misses += o.misses;
         self.merged += o.merged;
-        self.bank_conflicts += o.bank_conflicts;
+        self.bank_retries += o.bank_retries;
+        self.bank_conflict_events += o.bank_conflict_events;
         self.mshr_full += o.mshr_full;
         self.stores += o.stores;
         self.load_bytes += o.load_bytes;
@@ -113,6 +131,8 @@ pub struct Cache {
     bank_mask: u32,
     /// Per bank: cycle + 1 of its last use (0 = never).
     bank_used: Vec<Cycle>,
+    /// Per bank: cycle + 1 of its last counted conflict event (0 = never).
+    bank_conflicted: Vec<Cycle>,
     bank_word: Vec<u32>,
     read_copy: bool,
     hit_latency: Cycle,
@@ -150,6 +170,7 @@ impl Cache {
             bank_mask: g.banks - 1,
             bank_used: vec![0; g.banks as usize],
             bank_word: vec![0; g.banks as usize],
+            bank_conflicted: vec![0; g.banks as usize],
             read_copy: g.read_copy,
             hit_latency: Cycle::from(g.hit_latency),
             line_bytes: g.line_bytes,
@@ -176,7 +197,8 @@ impl Cache {
         self.hit_latency
     }
 
-    /// Claims the bank of `addr` for cycle `now`; false (and a counted conflict) if it is taken.
+    /// Claims the bank of `addr` for cycle `now`; false (a counted retry, and a conflict event
+    /// if it is the bank's first refusal this cycle) if it is taken.
     #[inline]
     pub fn claim_bank(&mut self, addr: u32, now: Cycle) -> bool {
         let b = ((addr >> self.bank_shift) & self.bank_mask) as usize;
@@ -185,7 +207,11 @@ impl Cache {
             if self.read_copy && self.bank_word[b] == word {
                 return true;
             }
-            self.stats.bank_conflicts += 1;
+            self.stats.bank_retries += 1;
+            if self.bank_conflicted[b] != now + 1 {
+                self.bank_conflicted[b] = now + 1;
+                self.stats.bank_conflict_events += 1;
+            }
             return false;
         }
         self.bank_used[b] = now + 1;

@@ -161,18 +161,25 @@ pub struct DramOpEnergy {
 }
 
 impl DramOpEnergy {
-    /// Micron-style derivation: mA x V x ns = pJ; divided by 1000 for nJ.
+    /// Micron TN-41-01 / USIMM 1.3 derivation, per device then x `devices_per_rank`:
+    /// mA x V x ns = pJ, divided by 1000 for nJ. ACT = (IDD0 tRC - IDD3N tRAS - IDD2N (tRC -
+    /// tRAS)) V tCK; read = ((IDD4R - IDD3N) V + read termination) tBURST tCK; write =
+    /// (IDD4W - IDD3N) V tBURST tCK; refresh = (IDD5 - IDD3N) V tRFC tCK; standby = IDD3N
+    /// (a row open) or IDD2N (all banks precharged) x V per cycle.
     pub fn from_config(e: &DramEnergyConfig, t: &DramTiming, clock_mhz: u32) -> Self {
         let tck_ns = 1000.0 / f64::from(clock_mhz);
         let k = e.vdd * f64::from(e.devices_per_rank) * tck_ns / 1000.0;
         let (trc, tras) = (t.t_rc as f64, t.t_ras as f64);
         let act = k * (e.idd0 * trc - (e.idd3n * tras + e.idd2n * (trc - tras))).max(0.0);
         let burst = t.t_burst as f64;
+        // mW x ns = pJ, per device, over the burst (USIMM `psch_dq`).
+        let read_term =
+            e.read_termination_mw * f64::from(e.devices_per_rank) * tck_ns * burst / 1000.0;
         DramOpEnergy {
             act_nj: e.act_nj.unwrap_or(act),
             read_nj: e
                 .read_nj
-                .unwrap_or(k * (e.idd4r - e.idd3n).max(0.0) * burst),
+                .unwrap_or(k * (e.idd4r - e.idd3n).max(0.0) * burst + read_term),
             write_nj: e
                 .write_nj
                 .unwrap_or(k * (e.idd4w - e.idd3n).max(0.0) * burst),

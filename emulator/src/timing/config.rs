@@ -525,6 +525,31 @@ impl ChipConfig {
                 c.memory.l2.capacity_bytes = 256 * 1024;
                 c.memory.l2.banks = 16;
                 c.memory.dram = DramConfig::gddr5_thesis();
+                // Area, line by line as the thesis counts Table 2.5's 147 mm² (test
+                // `baseline_area_matches_thesis_tables`):
+                // - units: Table 2.4's compute area (0.26 mm² per TM: 8 FP add x 0.003,
+                //   8 FP mul x 0.01, 32 int add x 0.00066, 2 int mul x 0.012, one special
+                //   unit 0.11) + Table 2.2's FP min/max (32 x 0.00072). The thesis has one
+                //   special-function unit (Table 2.4 "Spec op 1", Table 2.5 "1 FP
+                //   invsqrt"); simtrax's FPINV line makes separate divide units, timed
+                //   separately here but charged no area. Bitwise, branch, compare and
+                //   conversion ops have no line in Tables 2.2/2.4 (part of the integer ALU
+                //   and FP min/max), so no area.
+                for k in ["fp_div", "int_div", "bitwise", "branch", "fp_cmp", "conv"] {
+                    if let Some(u) = c.units.get_mut(k) {
+                        u.area_mm2 = 0.0;
+                    }
+                }
+                // - register files: Table 2.2/2.4, 0.019 mm² per thread (default).
+                // - I-caches: Table 2.5's two 16-banked 4 KB I-caches per TM; Table 2.2's
+                //   0.07 mm² is a single-banked one, so Cacti's 16-bank figure (interpolated
+                //   between the icacheparams 1- and 64-bank rows).
+                c.icache.area_mm2 = crate::memsys::cacti::icache_4k(c.icache.banks).area_mm2;
+                // - local stores: the thesis's TM has no stack memory (all functions
+                //   inlined, no call stack, §2.2.2.1): no area. simtrax charged
+                //   0.01396329 mm² per thread (35.7 mm² on this chip).
+                c.local_store.area_mm2 = 0.0;
+                // - L1s, L2s: Cacti rows for their geometry (`memsys::cacti`).
             }
             "strata" => {
                 // Thesis §3.2.4: 128 TMs of 32 threads (the TM of Table 2.5: 8 FP

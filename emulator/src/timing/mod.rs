@@ -28,5 +28,6 @@ pub use config::{
 };
 pub use engine::ThreadCycles;
 pub use stats::{
-    pipe_op_energy_nj, AreaBreakdown, EnergyBreakdown, PipelineStats, StreamStats, TimingStats,
+    area_breakdown, pipe_op_energy_nj, AreaBreakdown, EnergyBreakdown, PipelineStats, StreamStats,
+    TimingStats,
 };

@@ -161,10 +161,14 @@ pub struct TimingStats {
     pub instruction_mix: BTreeMap<String, u64>,
     /// Issued operations by unit class.
     pub class_mix: BTreeMap<String, u64>,
-    /// L1 load hit rate (all TMs).
+    /// L1 load hit rate (all TMs), strict: loads merged into an outstanding fill are misses.
     pub l1_hit_rate: f64,
-    /// L2 load hit rate (all L2s).
+    /// L1 load hit rate counting merged loads as hits (loads that sent no request to the L2).
+    pub l1_hit_rate_merged_as_hits: f64,
+    /// L2 load hit rate (all L2s), strict as for the L1.
     pub l2_hit_rate: f64,
+    /// L2 load hit rate counting merged requests as hits.
+    pub l2_hit_rate_merged_as_hits: f64,
     /// L1 -> register bandwidth, GB/s.
     pub l1_to_register_gbps: f64,
     /// L2 -> L1 bandwidth, GB/s.
@@ -217,6 +221,44 @@ fn ratio(a: f64, b: f64) -> f64 {
     } else {
         0.0
     }
+}
+
+/// Chip area by component: units, register files, I-caches and local stores from the chip
+/// config, the L1s' and L2s' total areas (`MemStats::l1_area_mm2`, `l2_area_mm2`) as given,
+/// the stream memory when it has a capacity. The sources of the `baseline` preset's figures
+/// (thesis Tables 2.2, 2.4, 2.5) are at `ChipConfig::preset`.
+pub fn area_breakdown(cfg: &ChipConfig, l1_area_mm2: f64, l2_area_mm2: f64) -> AreaBreakdown {
+    let threads = cfg.tms as u64 * cfg.threads_per_tm as u64;
+    let sm = &cfg.stream_memory;
+    let has_stream = sm.capacity_bytes > 0;
+    let tms = cfg.tms as f64;
+    let per_tm_units: f64 = UNIT_NAMES
+        .iter()
+        .map(|(cl, _)| {
+            let u = cfg.unit(*cl);
+            u.area_mm2 * u.count as f64
+        })
+        .sum();
+    let mut area = AreaBreakdown {
+        execution_units: per_tm_units * tms,
+        register_files: cfg.register_file.area_mm2 * threads as f64,
+        instruction_caches: cfg.icache.area_mm2 * cfg.icache.per_tm as f64 * tms,
+        local_stores: cfg.local_store.area_mm2 * threads as f64,
+        l1: l1_area_mm2,
+        l2: l2_area_mm2,
+        stream_memory: if has_stream { sm.area() } else { 0.0 },
+        pipelines: 0.0,
+        total: 0.0,
+    };
+    area.total = area.execution_units
+        + area.register_files
+        + area.instruction_caches
+        + area.local_stores
+        + area.l1
+        + area.l2
+        + area.stream_memory
+        + area.pipelines;
+    area
 }
 
 /// Builds the statistics from the raw counters.
@@ -302,33 +344,7 @@ pub fn build(
         + energy.stream_memory
         + energy.pipelines
         + energy.dram;
-    let tms = cfg.tms as f64;
-    let per_tm_units: f64 = UNIT_NAMES
-        .iter()
-        .map(|(cl, _)| {
-            let u = cfg.unit(*cl);
-            u.area_mm2 * u.count as f64
-        })
-        .sum();
-    let mut area = AreaBreakdown {
-        execution_units: per_tm_units * tms,
-        register_files: cfg.register_file.area_mm2 * threads as f64,
-        instruction_caches: cfg.icache.area_mm2 * cfg.icache.per_tm as f64 * tms,
-        local_stores: cfg.local_store.area_mm2 * threads as f64,
-        l1: mem.l1_area_mm2,
-        l2: mem.l2_area_mm2,
-        stream_memory: if has_stream { sm.area() } else { 0.0 },
-        pipelines: 0.0,
-        total: 0.0,
-    };
-    area.total = area.execution_units
-        + area.register_files
-        + area.instruction_caches
-        + area.local_stores
-        + area.l1
-        + area.l2
-        + area.stream_memory
-        + area.pipelines;
+    let area = area_breakdown(cfg, mem.l1_area_mm2, mem.l2_area_mm2);
     TimingStats {
         chip: cfg.name.clone(),
         tms: cfg.tms,
@@ -349,7 +365,9 @@ pub fn build(
         instruction_mix: by_mnemonic(program, &c.issued_at),
         class_mix,
         l1_hit_rate: mem.l1.hit_rate(),
+        l1_hit_rate_merged_as_hits: mem.l1.hit_rate_merged_as_hits(),
         l2_hit_rate: l2.hit_rate(),
+        l2_hit_rate_merged_as_hits: l2.hit_rate_merged_as_hits(),
         l1_to_register_gbps: bw(mem.l1.load_bytes),
         l2_to_l1_gbps: bw(l2.load_bytes),
         dram_gbps: bw(mem.dram.bytes),
@@ -457,15 +475,18 @@ impl TimingStats {
         let m = &self.memory;
         let _ = writeln!(
             s,
-            "L1: {} accesses, {:.2}% hit, {} bank conflicts, {} stores; L2: {:.2}% hit ({} L2s)",
+            "L1: {} accesses, {:.2}% hit ({:.2}% counting merged loads as hits), {} bank-busy retry thread-cycles ({} bank conflicts), {} stores; L2: {:.2}% hit ({:.2}% counting merged) ({} L2s)",
             m.l1.accesses,
             self.l1_hit_rate * 100.0,
-            m.l1.bank_conflicts,
+            self.l1_hit_rate_merged_as_hits * 100.0,
+            m.l1.bank_retries,
+            m.l1.bank_conflict_events,
             m.l1.stores,
             self.l2_hit_rate * 100.0,
+            self.l2_hit_rate_merged_as_hits * 100.0,
             m.l2.len()
         );
-        let l2_bank: u64 = m.l2.iter().map(|c| c.bank_conflicts).sum();
+        let l2_bank: u64 = m.l2.iter().map(|c| c.bank_retries).sum();
         let l2_mshr: u64 = m.l2.iter().map(|c| c.mshr_full).sum();
         let _ = writeln!(
             s,

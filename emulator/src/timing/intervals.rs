@@ -58,7 +58,7 @@ impl Snapshot {
 }
 
 /// One interval of the run (`timing.intervals[]` of the statistics document).
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Interval {
     /// First cycle.
     pub start_cycle: u64,

@@ -530,7 +530,10 @@ impl Driver<'_, '_> {
     }
 
     /// Samples the cumulative counters at interval end `at` (a quantum end: every TM,
-    /// the L2s and DRAM have simulated up to it).
+    /// the L2s and DRAM have simulated up to it). Out of line: the quantum loop stays as
+    /// it was without intervals.
+    #[cold]
+    #[inline(never)]
     fn sample(&mut self, sh: &Shared, sims: &[&mut TmSim], parts: &[Mutex<Part>], at: u64) {
         let mut c = Counters::default();
         for p in parts {

@@ -10,7 +10,8 @@
 //!
 //! Run: `cargo bench --bench timing_pathtracer`. Environment: `TRAX_BENCH_SIZE` (image side,
 //! default 128), `TRAX_BENCH_MAX_CYCLES` (cycle cap, default 50,000,000), `TRAX_BENCH_REPEAT`
-//! (runs per host-thread count, the fastest counts; default 5). The 1- and 2-thread runs
+//! (runs per host-thread count, the fastest counts; default 5), `TRAX_BENCH_STATS_INTERVAL`
+//! (record statistics every N cycles, as `trax run --stats-interval N`; default: off). The 1- and 2-thread runs
 //! alternate, so a drift in the host's speed (a virtual machine's neighbours) weighs on both
 //! alike. On a shared machine compare the printed CPU seconds with the wall seconds: other
 //! load slows the wall clock.
@@ -61,9 +62,11 @@ fn simulate(
     chip: &ChipConfig,
     host_threads: usize,
     max_cycles: u64,
+    stats_interval: Option<u64>,
 ) -> (TimingStats, f64, Option<f64>) {
     let mut req = prepared.run_request(chip, Mode::Timing);
     req.host_threads = Some(host_threads);
+    req.stats_interval = stats_interval;
     req.limits = Limits {
         max_cycles: Some(max_cycles),
         ..Limits::default()
@@ -91,6 +94,9 @@ fn main() {
     let size = env_u64("TRAX_BENCH_SIZE", 128).clamp(1, 4096) as u32;
     let max_cycles = env_u64("TRAX_BENCH_MAX_CYCLES", 50_000_000);
     let repeat = env_u64("TRAX_BENCH_REPEAT", 5).max(1);
+    let stats_interval = std::env::var("TRAX_BENCH_STATS_INTERVAL")
+        .ok()
+        .map(|_| env_u64("TRAX_BENCH_STATS_INTERVAL", 0));
     let mut chip = ChipConfig::preset("baseline").expect("baseline preset");
     chip.tms = 4;
     chip.tms_per_l2 = 4;
@@ -106,10 +112,11 @@ fn main() {
     let prepared = prepare(&request).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(chip.memory.dram.model, DramModel::Detailed);
     println!(
-        "timing_pathtracer: path tracer, Cornell box {size}x{size}, 1 spp, depth 4; {} TMs x {} threads; thesis GDDR5 (detailed DRAM, {:.0} GB/s peak)",
+        "timing_pathtracer: path tracer, Cornell box {size}x{size}, 1 spp, depth 4; {} TMs x {} threads; thesis GDDR5 (detailed DRAM, {:.0} GB/s peak); statistics intervals: {}",
         chip.tms,
         chip.threads_per_tm,
-        chip.memory.dram.detailed.peak_gbps()
+        chip.memory.dram.detailed.peak_gbps(),
+        stats_interval.map_or("off".into(), |n| format!("every {n} cycles"))
     );
 
     let counts = [1usize, 2];
@@ -120,7 +127,7 @@ fn main() {
     for _ in 0..repeat {
         let mut secs = Vec::new();
         for (b, &host_threads) in best.iter_mut().zip(&counts) {
-            let run = simulate(&prepared, &chip, host_threads, max_cycles);
+            let run = simulate(&prepared, &chip, host_threads, max_cycles, stats_interval);
             secs.push(run.1);
             if b.as_ref().is_none_or(|b| run.1 < b.1) {
                 *b = Some(run);

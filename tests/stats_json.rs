@@ -97,7 +97,10 @@ fn documented_fields_are_exactly_the_fields_of_both_modes() {
     let mut tops = Vec::new();
     for (name, args) in [
         ("functional", &["--functional"][..]),
-        ("timing", &["--tms", "2", "--l2s", "2"][..]),
+        (
+            "timing",
+            &["--tms", "2", "--l2s", "2", "--stats-interval", "1000"][..],
+        ),
     ] {
         let (out, v) = run(name, "examples/raycast.rs", args);
         assert!(out.status.success(), "{name}: {}", text(&out.stderr));
@@ -244,4 +247,203 @@ fn functional_max_instructions_stops_exactly() {
     assert_eq!(v["outcome"], "instruction_limit");
     assert_eq!(v["instructions"], 12345);
     assert!(text(&out.stderr).contains("instruction limit reached after 12345 instructions"));
+}
+
+/// `trax run ... --stats-interval N` (timing): the intervals tile the run exactly, their
+/// counts add up to the totals, they do not depend on the host threads, and the flag
+/// changes no other statistic.
+#[test]
+fn stats_intervals_tile_the_run_and_sum_to_the_totals() {
+    const N: u64 = 1000;
+    let base = ["--tms", "2", "--l2s", "2"];
+    let with = |threads: &str| {
+        let mut a = base.to_vec();
+        a.extend(["--stats-interval", "1000", "--host-threads", threads]);
+        let (out, v) = run(&format!("intervals-{threads}"), "examples/raycast.rs", &a);
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        v
+    };
+    let (v1, v2) = (with("1"), with("2"));
+    let (out, plain) = run("intervals-none", "examples/raycast.rs", &base);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    // Without the flag: no intervals; with it, every other statistic is unchanged.
+    assert!(plain["timing"]["interval_cycles"].is_null());
+    assert_eq!(plain["timing"]["intervals"], serde_json::json!([]));
+    let strip = |v: &Value| {
+        let mut t = v["timing"].clone();
+        let o = t.as_object_mut().unwrap();
+        o.remove("intervals");
+        o.remove("interval_cycles");
+        (v["cycles"].clone(), v["instructions"].clone(), t)
+    };
+    assert_eq!(
+        strip(&v1),
+        strip(&plain),
+        "--stats-interval changed the run"
+    );
+    // Identical for 1 and 2 host threads.
+    assert_eq!(v1["timing"]["intervals"], v2["timing"]["intervals"]);
+
+    let t = &v1["timing"];
+    assert_eq!(t["interval_cycles"], N);
+    let cycles = v1["cycles"].as_u64().unwrap();
+    let ivs = t["intervals"].as_array().unwrap();
+    assert_eq!(
+        ivs.len() as u64,
+        cycles.div_ceil(N),
+        "ceil(cycles / N) intervals"
+    );
+    let threads = v1["threads"].as_u64().unwrap();
+    let u = |v: &Value, f: &str| v[f].as_u64().unwrap_or_else(|| panic!("{f}: {v}"));
+    let sum = |f: &str| ivs.iter().map(|i| u(i, f)).sum::<u64>();
+    for (k, iv) in ivs.iter().enumerate() {
+        let k = k as u64;
+        let last = k + 1 == ivs.len() as u64;
+        assert_eq!(u(iv, "start_cycle"), k * N);
+        assert_eq!(u(iv, "end_cycle"), if last { cycles } else { (k + 1) * N });
+        assert_eq!(u(iv, "cycles"), u(iv, "end_cycle") - u(iv, "start_cycle"));
+        assert_eq!(iv["partial"], last && cycles % N != 0);
+        // Every live or halted thread is in exactly one bucket per cycle: the buckets
+        // of an interval add up to its cycles x threads only if it is cut at the right
+        // cycle.
+        let buckets: u64 = iv["thread_cycles"]
+            .as_object()
+            .unwrap()
+            .values()
+            .map(|x| x.as_u64().unwrap())
+            .sum();
+        assert_eq!(buckets, u(iv, "cycles") * threads, "interval {k}");
+        assert_eq!(u(iv, "instructions"), u(&iv["thread_cycles"], "issued"));
+        let rate = u(iv, "instructions") as f64 / (u(iv, "cycles") * threads) as f64;
+        assert!((iv["issue_rate"].as_f64().unwrap() - rate).abs() < 1e-12);
+        assert!(iv["mean_rays_in_flight"].is_null(), "no stream memory");
+    }
+    assert_eq!(sum("instructions"), u(&v1, "instructions"));
+    for (b, total) in t["thread_cycles"].as_object().unwrap() {
+        let s: u64 = ivs.iter().map(|i| u(&i["thread_cycles"], b)).sum();
+        assert_eq!(s, total.as_u64().unwrap(), "thread_cycles.{b}");
+    }
+    let mem = &t["memory"];
+    for f in ["accesses", "hits", "misses"] {
+        assert_eq!(sum(&format!("l1_{f}")), u(&mem["l1"], f), "l1 {f}");
+        let l2: u64 = mem["l2"].as_array().unwrap().iter().map(|c| u(c, f)).sum();
+        assert_eq!(sum(&format!("l2_{f}")), l2, "l2 {f}");
+    }
+    assert!(sum("l1_accesses") > 0 && sum("l2_accesses") > 0);
+    for f in ["reads", "writes", "bytes"] {
+        assert_eq!(sum(&format!("dram_{f}")), u(&mem["dram"], f), "dram {f}");
+    }
+    let e: f64 = ivs.iter().map(|i| i["energy_j"].as_f64().unwrap()).sum();
+    let total = t["energy"]["total"].as_f64().unwrap();
+    assert!((e - total).abs() <= 1e-9 * total, "energy {e} vs {total}");
+}
+
+/// A run cut at an interval end has no partial interval; bad intervals are refused.
+#[test]
+fn stats_interval_edges_and_errors() {
+    let (out, v) = run(
+        "intervals-cut",
+        "examples/raycast.rs",
+        &["--max-cycles", "8000", "--stats-interval", "2000"],
+    );
+    assert!(
+        out.status.success() || v["outcome"] == "cycle_limit",
+        "{}",
+        text(&out.stderr)
+    );
+    assert_eq!(v["cycles"], 8000);
+    let ivs = v["timing"]["intervals"].as_array().unwrap();
+    assert_eq!(ivs.len(), 4);
+    assert!(ivs
+        .iter()
+        .all(|i| i["partial"] == false && i["cycles"] == 2000));
+
+    for (args, want) in [
+        (
+            &["--functional", "--stats-interval", "100"][..],
+            "need timing mode",
+        ),
+        (
+            &["--stats-interval", "7"][..],
+            "multiple of the chip's quantum",
+        ),
+        (&["--stats-interval", "0"][..], "positive multiple"),
+    ] {
+        let out = Command::new(env!("CARGO_BIN_EXE_trax"))
+            .args([
+                "run",
+                "examples/raycast.rs",
+                "--width",
+                "4",
+                "--height",
+                "4",
+            ])
+            .args(args)
+            .current_dir(root())
+            .output()
+            .unwrap();
+        let err = text(&out.stderr);
+        assert!(!out.status.success(), "{args:?} was accepted");
+        assert!(err.contains(want), "{args:?}: {err}");
+    }
+}
+
+/// `trax plot STATS.json --over-time --y METRIC` writes a PNG and an SVG with labelled
+/// axes; documents without intervals are refused by name.
+#[test]
+fn plot_over_time_writes_png_and_svg() {
+    let (out, _) = run(
+        "plot-src",
+        "examples/raycast.rs",
+        &["--stats-interval", "1000"],
+    );
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let json = scratch().join("plot-src.json");
+    let base = scratch().join("over-time");
+    let plot = |args: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_trax"))
+            .arg("plot")
+            .args(args)
+            .current_dir(root())
+            .output()
+            .unwrap()
+    };
+    let p = plot(&[
+        json.to_str().unwrap(),
+        "--over-time",
+        "--y",
+        "dram_gbps",
+        "-o",
+        base.to_str().unwrap(),
+    ]);
+    assert!(p.status.success(), "{}", text(&p.stderr));
+    let png = base.with_extension("png");
+    let dec = png::Decoder::new(std::fs::File::open(&png).unwrap());
+    let info = dec.read_info().unwrap().info().clone();
+    assert_eq!((info.width, info.height), (960, 600));
+    let svg = std::fs::read_to_string(base.with_extension("svg")).unwrap();
+    for want in [
+        "simulated time (µs)",
+        "DRAM bandwidth (GB/s)",
+        "dram_gbps over time",
+    ] {
+        assert!(svg.contains(want), "no {want:?} in the SVG");
+    }
+    // Refused: a functional document, an unknown metric.
+    let (_, _) = run("plot-func", "examples/raycast.rs", &["--functional"]);
+    let func = scratch().join("plot-func.json");
+    let p = plot(&[func.to_str().unwrap(), "--over-time", "--y", "issue_rate"]);
+    assert!(!p.status.success());
+    assert!(
+        text(&p.stderr).contains("functional run"),
+        "{}",
+        text(&p.stderr)
+    );
+    let p = plot(&[json.to_str().unwrap(), "--over-time", "--y", "nope"]);
+    assert!(!p.status.success());
+    assert!(
+        text(&p.stderr).contains("no interval metric `nope`"),
+        "{}",
+        text(&p.stderr)
+    );
 }

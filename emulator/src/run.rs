@@ -87,6 +87,9 @@ pub struct RunRequest<'a> {
     pub gdb: Option<TcpListener>,
     /// Called with the run's [`Progress`] about every 100 ms of host time.
     pub progress: Option<&'a mut dyn FnMut(&Progress)>,
+    /// Timing mode: record statistics for every interval of this many cycles (a multiple
+    /// of the quantum, the L1 plus L2 hit latency) in [`crate::timing::TimingStats`].
+    pub stats_interval: Option<u64>,
 }
 
 impl<'a> RunRequest<'a> {
@@ -105,6 +108,7 @@ impl<'a> RunRequest<'a> {
             profile: false,
             gdb: None,
             progress: None,
+            stats_interval: None,
         }
     }
 }
@@ -229,6 +233,9 @@ pub fn run(req: RunRequest<'_>, out: &mut dyn Write) -> Result<RunReport, RunErr
         Mode::Functional if req.limits.max_cycles.is_some() => Err(RunError::Request(
             "a cycle limit needs timing mode (functional runs count no cycles)".into(),
         )),
+        Mode::Functional if req.stats_interval.is_some() => Err(RunError::Request(
+            "statistics intervals need timing mode (functional runs count no cycles)".into(),
+        )),
         Mode::Timing if req.gdb.is_some() => Err(RunError::Request(
             "the debugger needs functional mode (it drives the functional core)".into(),
         )),
@@ -312,10 +319,21 @@ fn run_timing(mut req: RunRequest<'_>, out: &mut dyn Write) -> Result<RunReport,
     let chip = req.chip;
     chip.validate()?;
     let (exe, mut machine) = load(&req, 1)?;
+    if let Some(n) = req.stats_interval {
+        let q = timing::engine::Engine::quantum(chip);
+        if n == 0 || n % q != 0 {
+            return Err(RunError::Request(format!(
+                "the statistics interval ({n} cycles) must be a positive multiple of the \
+                 chip's quantum, memory.l1.hit_latency + memory.l2.hit_latency = {q} cycles \
+                 (intervals end where the TMs and the memory system meet)"
+            )));
+        }
+    }
     let (host_threads, warning) = host_threads(req.host_threads, chip.tms, req.profile);
     let mut engine = timing::engine::Engine::new(chip, &machine, req.limits, host_threads)
         .map_err(RunError::Memory)?;
     engine.progress = req.progress.take();
+    engine.interval = req.stats_interval;
     if req.profile {
         engine.profiler = Some(Profiler::new(
             &machine.shared.program,
@@ -325,7 +343,7 @@ fn run_timing(mut req: RunRequest<'_>, out: &mut dyn Write) -> Result<RunReport,
     let outcome = engine.run(&mut machine, out);
     let profiler = engine.profiler.take();
     let cycles = engine.now;
-    let stats = timing::stats::build(
+    let mut stats = timing::stats::build(
         chip,
         &engine.c,
         cycles,
@@ -334,6 +352,20 @@ fn run_timing(mut req: RunRequest<'_>, out: &mut dyn Write) -> Result<RunReport,
         &machine.shared.stats,
         &machine.shared.streams,
     );
+    if let Some(n) = req.stats_interval {
+        let mut samples = std::mem::take(&mut engine.samples);
+        let last = timing::intervals::Snapshot::of_stats(&stats, engine.c.stream_ray_cycles);
+        // A run that ended on an interval end: its final statistics are that sample.
+        if samples.last().is_some_and(|s| s.cycle >= last.cycle) {
+            samples.pop();
+        }
+        samples.push(last);
+        let threads = u64::from(chip.tms) * u64::from(chip.threads_per_tm);
+        let stream = chip.stream_memory.capacity_bytes > 0;
+        stats.intervals =
+            timing::intervals::intervals(&samples, n, threads, chip.clock_ghz, stream);
+        stats.interval_cycles = Some(n);
+    }
     finish(
         &req,
         Ended {

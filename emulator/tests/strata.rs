@@ -509,3 +509,39 @@ fn streams_are_deterministic_over_host_threads() {
     assert_eq!(t1.stream.writes, 36);
     assert!(t1.stream.bank_conflicts > 0, "{:?}", t1.stream);
 }
+
+/// Statistics over time on a chip with a stream memory: the intervals' mean rays in flight
+/// integrate to the run's, and the intervals do not depend on the host threads.
+#[test]
+fn stream_intervals_integrate_rays_in_flight() {
+    let elf = common::build_c("s_many", MANY, "-O1");
+    let mut chip = stream_chip(4, 8, 200, 2);
+    chip.tms = 3;
+    chip.tms_per_l2 = 3;
+    let q = u64::from(chip.memory.l1.hit_latency + chip.memory.l2.hit_latency);
+    let n = 25 * q;
+    let data = std::fs::read(&elf).unwrap();
+    let path = elf.display().to_string();
+    let go = |threads: usize| {
+        let mut req = RunRequest::new(&path, &data, &chip, Mode::Timing);
+        req.host_threads = Some(threads);
+        req.stats_interval = Some(n);
+        let r = run(req, &mut Vec::new()).unwrap();
+        assert!(matches!(r.outcome, Outcome::Finished), "{:?}", r.failure);
+        r.timing.unwrap()
+    };
+    let (t1, t2) = (go(1), go(2));
+    assert_eq!(t1.intervals, t2.intervals);
+    assert_eq!(t1.intervals.len() as u64, t1.cycles.div_ceil(n));
+    let integral: f64 = t1
+        .intervals
+        .iter()
+        .map(|i| i.mean_rays_in_flight.unwrap() * i.cycles as f64)
+        .sum();
+    let total = t1.stream.mean_rays_in_flight * t1.cycles as f64;
+    assert!(total > 0.0);
+    assert!(
+        (integral - total).abs() < 1e-6 * total,
+        "{integral} vs {total}"
+    );
+}

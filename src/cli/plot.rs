@@ -1,7 +1,9 @@
 //! `trax plot RESULTS --x PARAM --y METRIC [--by PARAM]`: charts of a sweep's
 //! `results.csv` as PNG and SVG — lines, grouped bars, or the energy per frame stacked by
 //! component — with labelled axes (units from [`crate::cli::sweep::metrics`]), a legend and a
-//! title.
+//! title. `trax plot STATS.json --over-time --y METRIC`: one run's statistics over time
+//! (`trax run --stats-interval N`), a metric of `timing.intervals` against simulated time,
+//! drawn as a step per interval (see [`over_time`]).
 //!
 //! Text is drawn with DejaVu Sans, embedded in the binary (crate `dejavu`), through plotters'
 //! `ab_glyph` backend, so no system font library or font file is needed.
@@ -22,16 +24,23 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 use plotters::style::FontStyle;
 
 use super::sweep::metrics::{self, Metric, METRICS};
+
+mod over_time;
 use super::sweep::spec::{default_plot_name, PlotKind, PlotSpec};
 
 /// Arguments of `trax plot`.
 #[derive(Args, Debug)]
 pub struct PlotArgs {
-    /// A sweep's results directory or its `results.csv`.
+    /// A sweep's results directory or its `results.csv`; with `--over-time`, a statistics
+    /// document (`trax run --stats-json FILE --stats-interval N`).
     pub results: PathBuf,
     /// Parameter on the x axis.
-    #[arg(long)]
-    pub x: String,
+    #[arg(long, required_unless_present = "over_time")]
+    pub x: Option<String>,
+    /// Draw METRIC (`--y`, a field of `timing.intervals[]`, e.g. issue_rate, dram_gbps,
+    /// thread_cycles.data_dependence) against simulated time, from a statistics document.
+    #[arg(long, conflicts_with_all = ["x", "by", "kind", "filter"])]
+    pub over_time: bool,
     /// Metric on the y axis (a column of results.csv, e.g. fps, cycles, energy_j).
     #[arg(long, required_unless_present = "kind")]
     pub y: Option<String>,
@@ -65,6 +74,12 @@ pub fn run(a: PlotArgs) -> ExitCode {
 }
 
 fn plot_cmd(a: &PlotArgs) -> Result<(PathBuf, PathBuf), String> {
+    if a.over_time {
+        return over_time::plot_cmd(a);
+    }
+    let x =
+        a.x.clone()
+            .ok_or("--x PARAM is needed (unless --over-time)")?;
     let (csv, dir) = if a.results.is_dir() {
         (a.results.join("results.csv"), a.results.clone())
     } else {
@@ -88,10 +103,10 @@ fn plot_cmd(a: &PlotArgs) -> Result<(PathBuf, PathBuf), String> {
             .ok_or_else(|| format!("--where {f:?}: expected PARAM=VALUE"))?;
         filter.push((k.trim().to_string(), v.trim().to_string()));
     }
-    let name = default_plot_name(&a.x, &y, a.by.as_deref());
+    let name = default_plot_name(&x, &y, a.by.as_deref());
     let spec = PlotSpec {
         name: name.clone(),
-        x: a.x.clone(),
+        x,
         y,
         by: a.by.clone(),
         kind,
@@ -202,14 +217,14 @@ const COLOURS: &[RGBColor] = &[
     RGBColor(120, 120, 120),
 ];
 
-fn colour(i: usize) -> RGBColor {
+pub(crate) fn colour(i: usize) -> RGBColor {
     COLOURS[i % COLOURS.len()]
 }
 
 /// Chart size in pixels.
-const SIZE: (u32, u32) = (960, 600);
+pub(crate) const SIZE: (u32, u32) = (960, 600);
 
-fn register_font() {
+pub(crate) fn register_font() {
     static ONCE: Once = Once::new();
     ONCE.call_once(|| {
         // The embedded font parses (checked by the plot tests); an error would only mean
@@ -444,7 +459,7 @@ struct Labels {
 }
 
 /// Compact tick labels: plain below 10^5, else scientific.
-fn tick(v: f64) -> String {
+pub(crate) fn tick(v: f64) -> String {
     let a = v.abs();
     if a == 0.0 {
         "0".into()

@@ -129,6 +129,11 @@ pub struct ExecArgs {
     /// Timing mode: stop at this core cycle.
     #[arg(long, value_name = "N", conflicts_with = "functional")]
     pub max_cycles: Option<u64>,
+    /// Timing mode: record statistics for every N simulated cycles (issue rate, stalls,
+    /// L1/L2/DRAM traffic, rays in flight, energy) as `timing.intervals` of the
+    /// `--stats-json` document. N must be a multiple of the quantum (L1 + L2 hit latency).
+    #[arg(long, value_name = "N")]
+    pub stats_interval: Option<u64>,
     /// Write the framebuffer as PNG (clamped, top row first).
     #[arg(short = 'o', long = "output")]
     pub output: Option<PathBuf>,
@@ -313,6 +318,7 @@ pub fn execute(a: &ExecArgs, extras: &Extras) -> Result<Executed, String> {
     req.quantum = a.quantum;
     req.limits = limits;
     req.host_threads = a.host_threads;
+    req.stats_interval = a.stats_interval;
     req.profile = extras.profile;
     if let Some((addr, allow_remote)) = &extras.gdb {
         let listener = gdb::bind(addr, *allow_remote).map_err(|e| e.to_string())?;

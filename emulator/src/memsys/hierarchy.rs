@@ -521,16 +521,23 @@ impl MemSystem {
 
     /// Statistics so far.
     pub fn stats(&self) -> MemStats {
+        self.stats_with(&self.tm)
+    }
+
+    /// Statistics so far, with the TM sides `tms` (taken by [`Self::take_tms`]).
+    pub fn stats_with<'a>(&self, tms: impl IntoIterator<Item = &'a TmMem>) -> MemStats {
         let mut l1 = CacheStats::default();
-        for t in &self.tm {
+        let mut n = 0usize;
+        for t in tms {
             l1.add(&t.l1.stats);
+            n += 1;
         }
         let l2: Vec<CacheStats> = self.chip.l2.iter().map(|c| c.stats.clone()).collect();
         let l2_reads: u64 = l2.iter().map(|s| s.accesses - s.stores).sum();
         MemStats {
             l1_energy_nj: self.l1_cost.energy_nj * (l1.accesses - l1.stores) as f64,
             l2_energy_nj: self.l2_cost.energy_nj * l2_reads as f64,
-            l1_area_mm2: self.l1_cost.area_mm2 * self.tm.len() as f64,
+            l1_area_mm2: self.l1_cost.area_mm2 * n as f64,
             l2_area_mm2: self.l2_cost.area_mm2 * self.chip.l2.len() as f64,
             dram_queue_full: self.chip.dram_queue_full,
             l1,

@@ -30,6 +30,7 @@ use std::sync::Mutex;
 use trax_runtime::isa::{TraxOp, UnitClass};
 
 use super::config::ChipConfig;
+use super::intervals::Snapshot;
 use super::operands::{classify, OpInfo};
 use super::tm::{retire, Deferred, Summary, TmSim};
 use super::workers::{rebalance, Batch, Crew, RoundCell, Rounds};
@@ -37,7 +38,7 @@ use crate::chip::Effects;
 use crate::decode::Inst;
 use crate::exec::Stop;
 use crate::machine::{drain, release_barriers, Crash, Machine, Outcome};
-use crate::memsys::MemSystem;
+use crate::memsys::{CacheStats, MemSystem};
 use crate::profile::Profiler;
 use crate::run::{Limits, Progress};
 use crate::thread::{Shared, Thread};
@@ -229,6 +230,11 @@ pub struct Engine<'c> {
     pub profiler: Option<Profiler>,
     /// Called with the run's progress about every 100 ms of host time.
     pub progress: Option<ProgressFn<'c>>,
+    /// Cycles per statistics interval (`--stats-interval`; a multiple of the quantum,
+    /// see [`Self::quantum`]): the counters are sampled at every multiple.
+    pub interval: Option<u64>,
+    /// The samples taken at interval ends (after [`Self::run`]; the run's end is not one).
+    pub samples: Vec<Snapshot>,
 }
 
 impl<'c> Engine<'c> {
@@ -293,7 +299,15 @@ impl<'c> Engine<'c> {
             host_threads: host_threads.clamp(1, tms),
             profiler: None,
             progress: None,
+            interval: None,
+            samples: Vec::new(),
         })
+    }
+
+    /// Cycles per quantum: the L1 plus L2 hit latency (an L2 reply is never due sooner).
+    pub fn quantum(cfg: &ChipConfig) -> u64 {
+        let m = &cfg.memory;
+        u64::from(m.l1.hit_latency + m.l2.hit_latency).max(1)
     }
 
     /// The memory system (for statistics).
@@ -382,13 +396,17 @@ impl<'c> Engine<'c> {
                         last_halt: vec![None; tms],
                         ..StreamTiming::default()
                     },
+                    interval: self.interval,
+                    next_sample: self.interval.unwrap_or(u64::MAX),
+                    samples: Vec::new(),
                 };
                 let mut leader_job = |k: usize, window| job(0, k, window, profiler.as_mut());
                 let outcome = d.drive(&shared, &parts, &sims, &rounds, &crew, &mut leader_job, out);
-                (outcome, d.fx, d.streams)
+                (outcome, d.fx, d.streams, d.samples)
             })
         };
-        let (outcome, mut fx, mut streams) = outcome;
+        let (outcome, mut fx, mut streams, samples) = outcome;
+        self.samples = samples;
         streams.finish(&mut self.c, self.now);
         self.profiler = profiler;
         self.progress = progress;
@@ -497,13 +515,49 @@ struct Driver<'a, 'p> {
     fx: Effects,
     /// The stream memory's timing.
     streams: StreamTiming,
+    /// Cycles per statistics interval.
+    interval: Option<u64>,
+    /// The next interval end (`u64::MAX` without intervals).
+    next_sample: u64,
+    /// The counters at each interval end so far.
+    samples: Vec<Snapshot>,
 }
 
 impl Driver<'_, '_> {
     /// Cycles per quantum: the L1 plus L2 hit latency (an L2 reply is never due sooner).
     fn quantum(&self) -> u64 {
-        let m = &self.cfg.memory;
-        u64::from(m.l1.hit_latency + m.l2.hit_latency).max(1)
+        Engine::quantum(self.cfg)
+    }
+
+    /// Samples the cumulative counters at interval end `at` (a quantum end: every TM,
+    /// the L2s and DRAM have simulated up to it). Out of line: the quantum loop stays as
+    /// it was without intervals.
+    #[cold]
+    #[inline(never)]
+    fn sample(&mut self, sh: &Shared, sims: &[&mut TmSim], parts: &[Mutex<Part>], at: u64) {
+        let mut c = Counters::default();
+        for p in parts {
+            c.add_scalars(&p.lock().unwrap_or_else(|e| e.into_inner()).c);
+        }
+        let mem = self.mem.stats_with(sims.iter().map(|t| &t.mem));
+        let mut l2 = CacheStats::default();
+        for x in &mem.l2 {
+            l2.add(x);
+        }
+        let streams = sh.streams.reads + sh.streams.writes;
+        self.samples.push(Snapshot {
+            cycle: at,
+            tc: c.tc.clone(),
+            l2,
+            dram_reads: mem.dram.reads,
+            dram_writes: mem.dram.writes,
+            dram_bytes: mem.dram.bytes,
+            ray_cycles: c.stream_ray_cycles
+                + self.streams.in_flight * at.saturating_sub(self.streams.last),
+            energy_j: super::stats::energy_of(self.cfg, &c, &mem, streams).total,
+            l1: mem.l1,
+        });
+        self.next_sample = at + self.interval.unwrap_or(u64::MAX - at);
     }
 
     /// The quantum loop (on the leader thread).
@@ -555,7 +609,8 @@ impl Driver<'_, '_> {
                 until: match self.limits.max_instructions {
                     Some(_) => to,
                     None => max.min(from + q * MAX_FREE_ROUNDS),
-                },
+                }
+                .min(self.next_sample),
             };
             let Some(end) = rounds.run(crew, &batch, leader_job) else {
                 // A host thread died; the scope re-raises its panic.
@@ -720,6 +775,9 @@ impl Driver<'_, '_> {
                 idle_cycles = if end.rounds > 1 { 0 } else { idle_cycles } + (to - from);
             }
             *self.now = to;
+            if to >= self.next_sample {
+                self.sample(sh, &sims, parts, to);
+            }
             if let Some(limit) = self.limits.max_instructions {
                 if executed(parts) >= limit {
                     return Outcome::InstructionLimit;
@@ -768,6 +826,17 @@ fn executed(parts: &[Mutex<Part>]) -> u64 {
 impl Counters {
     /// Adds `o` into `self`.
     fn add(&mut self, o: &Counters) {
+        self.add_scalars(o);
+        for (x, y) in self.issued_at.iter_mut().zip(&o.issued_at) {
+            *x += y;
+        }
+        for (x, y) in self.dep_by_producer.iter_mut().zip(&o.dep_by_producer) {
+            *x += y;
+        }
+    }
+
+    /// Adds `o`'s counters into `self`, except the per-text-word ones.
+    fn add_scalars(&mut self, o: &Counters) {
         let (a, b) = (&mut self.tc, &o.tc);
         a.issued += b.issued;
         a.data_dependence += b.data_dependence;
@@ -778,12 +847,6 @@ impl Counters {
         a.sync_wait += b.sync_wait;
         a.global_sync += b.global_sync;
         a.halted += b.halted;
-        for (x, y) in self.issued_at.iter_mut().zip(&o.issued_at) {
-            *x += y;
-        }
-        for (x, y) in self.dep_by_producer.iter_mut().zip(&o.dep_by_producer) {
-            *x += y;
-        }
         for k in 0..NUM_CLASSES {
             self.unit_conflicts[k] += o.unit_conflicts[k];
             self.class_ops[k] += o.class_ops[k];

@@ -15,6 +15,7 @@
 
 mod config;
 pub(crate) mod engine;
+pub mod intervals;
 pub(crate) mod operands;
 pub(crate) mod stats;
 mod stats_doc;
@@ -27,6 +28,7 @@ pub use config::{
     UnitConfig, CHIP_PRESETS, DEFAULT_CHIP, STREAM_ENERGY_TABLE, UNIT_NAMES,
 };
 pub use engine::ThreadCycles;
+pub use intervals::Interval;
 pub use stats::{
     area_breakdown, pipe_op_energy_nj, AreaBreakdown, EnergyBreakdown, PipelineStats, StreamStats,
     TimingStats,

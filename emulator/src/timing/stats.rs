@@ -193,6 +193,60 @@ pub struct TimingStats {
     /// The `trax.stat` counters.
     #[serde(skip)]
     pub counters: Vec<u64>,
+    /// `--stats-interval`: cycles per interval (`None`: no intervals recorded).
+    pub interval_cycles: Option<u64>,
+    /// The run over time, one entry per interval (empty without `--stats-interval`).
+    pub intervals: Vec<super::intervals::Interval>,
+}
+
+/// Energy so far, by component: `c` the engine's counters, `mem` the memory system's
+/// statistics, `stream_accesses` the stream memory's reads plus writes.
+pub(crate) fn energy_of(
+    cfg: &ChipConfig,
+    c: &Counters,
+    mem: &MemStats,
+    stream_accesses: u64,
+) -> EnergyBreakdown {
+    let nj = 1e-9;
+    let mut eu_energy = 0.0;
+    for k in 0..c.class_ops.len() {
+        if let Some((cl, _)) = UNIT_NAMES.iter().find(|(cl, _)| *cl as usize == k) {
+            eu_energy += cfg.unit(*cl).energy_nj * c.class_ops[k] as f64;
+        }
+    }
+    let sm = &cfg.stream_memory;
+    let stream_nj = if sm.capacity_bytes > 0 {
+        sm.energy_per_access_nj()
+    } else {
+        0.0
+    };
+    let e = |p: &super::config::PipeConfig, ops: UnitClass| {
+        c.class_ops[ops as usize] as f64 * pipe_op_energy_nj(cfg, p)
+    };
+    let mut energy = EnergyBreakdown {
+        execution_units: eu_energy * nj,
+        register_files: cfg.register_file.energy_nj * c.reg_accesses as f64 * nj,
+        instruction_caches: cfg.icache.energy_nj * c.fetches as f64 * nj,
+        local_stores: cfg.local_store.energy_nj * c.local_accesses as f64 * nj,
+        l1: mem.l1_energy_nj * nj,
+        l2: mem.l2_energy_nj * nj,
+        stream_memory: stream_nj * stream_accesses as f64 * nj,
+        pipelines: (e(&cfg.pipelines.box_pipe, UnitClass::BoxPipe)
+            + e(&cfg.pipelines.tri, UnitClass::TriPipe))
+            * nj,
+        dram: mem.dram.energy.total_nj() * nj,
+        total: 0.0,
+    };
+    energy.total = energy.execution_units
+        + energy.register_files
+        + energy.instruction_caches
+        + energy.local_stores
+        + energy.l1
+        + energy.l2
+        + energy.stream_memory
+        + energy.pipelines
+        + energy.dram;
+    energy
 }
 
 fn mnemonic(p: &Program, idx: usize) -> String {
@@ -278,7 +332,6 @@ pub fn build(
     let mrps = ratio(rays as f64 / 1e6, seconds);
     let mut unit_conflicts = BTreeMap::new();
     let mut class_mix = BTreeMap::new();
-    let mut eu_energy = 0.0;
     for k in 0..c.class_ops.len() {
         let name = class_name_of(k);
         if c.unit_conflicts[k] > 0 {
@@ -287,16 +340,12 @@ pub fn build(
         if c.class_ops[k] > 0 {
             class_mix.insert(name.to_string(), c.class_ops[k]);
         }
-        if let Some((cl, _)) = UNIT_NAMES.iter().find(|(cl, _)| *cl as usize == k) {
-            eu_energy += cfg.unit(*cl).energy_nj * c.class_ops[k] as f64;
-        }
     }
     let mut l2 = CacheStats::default();
     for s in &mem.l2 {
         l2.add(s);
     }
     let bw = |bytes: u64| ratio(bytes as f64, seconds) / 1e9;
-    let nj = 1e-9;
     let sm = &cfg.stream_memory;
     let has_stream = sm.capacity_bytes > 0;
     let stream = StreamStats {
@@ -321,29 +370,7 @@ pub fn build(
         box_op_energy_nj: pipe_op_energy_nj(cfg, &cfg.pipelines.box_pipe),
         tri_op_energy_nj: pipe_op_energy_nj(cfg, &cfg.pipelines.tri),
     };
-    let mut energy = EnergyBreakdown {
-        execution_units: eu_energy * nj,
-        register_files: cfg.register_file.energy_nj * c.reg_accesses as f64 * nj,
-        instruction_caches: cfg.icache.energy_nj * c.fetches as f64 * nj,
-        local_stores: cfg.local_store.energy_nj * c.local_accesses as f64 * nj,
-        l1: mem.l1_energy_nj * nj,
-        l2: mem.l2_energy_nj * nj,
-        stream_memory: stream.energy_per_access_nj * (stream.reads + stream.writes) as f64 * nj,
-        pipelines: (pipelines.box_ops as f64 * pipelines.box_op_energy_nj
-            + pipelines.tri_ops as f64 * pipelines.tri_op_energy_nj)
-            * nj,
-        dram: mem.dram.energy.total_nj() * nj,
-        total: 0.0,
-    };
-    energy.total = energy.execution_units
-        + energy.register_files
-        + energy.instruction_caches
-        + energy.local_stores
-        + energy.l1
-        + energy.l2
-        + energy.stream_memory
-        + energy.pipelines
-        + energy.dram;
+    let energy = energy_of(cfg, c, &mem, stream.reads + stream.writes);
     let area = area_breakdown(cfg, mem.l1_area_mm2, mem.l2_area_mm2);
     TimingStats {
         chip: cfg.name.clone(),
@@ -379,6 +406,8 @@ pub fn build(
         counters: counters.to_vec(),
         stream,
         pipelines,
+        interval_cycles: None,
+        intervals: Vec::new(),
     }
 }
 

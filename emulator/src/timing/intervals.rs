@@ -1,0 +1,178 @@
+//! Statistics over time (`trax run --stats-interval N`): the run cut into intervals of
+//! `N` simulated cycles (the last one partial), each with its own issue rate, stall
+//! breakdown, memory traffic, rays in flight and energy.
+//!
+//! The engine samples its cumulative counters at the serial phase that ends each interval
+//! ([`Snapshot`]; `N` is a multiple of the quantum, so interval ends are quantum ends and
+//! no sample needs a cycle inside a quantum); the intervals are differences of
+//! consecutive samples, the last one taken from the run's final statistics. Every sample
+//! is a sum over TMs at a quantum boundary, so intervals do not depend on the host
+//! threads, and the intervals' counts add up to the run's totals exactly.
+
+use serde::Serialize;
+
+use super::engine::ThreadCycles;
+use super::stats::TimingStats;
+use super::stats_doc;
+use crate::memsys::CacheStats;
+
+/// Cumulative counters at the end of an interval.
+#[derive(Clone, Debug, Default)]
+pub struct Snapshot {
+    /// The cycle (an interval end).
+    pub cycle: u64,
+    /// Thread-cycle buckets so far.
+    pub tc: ThreadCycles,
+    /// L1 statistics (all TMs) and L2 statistics (all L2s) so far.
+    pub l1: CacheStats,
+    pub l2: CacheStats,
+    /// DRAM reads, writes and bytes so far.
+    pub dram_reads: u64,
+    pub dram_writes: u64,
+    pub dram_bytes: u64,
+    /// Stream memory: rays in flight integrated over cycles so far.
+    pub ray_cycles: u64,
+    /// Energy so far, joules.
+    pub energy_j: f64,
+}
+
+impl Snapshot {
+    /// The final sample: the run's statistics (cycles, totals, energy).
+    pub fn of_stats(s: &TimingStats, ray_cycles: u64) -> Self {
+        let mut l2 = CacheStats::default();
+        for c in &s.memory.l2 {
+            l2.add(c);
+        }
+        Snapshot {
+            cycle: s.cycles,
+            tc: s.thread_cycles.clone(),
+            l1: s.memory.l1.clone(),
+            l2,
+            dram_reads: s.memory.dram.reads,
+            dram_writes: s.memory.dram.writes,
+            dram_bytes: s.memory.dram.bytes,
+            ray_cycles,
+            energy_j: s.energy.total,
+        }
+    }
+}
+
+/// One interval of the run (`timing.intervals[]` of the statistics document).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Interval {
+    /// First cycle.
+    pub start_cycle: u64,
+    /// Cycle after the last.
+    pub end_cycle: u64,
+    /// `end_cycle - start_cycle`.
+    pub cycles: u64,
+    /// Shorter than the interval length (the run's last interval).
+    pub partial: bool,
+    /// Thread-instructions issued.
+    pub instructions: u64,
+    /// Issued / (cycles x threads).
+    pub issue_rate: f64,
+    /// Where the interval's thread-cycles went.
+    #[serde(serialize_with = "stats_doc::thread_cycles")]
+    pub thread_cycles: ThreadCycles,
+    /// L1 accesses, load hits and misses (all TMs), hit rate, L1 -> register GB/s.
+    pub l1_accesses: u64,
+    pub l1_hits: u64,
+    pub l1_misses: u64,
+    pub l1_hit_rate: f64,
+    pub l1_to_register_gbps: f64,
+    /// The same for the L2s (L2 -> L1 GB/s).
+    pub l2_accesses: u64,
+    pub l2_hits: u64,
+    pub l2_misses: u64,
+    pub l2_hit_rate: f64,
+    pub l2_to_l1_gbps: f64,
+    /// DRAM reads, writes, bytes, GB/s.
+    pub dram_reads: u64,
+    pub dram_writes: u64,
+    pub dram_bytes: u64,
+    pub dram_gbps: f64,
+    /// Rays in the stream memory, averaged over the interval (`None` without one).
+    pub mean_rays_in_flight: Option<f64>,
+    /// Energy, joules, and average power, watts.
+    pub energy_j: f64,
+    pub power_w: f64,
+}
+
+fn ratio(a: f64, b: f64) -> f64 {
+    if b > 0.0 {
+        a / b
+    } else {
+        0.0
+    }
+}
+
+fn tc_diff(a: &ThreadCycles, b: &ThreadCycles) -> ThreadCycles {
+    ThreadCycles {
+        issued: a.issued - b.issued,
+        data_dependence: a.data_dependence - b.data_dependence,
+        unit_conflict: a.unit_conflict - b.unit_conflict,
+        icache_conflict: a.icache_conflict - b.icache_conflict,
+        l1_bank_conflict: a.l1_bank_conflict - b.l1_bank_conflict,
+        l1_mshr_full: a.l1_mshr_full - b.l1_mshr_full,
+        sync_wait: a.sync_wait - b.sync_wait,
+        global_sync: a.global_sync - b.global_sync,
+        halted: a.halted - b.halted,
+    }
+}
+
+/// The intervals between consecutive `samples` (the first starts at cycle 0 with zero
+/// counters; the last sample is the run's end). `len` is the interval length, `threads`
+/// the chip's thread count, `stream` whether the chip has a stream memory.
+pub fn intervals(
+    samples: &[Snapshot],
+    len: u64,
+    threads: u64,
+    clock_ghz: f64,
+    stream: bool,
+) -> Vec<Interval> {
+    let zero = Snapshot::default();
+    let mut prev = &zero;
+    let mut out = Vec::with_capacity(samples.len());
+    for s in samples {
+        let cycles = s.cycle - prev.cycle;
+        let secs = cycles as f64 / (clock_ghz * 1e9);
+        let gbps = |bytes: u64| ratio(bytes as f64, secs) / 1e9;
+        let tc = tc_diff(&s.tc, &prev.tc);
+        let l1 = |f: fn(&CacheStats) -> u64| f(&s.l1) - f(&prev.l1);
+        let l2 = |f: fn(&CacheStats) -> u64| f(&s.l2) - f(&prev.l2);
+        let rate = |h: u64, m: u64| ratio(h as f64, (h + m) as f64);
+        let (l1h, l1m) = (l1(|c| c.hits), l1(|c| c.misses));
+        let (l2h, l2m) = (l2(|c| c.hits), l2(|c| c.misses));
+        let energy_j = s.energy_j - prev.energy_j;
+        out.push(Interval {
+            start_cycle: prev.cycle,
+            end_cycle: s.cycle,
+            cycles,
+            partial: cycles < len,
+            instructions: tc.issued,
+            issue_rate: ratio(tc.issued as f64, (cycles * threads) as f64),
+            l1_accesses: l1(|c| c.accesses),
+            l1_hits: l1h,
+            l1_misses: l1m,
+            l1_hit_rate: rate(l1h, l1m),
+            l1_to_register_gbps: gbps(l1(|c| c.load_bytes)),
+            l2_accesses: l2(|c| c.accesses),
+            l2_hits: l2h,
+            l2_misses: l2m,
+            l2_hit_rate: rate(l2h, l2m),
+            l2_to_l1_gbps: gbps(l2(|c| c.load_bytes)),
+            dram_reads: s.dram_reads - prev.dram_reads,
+            dram_writes: s.dram_writes - prev.dram_writes,
+            dram_bytes: s.dram_bytes - prev.dram_bytes,
+            dram_gbps: gbps(s.dram_bytes - prev.dram_bytes),
+            mean_rays_in_flight: stream
+                .then(|| ratio((s.ray_cycles - prev.ray_cycles) as f64, cycles as f64)),
+            energy_j,
+            power_w: ratio(energy_j, secs),
+            thread_cycles: tc,
+        });
+        prev = s;
+    }
+    out
+}

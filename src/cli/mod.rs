@@ -5,6 +5,7 @@ use clap::{Parser, Subcommand};
 mod annotate;
 mod build;
 mod common;
+mod compare;
 mod disasm;
 mod header;
 mod native;
@@ -45,6 +46,9 @@ enum Command {
     Sweep(sweep::SweepArgs),
     /// Chart a sweep's results (PNG and SVG).
     Plot(plot::PlotArgs),
+    /// Measure an image (PNG or raw framebuffer) against a reference: RMSE, relative MSE,
+    /// PSNR, maximum error, NaN and infinite pixels.
+    Compare(compare::CompareArgs),
 }
 
 pub fn main() -> std::process::ExitCode {
@@ -60,6 +64,7 @@ pub fn main() -> std::process::ExitCode {
         Command::Annotate(a) => annotate::run(a),
         Command::Sweep(a) => sweep::run(a),
         Command::Plot(a) => plot::run(a),
+        Command::Compare(a) => compare::run(a),
     }
 }
 

@@ -6,6 +6,7 @@ mod annotate;
 mod build;
 mod common;
 mod compare;
+mod converge;
 mod disasm;
 mod header;
 mod native;
@@ -49,6 +50,9 @@ enum Command {
     /// Measure an image (PNG or raw framebuffer) against a reference: RMSE, relative MSE,
     /// PSNR, maximum error, NaN and infinite pixels.
     Compare(compare::CompareArgs),
+    /// Image error against samples per pixel: a `trax native` reference, one simulated run
+    /// per level, a table, the log-log slope and a chart.
+    Converge(converge::ConvergeArgs),
 }
 
 pub fn main() -> std::process::ExitCode {
@@ -65,6 +69,7 @@ pub fn main() -> std::process::ExitCode {
         Command::Sweep(a) => sweep::run(a),
         Command::Plot(a) => plot::run(a),
         Command::Compare(a) => compare::run(a),
+        Command::Converge(a) => converge::run(a),
     }
 }
 

@@ -209,7 +209,7 @@ fn colour(i: usize) -> RGBColor {
 /// Chart size in pixels.
 const SIZE: (u32, u32) = (960, 600);
 
-fn register_font() {
+pub(super) fn register_font() {
     static ONCE: Once = Once::new();
     ONCE.call_once(|| {
         // The embedded font parses (checked by the plot tests); an error would only mean

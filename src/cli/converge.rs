@@ -343,6 +343,17 @@ fn render_reference(a: &ConvergeArgs) -> Result<Image, String> {
     read_image(&path, Some((a.width, a.height)))
 }
 
+/// A tick label with three significant digits and no trailing zeros.
+fn short(v: f64) -> String {
+    let digits = (2 - v.abs().log10().floor() as i32).clamp(0, 12) as usize;
+    let t = format!("{v:.digits$}");
+    if t.contains('.') {
+        t.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        t
+    }
+}
+
 /// Draws RMSE against spp on log-log axes, with the fitted line and a −1/2 guide.
 fn plot(path: &Path, levels: &[Level], slope: Option<f64>, name: &str) -> Result<(), String> {
     super::plot::register_font();
@@ -385,6 +396,9 @@ fn plot(path: &Path, levels: &[Level], slope: Option<f64>, name: &str) -> Result
             .x_desc("samples per pixel")
             .y_desc("RMSE vs reference")
             .label_style(("sans-serif", 15))
+            .x_label_formatter(&|v| short(*v))
+            .y_label_formatter(&|v| short(*v))
+            .light_line_style(WHITE)
             .draw()
             .map_err(|x| e(&x))?;
         chart

@@ -85,7 +85,7 @@ pub fn read_image(path: &Path, size: Option<(u32, u32)>) -> Result<Image, String
 
 /// Decodes a raw framebuffer: its length must be a whole number of 12-byte pixels.
 pub fn decode_raw(name: &str, bytes: &[u8]) -> Result<Image, String> {
-    if bytes.is_empty() || bytes.len() % RAW_PIXEL_BYTES != 0 {
+    if bytes.is_empty() || !bytes.len().is_multiple_of(RAW_PIXEL_BYTES) {
         return Err(format!(
             "{name}: not a PNG, and {} bytes is not a raw framebuffer (a positive multiple of {RAW_PIXEL_BYTES}: pixels of 3 little-endian f32)",
             bytes.len()

@@ -21,7 +21,7 @@ use std::time::Instant;
 use clap::Args;
 use plotters::prelude::*;
 use trax::compare::{compare, decode_raw, log_log_slope, read_image, Image, Metrics};
-use trax::pipeline::{self, chip_config, executable_of, lay_out, load_scene};
+use trax::pipeline::{self, chip_config, executable, lay_out, load_scene};
 use trax_emulator::Mode;
 
 use super::common::{RenderArgs, ShapeArgs};
@@ -171,7 +171,7 @@ fn converge(a: &ConvergeArgs) -> Result<(), String> {
         }
         None => render_reference(a)?,
     };
-    let elf = executable_of(&[a.kernel.clone()], a.opt_level).map_err(|e| e.to_string())?;
+    let elf = executable(&a.kernel, a.opt_level).map_err(|e| e.render())?;
     let render = a.render(1, a.seed);
     let scene = load_scene(&a.scene, &render.load_options()).map_err(|e| e.to_string())?;
     let name = a.kernel.display().to_string();

@@ -171,7 +171,10 @@ fn converge(a: &ConvergeArgs) -> Result<(), String> {
         }
         None => render_reference(a)?,
     };
-    let elf = executable(&a.kernel, a.opt_level).map_err(|e| e.render())?;
+    let elf = executable(&a.kernel, a.opt_level).map_err(|e| {
+        eprint!("{}", e.render());
+        format!("{}: the kernel does not build", a.kernel.display())
+    })?;
     let render = a.render(1, a.seed);
     let scene = load_scene(&a.scene, &render.load_options()).map_err(|e| e.to_string())?;
     let name = a.kernel.display().to_string();

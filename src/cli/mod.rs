@@ -5,6 +5,8 @@ use clap::{Parser, Subcommand};
 mod annotate;
 mod build;
 mod common;
+mod compare;
+mod converge;
 mod disasm;
 mod header;
 mod native;
@@ -45,6 +47,12 @@ enum Command {
     Sweep(sweep::SweepArgs),
     /// Chart a sweep's results (PNG and SVG).
     Plot(plot::PlotArgs),
+    /// Measure an image (PNG or raw framebuffer) against a reference: RMSE, relative MSE,
+    /// PSNR, maximum error, NaN and infinite pixels.
+    Compare(compare::CompareArgs),
+    /// Image error against samples per pixel: a `trax native` reference, one simulated run
+    /// per level, a table, the log-log slope and a chart.
+    Converge(converge::ConvergeArgs),
 }
 
 pub fn main() -> std::process::ExitCode {
@@ -60,6 +68,8 @@ pub fn main() -> std::process::ExitCode {
         Command::Annotate(a) => annotate::run(a),
         Command::Sweep(a) => sweep::run(a),
         Command::Plot(a) => plot::run(a),
+        Command::Compare(a) => compare::run(a),
+        Command::Converge(a) => converge::run(a),
     }
 }
 

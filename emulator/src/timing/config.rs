@@ -525,31 +525,7 @@ impl ChipConfig {
                 c.memory.l2.capacity_bytes = 256 * 1024;
                 c.memory.l2.banks = 16;
                 c.memory.dram = DramConfig::gddr5_thesis();
-                // Area, line by line as the thesis counts Table 2.5's 147 mm² (test
-                // `baseline_area_matches_thesis_tables`):
-                // - units: Table 2.4's compute area (0.26 mm² per TM: 8 FP add x 0.003,
-                //   8 FP mul x 0.01, 32 int add x 0.00066, 2 int mul x 0.012, one special
-                //   unit 0.11) + Table 2.2's FP min/max (32 x 0.00072). The thesis has one
-                //   special-function unit (Table 2.4 "Spec op 1", Table 2.5 "1 FP
-                //   invsqrt"); simtrax's FPINV line makes separate divide units, timed
-                //   separately here but charged no area. Bitwise, branch, compare and
-                //   conversion ops have no line in Tables 2.2/2.4 (part of the integer ALU
-                //   and FP min/max), so no area.
-                for k in ["fp_div", "int_div", "bitwise", "branch", "fp_cmp", "conv"] {
-                    if let Some(u) = c.units.get_mut(k) {
-                        u.area_mm2 = 0.0;
-                    }
-                }
-                // - register files: Table 2.2/2.4, 0.019 mm² per thread (default).
-                // - I-caches: Table 2.5's two 16-banked 4 KB I-caches per TM; Table 2.2's
-                //   0.07 mm² is a single-banked one, so Cacti's 16-bank figure (interpolated
-                //   between the icacheparams 1- and 64-bank rows).
-                c.icache.area_mm2 = crate::memsys::cacti::icache_4k(c.icache.banks).area_mm2;
-                // - local stores: the thesis's TM has no stack memory (all functions
-                //   inlined, no call stack, §2.2.2.1): no area. simtrax charged
-                //   0.01396329 mm² per thread (35.7 mm² on this chip).
-                c.local_store.area_mm2 = 0.0;
-                // - L1s, L2s: Cacti rows for their geometry (`memsys::cacti`).
+                thesis_area_lines(&mut c);
             }
             "strata" => {
                 // Thesis §3.2.4: 128 TMs of 32 threads (the TM of Table 2.5: 8 FP
@@ -570,6 +546,9 @@ impl ChipConfig {
                 // §3.2.3: box and triangle pipelines (`PipelinesConfig::default()`).
                 c.pipelines = PipelinesConfig::default();
                 c.memory.dram = DramConfig::gddr5_thesis();
+                // Area as for `baseline` (Tables 2.2/2.4/2.5); the stream memory's line
+                // is its own (`StreamMemoryConfig`), the pipelines' MUXes and latches none.
+                thesis_area_lines(&mut c);
             }
             _ => return None,
         }
@@ -880,9 +859,58 @@ impl ChipConfig {
     }
 }
 
+/// The area lines the thesis counts (Tables 2.2, 2.4, 2.5), for the thesis's chips
+/// (`baseline`, and `strata`, whose TM is Table 2.5's), so their areas compare like for like.
+fn thesis_area_lines(c: &mut ChipConfig) {
+    // Area, line by line as the thesis counts Table 2.5's 147 mm² (test
+    // `baseline_area_matches_thesis_tables`):
+    // - units: Table 2.4's compute area (0.26 mm² per TM: 8 FP add x 0.003,
+    //   8 FP mul x 0.01, 32 int add x 0.00066, 2 int mul x 0.012, one special
+    //   unit 0.11) + Table 2.2's FP min/max (32 x 0.00072). The thesis has one
+    //   special-function unit (Table 2.4 "Spec op 1", Table 2.5 "1 FP
+    //   invsqrt"); simtrax's FPINV line makes separate divide units, timed
+    //   separately here but charged no area. Bitwise, branch, compare and
+    //   conversion ops have no line in Tables 2.2/2.4 (part of the integer ALU
+    //   and FP min/max), so no area.
+    for k in ["fp_div", "int_div", "bitwise", "branch", "fp_cmp", "conv"] {
+        if let Some(u) = c.units.get_mut(k) {
+            u.area_mm2 = 0.0;
+        }
+    }
+    // - register files: Table 2.2/2.4, 0.019 mm² per thread (default).
+    // - I-caches: Table 2.5's two 16-banked 4 KB I-caches per TM; Table 2.2's
+    //   0.07 mm² is a single-banked one, so Cacti's 16-bank figure (interpolated
+    //   between the icacheparams 1- and 64-bank rows).
+    c.icache.area_mm2 = crate::memsys::cacti::icache_4k(c.icache.banks).area_mm2;
+    // - local stores: the thesis's TM has no stack memory (all functions
+    //   inlined, no call stack, §2.2.2.1): no area. simtrax charged
+    //   0.01396329 mm² per thread (35.7 mm² on the 80-TM baseline).
+    c.local_store.area_mm2 = 0.0;
+    // - L1s, L2s: Cacti rows for their geometry (`memsys::cacti`).
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `strata` is the thesis's TM with a stream memory and pipelines: its area lines per TM
+    /// and per thread must be counted as `baseline`'s are (a STRaTA-vs-baseline area
+    /// comparison otherwise charged strata ~50 mm² of local stores and divide units the
+    /// baseline no longer counts).
+    #[test]
+    fn thesis_chips_count_area_alike() {
+        let b = ChipConfig::preset("baseline").unwrap();
+        let s = ChipConfig::preset("strata").unwrap();
+        assert_eq!(s.local_store.area_mm2, b.local_store.area_mm2);
+        assert_eq!(s.register_file.area_mm2, b.register_file.area_mm2);
+        assert_eq!(s.icache.area_mm2, b.icache.area_mm2);
+        assert_eq!(s.icache.per_tm, b.icache.per_tm);
+        assert_eq!(s.units.len(), b.units.len());
+        for (k, u) in &b.units {
+            assert_eq!(s.units[k].area_mm2, u.area_mm2, "{k}");
+            assert_eq!(s.units[k].count, u.count, "{k}");
+        }
+    }
 
     #[test]
     fn stream_energy_follows_table_3_3() {

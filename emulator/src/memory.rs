@@ -671,6 +671,14 @@ mod tests {
             "nothing written"
         );
         assert_eq!(m.read::<4>(&local, 0x10_0ffe).unwrap(), [7, 7, 0, 0]);
+        // An MSA vector store (16 bytes) across the same boundary: likewise.
+        let f = m.write::<16>(&mut local, 0x10_0ff9, [5; 16]).unwrap_err();
+        assert_eq!((f.kind, f.size), (MemFaultKind::ReadOnly, 16));
+        assert_eq!(
+            m.read::<8>(&local, 0x10_1000).unwrap(),
+            [0; 8],
+            "nothing written"
+        );
         // Inside the writable page, every misalignment of every size.
         for (k, a) in (0x10_1001u32..0x10_1008).enumerate() {
             let v = [k as u8, 0x11, 0x22, 0x33, 0x44, 0x55, 0x66, 0x77];

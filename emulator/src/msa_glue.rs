@@ -27,42 +27,20 @@ struct ThreadMem<'a, C: Chip> {
 impl<C: Chip> MsaMemory for ThreadMem<'_, C> {
     type Error = MemExit;
 
+    // MSA vector accesses are 16 bytes and need no alignment; the memory performs
+    // misaligned accesses itself (byte-exact checks, stores all or nothing).
     fn load(&mut self, addr: u32, buf: &mut [u8]) -> Result<(), MemExit> {
-        let mem = &self.chip.shared().mem;
-        if buf.len() == 16 && addr & 15 == 0 {
-            buf.copy_from_slice(&mem.read::<16>(self.local, addr)?);
-            return Ok(());
-        }
-        // MSA vector accesses need no alignment: go byte by byte.
-        for (i, b) in buf.iter_mut().enumerate() {
-            *b = mem.read::<1>(self.local, addr.wrapping_add(i as u32))?[0];
-        }
+        buf.copy_from_slice(&self.chip.shared().mem.read::<16>(self.local, addr)?);
         Ok(())
     }
 
     fn store(&mut self, addr: u32, data: &[u8]) -> Result<(), MemExit> {
-        if data.len() == 16 && addr & 15 == 0 {
-            let mut v = [0u8; 16];
-            v.copy_from_slice(data);
-            return match self.chip.store::<16>(self.local, addr, v)? {
-                true => Ok(()),
-                false => Err(MemExit::Defer),
-            };
+        let mut v = [0u8; 16];
+        v.copy_from_slice(data);
+        match self.chip.store::<16>(self.local, addr, v)? {
+            true => Ok(()),
+            false => Err(MemExit::Defer),
         }
-        // All or nothing: check every byte (and whether this view may write it) first.
-        let global_end = self.chip.shared().mem.global_end();
-        for i in 0..data.len() as u32 {
-            let a = addr.wrapping_add(i);
-            self.chip.shared().mem.read::<1>(self.local, a)?;
-            if a < global_end && !self.chip.writes_global() {
-                return Err(MemExit::Defer);
-            }
-        }
-        for (i, b) in data.iter().enumerate() {
-            self.chip
-                .store::<1>(self.local, addr.wrapping_add(i as u32), [*b])?;
-        }
-        Ok(())
     }
 }
 

@@ -27,9 +27,9 @@ use MsaOp::*;
 pub trait MsaMemory {
     /// The core's memory error.
     type Error;
-    /// Reads `buf.len()` bytes starting at `addr`.
+    /// Reads one vector (`buf.len()` = 16 bytes) starting at `addr`; any alignment.
     fn load(&mut self, addr: u32, buf: &mut [u8]) -> Result<(), Self::Error>;
-    /// Writes `data` starting at `addr` (all or nothing).
+    /// Writes one vector (16 bytes) starting at `addr` (all or nothing); any alignment.
     fn store(&mut self, addr: u32, data: &[u8]) -> Result<(), Self::Error>;
 }
 

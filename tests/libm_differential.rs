@@ -13,12 +13,10 @@
 //! call, through `trax.profbegin`/`profend` regions) and prints the table.
 
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::path::PathBuf;
 
-use ::trax::pipeline::build_executable;
-use trax_emulator::timing::{ChipConfig, DEFAULT_CHIP};
-use trax_emulator::{run, Mode, RunRequest};
+mod differential;
+use differential::{emulate, native};
 
 /// The host build of the library: the oracle.
 #[allow(dead_code)]
@@ -29,14 +27,8 @@ mod libm_ref;
 
 use libm_ref::{edge_f32, edge_f64, sample_f32, sample_f64, Rng};
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
 fn tmp() -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join("libm-differential");
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    differential::scratch("libm-differential")
 }
 
 /// Kernel expressions, in output order. `a`, `b`: f32 operands; `c`, `d`: f64
@@ -290,47 +282,6 @@ fn compare(what: &str, stdout: &str, exp: &[String], inp: &Inputs) -> Vec<String
     bad
 }
 
-/// Compiles, links and runs `kernel` on the functional emulator (one thread); returns
-/// its output and the instructions of each profile region.
-fn emulate(kernel: &Path, opt: u8) -> (String, Vec<u64>) {
-    let elf = build_executable(kernel, opt).unwrap_or_else(|e| panic!("-O{opt}: {e}"));
-    let mut chip = ChipConfig::preset(DEFAULT_CHIP).unwrap();
-    chip.tms = 1;
-    chip.threads_per_tm = 1;
-    let mut out = Vec::new();
-    let result = run(
-        RunRequest::new("libm_kernel.elf", &elf, &chip, Mode::Functional),
-        &mut out,
-    )
-    .unwrap_or_else(|e| panic!("-O{opt}: {e}"));
-    assert!(
-        result.finished(),
-        "-O{opt}: {:?}\n{}",
-        result.outcome,
-        result.failure.unwrap_or_default()
-    );
-    let profile = result.machine.shared.profile.to_vec();
-    (String::from_utf8(out).unwrap(), profile)
-}
-
-fn native(kernel: &Path) -> String {
-    let out = Command::new(env!("CARGO_BIN_EXE_trax"))
-        .arg("native")
-        .arg(kernel)
-        .args(["--scene", "cornell", "--width", "4", "--height", "4"])
-        .args(["--tms", "1", "--threads", "1"])
-        .env("TRAX_CACHE_DIR", tmp().join("native-cache"))
-        .current_dir(root())
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "trax native: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8(out.stdout).unwrap()
-}
-
 #[test]
 fn every_libm_function_gives_the_same_bits_on_the_machine_and_natively() {
     let inp = inputs();
@@ -342,7 +293,12 @@ fn every_libm_function_gives_the_same_bits_on_the_machine_and_natively() {
         let (out, _) = emulate(&path, opt);
         bad.extend(compare(&format!("emulator -O{opt}"), &out, &exp, &inp));
     }
-    bad.extend(compare("native", &native(&path), &exp, &inp));
+    bad.extend(compare(
+        "native",
+        &native(&path, &tmp().join("native-cache")),
+        &exp,
+        &inp,
+    ));
     assert!(
         bad.is_empty(),
         "{} mismatches ({}); first:\n{}",

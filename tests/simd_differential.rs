@@ -27,12 +27,12 @@
 use std::collections::BTreeSet;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
-use ::trax::pipeline::{build_executable, compile_object};
+use ::trax::pipeline::compile_object;
 use trax_compiler::Emit;
-use trax_emulator::timing::{ChipConfig, DEFAULT_CHIP};
-use trax_emulator::{run, Mode, RunRequest};
+
+mod differential;
+use differential::{emulate, native, root};
 
 /// What `runtime/prelude/simd.rs` reaches as `super::hw`.
 mod hw {
@@ -46,14 +46,8 @@ mod simd;
 
 use simd::{f32x4, i32x4};
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
 fn tmp() -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join("simd-differential");
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    differential::scratch("simd-differential")
 }
 
 // ------------------------------------------------------------------ the operations
@@ -738,44 +732,6 @@ fn compare(what: &str, stdout: &str, exp: &[Expect]) -> Vec<String> {
 
 // ------------------------------------------------------------------ running
 
-fn emulate(kernel: &Path, opt: u8) -> String {
-    let elf = build_executable(kernel, opt).unwrap_or_else(|e| panic!("-O{opt}: {e}"));
-    let mut chip = ChipConfig::preset(DEFAULT_CHIP).unwrap();
-    chip.tms = 1;
-    chip.threads_per_tm = 1;
-    let mut out = Vec::new();
-    let result = run(
-        RunRequest::new("simd_kernel.elf", &elf, &chip, Mode::Functional),
-        &mut out,
-    )
-    .unwrap_or_else(|e| panic!("-O{opt}: {e}"));
-    assert!(
-        result.finished(),
-        "-O{opt}: {:?}\n{}",
-        result.outcome,
-        result.failure.unwrap_or_default()
-    );
-    String::from_utf8(out).unwrap()
-}
-
-fn native(kernel: &Path) -> String {
-    let out = Command::new(env!("CARGO_BIN_EXE_trax"))
-        .arg("native")
-        .arg(kernel)
-        .args(["--scene", "cornell", "--width", "4", "--height", "4"])
-        .args(["--tms", "1", "--threads", "1"])
-        .env("TRAX_CACHE_DIR", tmp().join("native-cache"))
-        .current_dir(root())
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "trax native: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8(out.stdout).unwrap()
-}
-
 #[test]
 fn every_simd_operation_matches_the_host_on_random_and_edge_inputs() {
     let inp = inputs();
@@ -787,11 +743,15 @@ fn every_simd_operation_matches_the_host_on_random_and_edge_inputs() {
     for opt in [0, 2] {
         bad.extend(compare(
             &format!("emulator -O{opt}"),
-            &emulate(&path, opt),
+            &emulate(&path, opt).0,
             &exp,
         ));
     }
-    bad.extend(compare("native", &native(&path), &exp));
+    bad.extend(compare(
+        "native",
+        &native(&path, &tmp().join("native-cache")),
+        &exp,
+    ));
     if !bad.is_empty() {
         // Summarise by (run, tag), then show the first few of each.
         let mut shown = std::collections::BTreeMap::<String, (usize, Vec<&String>)>::new();

@@ -4,7 +4,7 @@
 //! it the captured locals are the environment's pointers (or fields), so the enclosing
 //! body's code for places and paths applies unchanged.
 
-use super::{internal, FnState, LResult, Lowerer, Work, V};
+use super::{internal, LResult, Lowerer, Work, V};
 use crate::diag::Loc;
 use crate::ty::{ClosureTy, Ty};
 use crate::typeck::{key, Body, ClosureInfo};
@@ -14,7 +14,6 @@ use inkwell::module::Linkage;
 use inkwell::types::{BasicType, BasicTypeEnum, StructType};
 use inkwell::values::{BasicValueEnum, FunctionValue, PointerValue};
 use inkwell::AddressSpace;
-use std::collections::HashMap;
 use syn::spanned::Spanned;
 use syn::visit::Visit;
 use syn::Expr;
@@ -292,23 +291,7 @@ impl<'ctx, 'p, 'a> Lowerer<'ctx, 'p, 'a> {
             0,
             self.optimized,
         );
-        f.set_subprogram(sp);
-        let entry = self.ctx.append_basic_block(f, "entry");
-        let start = self.ctx.append_basic_block(f, "start");
-        self.b.position_at_end(entry);
-        self.b.unset_current_debug_location();
-        let br = self.b.build_unconditional_branch(start)?;
-        self.f = Some(FnState {
-            func: f,
-            alloca_at: br,
-            locals: HashMap::new(),
-            loops: Vec::new(),
-            scope: sp.as_debug_info_scope(),
-            ret: c.ret.clone(),
-            debug: true,
-            panic_args: None,
-        });
-        self.b.position_before(&br);
+        let start = self.begin_body(f, sp, c.ret.clone())?;
         // Captured locals: the environment's pointers (or its fields for `move`).
         let env = f
             .get_nth_param(0)

@@ -378,27 +378,7 @@ impl<'ctx, 'p, 'a> Lowerer<'ctx, 'p, 'a> {
             0,
             self.optimized,
         );
-        f.set_subprogram(sp);
-        let entry = self.ctx.append_basic_block(f, "entry");
-        let start = self.ctx.append_basic_block(f, "start");
-        self.b.position_at_end(entry);
-        self.b.unset_current_debug_location();
-        let br = self.b.build_unconditional_branch(start)?;
-        self.f = Some(FnState {
-            func: f,
-            alloca_at: br,
-            locals: HashMap::new(),
-            loops: Vec::new(),
-            scope: sp.as_debug_info_scope(),
-            ret: ret.clone(),
-            debug: true,
-            panic_args: None,
-        });
-        // Parameters are spilled to their slots in the entry block with no source location
-        // (as clang does), so the first located instruction, which LLVM marks
-        // `prologue_end`, is the body's: a debugger's `break FUNC` stops where every
-        // argument is already in its slot.
-        self.b.position_before(&br);
+        let start = self.begin_body(f, sp, ret.clone())?;
         let mut pending_pats = Vec::new();
         for (i, arg) in fd.sig.inputs.iter().enumerate() {
             let ty = params[i].clone();
@@ -506,6 +486,38 @@ impl<'ctx, 'p, 'a> Lowerer<'ctx, 'p, 'a> {
     }
 
     /// Branches to `bb` unless the current block is already terminated.
+    /// Starts lowering the body of `f` (debug subprogram `sp`, returning `ret`): an `entry`
+    /// block for allocas and parameter spills, branching to the body's `start` block, with
+    /// the builder positioned before that branch; returns `start`. Parameters are spilled there with no
+    /// source location (as clang does), so the first located instruction, which LLVM
+    /// marks `prologue_end`, is the body's: a debugger's `break FUNC` stops where every
+    /// argument is already in its slot.
+    fn begin_body(
+        &mut self,
+        f: FunctionValue<'ctx>,
+        sp: inkwell::debug_info::DISubprogram<'ctx>,
+        ret: Ty,
+    ) -> LResult<BasicBlock<'ctx>> {
+        f.set_subprogram(sp);
+        let entry = self.ctx.append_basic_block(f, "entry");
+        let start = self.ctx.append_basic_block(f, "start");
+        self.b.position_at_end(entry);
+        self.b.unset_current_debug_location();
+        let br = self.b.build_unconditional_branch(start)?;
+        self.f = Some(FnState {
+            func: f,
+            alloca_at: br,
+            locals: HashMap::new(),
+            loops: Vec::new(),
+            scope: sp.as_debug_info_scope(),
+            ret,
+            debug: true,
+            panic_args: None,
+        });
+        self.b.position_before(&br);
+        Ok(start)
+    }
+
     fn br(&mut self, bb: BasicBlock<'ctx>) -> LResult<()> {
         if !self.terminated() {
             self.b.build_unconditional_branch(bb)?;

@@ -46,6 +46,34 @@ impl Default for TreeletOptions {
     }
 }
 
+/// When the image builder forms treelets, and with which options (a chip config's
+/// `[treelets]`, resolved by the pipeline).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct TreeletLayout {
+    /// Form treelets for every program that reads the BVH; when false, only for a program
+    /// that reads `treelet_ids` (the others see the BVH in build order).
+    pub always: bool,
+    /// Budget and alignment.
+    pub options: TreeletOptions,
+}
+
+impl Default for TreeletLayout {
+    /// Treelets only for programs that read `treelet_ids`, with the default options.
+    fn default() -> Self {
+        TreeletLayout {
+            always: false,
+            options: TreeletOptions::default(),
+        }
+    }
+}
+
+impl TreeletLayout {
+    /// The treelets to form for a program that references the header fields `referenced`.
+    pub fn for_program(&self, referenced: &[&str]) -> Option<TreeletOptions> {
+        (self.always || referenced.contains(&"treelet_ids")).then(|| self.options.clone())
+    }
+}
+
 /// The treelets of a BVH.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Treelets {

@@ -25,7 +25,8 @@ mod workers;
 pub use config::{
     class_name, stream_energy_nj, ChipConfig, ConfigError, GlobalRegConfig, ICacheConfig,
     LocalStoreConfig, PipeConfig, PipelinesConfig, RegisterFileConfig, StreamMemoryConfig,
-    UnitConfig, CHIP_PRESETS, DEFAULT_CHIP, STREAM_ENERGY_TABLE, UNIT_NAMES,
+    TreeletAlign, TreeletConfig, TreeletForm, UnitConfig, CHIP_PRESETS, DEFAULT_CHIP,
+    STREAM_ENERGY_TABLE, UNIT_NAMES,
 };
 pub use engine::ThreadCycles;
 pub use intervals::Interval;

@@ -211,6 +211,64 @@ pub struct StreamMemoryConfig {
     /// (`memsys::cacti::dcache`, 64-byte lines; Table 2.2's 4 MB, 32 banks = 33.5 mm²),
     /// the linked-list logic taken to be the size of the cache's tags (§3.2.1).
     pub area_mm2: Option<f64>,
+    /// What a ray written to a full memory does: `"fault"` (default; the thesis's STRaTA,
+    /// §3.2.1: rays are generated and consumed one for one) or `"spill"` (beyond the thesis,
+    /// §7.1.1's proposal: a hardware sentinel moves blocks of rays to a DRAM spill area and
+    /// back, see `spill`).
+    pub overflow: Overflow,
+    /// The spill sentinel (used when `overflow = "spill"`).
+    pub spill: SpillConfig,
+}
+
+/// What a ray written to a full stream memory does (`stream_memory.overflow`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Overflow {
+    /// A fault naming the stream and the capacity.
+    #[default]
+    Fault,
+    /// Blocks of rays are spilled to DRAM and refilled (`stream_memory.spill`).
+    Spill,
+}
+
+/// The ray-buffer sentinel of thesis §7.1.1 (`stream_memory.spill`): when a ray written
+/// leaves more than `high_watermark` of the SRAM's rays stored, it moves a block of rays of
+/// the buffer with the most rays in SRAM to a DRAM spill area by DMA (contiguous lines, so
+/// whole rows); when the stored rays fall below `low_watermark`, or a TM reads a buffer
+/// whose rays are all in DRAM, it reads a block back. One transfer at a time, one ray per
+/// core cycle through the list controller (§7.1.1: 48 GB/s for 48-byte rays at 1 GHz), one
+/// line request per cycle to the DRAM; a thread writing to a memory whose slots are all
+/// taken (or reading rays still in transit) waits for the sentinel. Kernels see the same
+/// streams in both modes (functional runs move blocks at once).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SpillConfig {
+    /// Fraction of the SRAM's ray capacity above which a block is spilled. Default 0.75
+    /// (an assumption: room for writes while a block drains).
+    pub high_watermark: f64,
+    /// Fraction below which a block is refilled. Default 0.25 (an assumption).
+    pub low_watermark: f64,
+    /// Bytes of one block in DRAM, a multiple of the line size; it holds
+    /// `block_bytes / ray_bytes` rays packed. Default 65536: one 8 KB row on each of the 8
+    /// channels of the thesis GDDR5 (§7.1.1: "likely a multiple of the row buffer size").
+    /// The watermarks must leave a block between them and between the high one and the
+    /// capacity.
+    pub block_bytes: u32,
+    /// Bytes of the DRAM spill area, a multiple of `block_bytes`, at most 2 GiB (it lies at
+    /// DRAM addresses from 0x8000_0000 up, where no program data is). Writing a block when
+    /// it is full is a fault. Default 268435456 (256 MiB: 5.6 M rays of 48 bytes).
+    pub area_bytes: u32,
+}
+
+impl Default for SpillConfig {
+    fn default() -> Self {
+        SpillConfig {
+            high_watermark: 0.75,
+            low_watermark: 0.25,
+            block_bytes: 64 << 10,
+            area_bytes: 256 << 20,
+        }
+    }
 }
 
 impl Default for StreamMemoryConfig {
@@ -224,6 +282,8 @@ impl Default for StreamMemoryConfig {
             latency: 3,
             energy_nj: None,
             area_mm2: None,
+            overflow: Overflow::Fault,
+            spill: SpillConfig::default(),
         }
     }
 }
@@ -231,12 +291,70 @@ impl Default for StreamMemoryConfig {
 impl StreamMemoryConfig {
     /// The functional shape.
     pub fn geometry(&self) -> crate::streams::StreamGeometry {
-        crate::streams::StreamGeometry {
+        let mut g = crate::streams::StreamGeometry {
             capacity_bytes: self.capacity_bytes,
             ray_bytes: self.ray_bytes,
             buffers: self.buffers,
             banks: self.banks,
+            spill: None,
+        };
+        if self.overflow == Overflow::Spill {
+            let cap = f64::from(g.capacity_rays());
+            let sp = &self.spill;
+            g.spill = Some(crate::streams::SpillGeometry {
+                high_rays: (sp.high_watermark * cap).floor() as u32,
+                low_rays: (sp.low_watermark * cap).floor() as u32,
+                block_rays: sp.block_bytes / self.ray_bytes.max(1),
+                block_bytes: sp.block_bytes,
+                area_blocks: sp.area_bytes / sp.block_bytes.max(1),
+            });
         }
+        g
+    }
+
+    /// Checks the spill fields (when `overflow = "spill"`); `line_bytes` is the DRAM's.
+    fn validate_spill(&self, line_bytes: u32) -> Result<(), ConfigError> {
+        if self.overflow != Overflow::Spill || self.capacity_bytes == 0 {
+            return Ok(());
+        }
+        let bad = |m: String| Err(ConfigError::Invalid(m));
+        let sp = &self.spill;
+        if !(0.0..=1.0).contains(&sp.low_watermark) || !(0.0..=1.0).contains(&sp.high_watermark) {
+            return bad(format!(
+                "stream_memory.spill.low_watermark = {} and high_watermark = {} must be \
+                 fractions of the capacity, 0 to 1",
+                sp.low_watermark, sp.high_watermark
+            ));
+        }
+        if sp.block_bytes < self.ray_bytes || !sp.block_bytes.is_multiple_of(line_bytes) {
+            return bad(format!(
+                "stream_memory.spill.block_bytes = {} must hold a ray ({} bytes) and be a \
+                 multiple of the DRAM line ({line_bytes} bytes)",
+                sp.block_bytes, self.ray_bytes
+            ));
+        }
+        if sp.area_bytes < sp.block_bytes
+            || !sp.area_bytes.is_multiple_of(sp.block_bytes)
+            || sp.area_bytes > 1 << 31
+        {
+            return bad(format!(
+                "stream_memory.spill.area_bytes = {} must be a non-zero multiple of \
+                 block_bytes ({}) up to 2 GiB",
+                sp.area_bytes, sp.block_bytes
+            ));
+        }
+        let g = self.geometry();
+        let s = g.spill.expect("overflow = spill");
+        let cap = g.capacity_rays();
+        if s.low_rays + s.block_rays > s.high_rays || s.high_rays + s.block_rays > cap {
+            return bad(format!(
+                "stream_memory.spill: a block of {} rays (block_bytes / ray_bytes) must fit \
+                 between low_watermark ({} rays) and high_watermark ({} rays), and between \
+                 high_watermark and the capacity ({cap} rays)",
+                s.block_rays, s.low_rays, s.high_rays
+            ));
+        }
+        Ok(())
     }
 
     /// Energy per access, nJ (configured, or from Table 3.3).
@@ -897,6 +1015,7 @@ impl ChipConfig {
         if !(sm.energy_nj.is_none_or(|e| e >= 0.0) && sm.area_mm2.is_none_or(|a| a >= 0.0)) {
             return bad("stream_memory.energy_nj and area_mm2 must be >= 0".into());
         }
+        sm.validate_spill(self.memory.l2.line_bytes)?;
         for (name, p) in [
             ("box", &self.pipelines.box_pipe),
             ("tri", &self.pipelines.tri),

@@ -281,11 +281,10 @@ pub fn apply(bvh: &mut Bvh, opts: &TreeletOptions, max_leaf: u32) -> Result<(), 
         }
     };
     let capacity = |start: u32| -> u32 {
-        if align == 0 {
-            (budget / tri) as u32
-        } else {
-            let block = u64::from(start) * tri / align * align;
-            ((block + budget - u64::from(start) * tri) / tri) as u32
+        let at = u64::from(start) * tri;
+        match at.checked_div(align) {
+            None => (budget / tri) as u32,
+            Some(blocks) => ((blocks * align + budget - at) / tri) as u32,
         }
     };
     let mut tri_order: Vec<u32> = Vec::with_capacity(bvh.tri_order.len());

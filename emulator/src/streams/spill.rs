@@ -496,8 +496,7 @@ mod tests {
             m.dma_done(t.id);
         }
         let mut got = Vec::new();
-        loop {
-            let Some(b) = m.fullest() else { break };
+        while let Some(b) = m.fullest() {
             match m.pop(b as usize) {
                 Popped::Ray(r) => got.push(r[0]),
                 Popped::Wait => {

@@ -340,6 +340,8 @@ fn run_timing(mut req: RunRequest<'_>, out: &mut dyn Write) -> Result<RunReport,
             machine.threads.len(),
         ));
     }
+    // Spill transfers take time on this chip (functional runs move blocks at once).
+    machine.shared.streams.set_timed(true);
     let outcome = engine.run(&mut machine, out);
     let profiler = engine.profiler.take();
     let cycles = engine.now;

@@ -290,16 +290,22 @@ pub fn exec_trax<C: Chip>(
                 let sh = exclusive!();
                 if let Some((id, words)) = t.stream_write.take() {
                     let b = sh.streams.buffer(id)?;
-                    sh.streams.push(b, &words)?;
+                    if sh.streams.push(b, &words)? == crate::streams::Flow::Wait {
+                        // The spill sentinel is making room: retry (the record is kept).
+                        t.stream_write = Some((id, words));
+                        return Ok(TraxFlow::Retry);
+                    }
                 }
             }
         }
         StreamReadStart => {
             let sh = exclusive!();
             let cur = sh.tm_stream[t.tm as usize];
-            let ray = match sh.streams.buffer(cur) {
-                Ok(b) => sh.streams.pop(b),
-                Err(_) => None,
+            let ray = match sh.streams.buffer(cur).map(|b| sh.streams.pop(b)) {
+                Ok(crate::streams::Popped::Ray(r)) => Some(r),
+                // The buffer's rays are on their way back from DRAM: retry.
+                Ok(crate::streams::Popped::Wait) => return Ok(TraxFlow::Retry),
+                _ => None,
             };
             let got = ray.is_some();
             t.stream_read = ray.map(|r| (r, 0));

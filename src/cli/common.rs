@@ -12,7 +12,8 @@ use trax_emulator::timing::{ChipConfig, DEFAULT_CHIP};
 /// The chip and its thread shape.
 #[derive(Args, Debug, Clone)]
 pub struct ShapeArgs {
-    /// Chip configuration: a preset (`tiny`, `baseline`, `strata`) or a TOML file.
+    /// Chip configuration: a preset (`tiny`, `baseline`, `strata`, `baseline-ch5`,
+    /// `strata-plus`) or a TOML file.
     #[arg(long, default_value = DEFAULT_CHIP)]
     pub config: String,
     /// Thread multiprocessors (overrides the config).
@@ -21,6 +22,12 @@ pub struct ShapeArgs {
     /// Threads per TM (overrides the config).
     #[arg(long)]
     pub threads: Option<u32>,
+    /// Set any chip config field by its dotted path, as a line of the config file would
+    /// (`--set memory.l2.capacity_bytes=262144`, `--set memory.dram.preset=hbm2`,
+    /// `--set treelets.align=dram-row`); VALUE is TOML (a bare word is a string).
+    /// Repeatable; applied before `--tms/--threads/--l2s`.
+    #[arg(long = "set", value_name = "PATH=VALUE", value_parser = super::run::parse_set)]
+    pub set: Vec<(String, toml::Value)>,
 }
 
 /// Scene and image parameters.

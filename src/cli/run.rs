@@ -102,11 +102,6 @@ pub struct ExecArgs {
     /// Number of L2 caches; TMs are split evenly among them (overrides the config).
     #[arg(long)]
     pub l2s: Option<u32>,
-    /// Set any chip config field by its dotted path, as a line of the config file would
-    /// (`--set memory.l2.capacity_bytes=262144`, `--set memory.dram.preset=hbm2`); VALUE is
-    /// TOML (a bare word is a string). Repeatable; applied before `--tms/--threads/--l2s`.
-    #[arg(long = "set", value_name = "PATH=VALUE", value_parser = parse_set)]
-    pub set: Vec<(String, toml::Value)>,
     /// Functional mode: execute without the timing model (fast; no cycle statistics).
     #[arg(long)]
     pub functional: bool,
@@ -262,7 +257,7 @@ pub fn parse_set(s: &str) -> Result<(String, toml::Value), String> {
 /// The chip: the named config with the command-line overrides applied.
 fn chip_config(a: &ExecArgs) -> Result<ChipConfig, String> {
     let s = &a.shape;
-    pipeline::chip_config(&s.config, &a.set, s.tms, s.threads, a.l2s)
+    pipeline::chip_config(&s.config, &s.set, s.tms, s.threads, a.l2s)
 }
 
 /// Prepares and runs the kernel, reports statistics, writes the PNG; with `extras`,

@@ -279,6 +279,17 @@ impl Dram {
         }
     }
 
+    /// Column accesses of DMA requests (the ray sentinel's) and how many found their row
+    /// open; (0, 0) for the simple model, which has no rows.
+    pub fn dma_row_hits(&self) -> (u64, u64) {
+        match self {
+            Dram::Simple(_) => (0, 0),
+            Dram::Detailed(d) => d
+                .counters()
+                .fold((0, 0), |(c, h), k| (c + k.dma_cols, h + k.dma_row_hits)),
+        }
+    }
+
     /// Statistics up to the last `advance_to`.
     pub fn stats(&self) -> DramStats {
         match self {

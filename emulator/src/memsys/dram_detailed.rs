@@ -93,6 +93,9 @@ pub(crate) struct ChanCounters {
     pub max_reads: u32,
     pub max_writes: u32,
     pub drain_episodes: u64,
+    /// Column accesses of DMA requests (`sentinel::is_dma` ids), and those that hit.
+    pub dma_cols: u64,
+    pub dma_row_hits: u64,
 }
 
 struct Channel {
@@ -1024,6 +1027,10 @@ impl Channel {
                     None => self.c.row_hits += 1,
                     Some(RowOutcome::Miss) => self.c.row_misses += 1,
                     Some(RowOutcome::Conflict) => self.c.row_conflicts += 1,
+                }
+                if super::sentinel::is_dma(req.id) {
+                    self.c.dma_cols += 1;
+                    self.c.dma_row_hits += u64::from(req.outcome.is_none());
                 }
                 if writes {
                     bank.pre_ok = bank.pre_ok.max(tc + t.t_cwd + t.t_burst + t.t_wr);

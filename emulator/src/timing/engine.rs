@@ -38,6 +38,7 @@ use crate::chip::Effects;
 use crate::decode::Inst;
 use crate::exec::Stop;
 use crate::machine::{drain, release_barriers, Crash, Machine, Outcome};
+use crate::memsys::sentinel::DmaJob;
 use crate::memsys::{CacheStats, MemSystem};
 use crate::profile::Profiler;
 use crate::run::{Limits, Progress};
@@ -103,6 +104,9 @@ pub struct Counters {
     /// TM-cycles from a `trax.strsched` that found every stream empty until the TM's next
     /// one that found rays (or its last thread's halt).
     pub stream_starved_tm_cycles: u64,
+    /// Thread-cycles a stream write or read waited for the spill sentinel (from its first
+    /// attempt to the one that went through).
+    pub stream_spill_stall_cycles: u64,
 }
 
 /// Receives a [`Progress`] report every few host milliseconds.
@@ -447,6 +451,9 @@ struct StreamTiming {
     /// rays), and the cycle of its last halt.
     starved_since: Vec<Option<u64>>,
     last_halt: Vec<Option<u64>>,
+    /// Per thread (TM x threads + thread): the cycle its stream op first waited for the
+    /// spill sentinel, until it goes through.
+    spill_wait: Vec<Option<u64>>,
 }
 
 impl StreamTiming {
@@ -485,6 +492,32 @@ impl StreamTiming {
                 *since = None;
             }
             (false, None) => *since = Some(cycle),
+            _ => {}
+        }
+    }
+
+    /// Thread `gid`'s stream op at `cycle` waited for the sentinel (`waited`) or went
+    /// through.
+    fn spill_wait(
+        &mut self,
+        c: &mut Counters,
+        threads: usize,
+        gid: usize,
+        cycle: u64,
+        waited: bool,
+    ) {
+        if self.spill_wait.is_empty() {
+            if !waited {
+                return;
+            }
+            self.spill_wait = vec![None; threads];
+        }
+        match (waited, self.spill_wait[gid]) {
+            (true, None) => self.spill_wait[gid] = Some(cycle),
+            (false, Some(s)) => {
+                c.stream_spill_stall_cycles += cycle.saturating_sub(s);
+                self.spill_wait[gid] = None;
+            }
             _ => {}
         }
     }
@@ -544,7 +577,7 @@ impl Driver<'_, '_> {
         for x in &mem.l2 {
             l2.add(x);
         }
-        let streams = sh.streams.reads + sh.streams.writes;
+        let streams = sh.streams.sram_accesses();
         self.samples.push(Snapshot {
             cycle: at,
             tc: c.tc.clone(),
@@ -677,9 +710,16 @@ impl Driver<'_, '_> {
                             crash = Some((d.cycle, Box::new(Crash::capture(t, f))));
                             break;
                         }
-                        // A semaphore that is not available: retry next quantum.
+                        // A semaphore that is not available, or a stream op waiting
+                        // for the spill sentinel: retry next quantum.
                         Stop::Retry | Stop::Defer => {
                             c.tc.sync_wait += 1;
+                            if d.info.class == UnitClass::Stream {
+                                let gid = d.tm as usize * sim.threads.len() + tid;
+                                let n = tms as usize * sim.threads.len();
+                                self.streams.spill_wait(c, n, gid, d.cycle, true);
+                                dispatch_transfers(self.mem, sh, d.cycle);
+                            }
                             continue;
                         }
                         Stop::Halted => true,
@@ -701,6 +741,10 @@ impl Driver<'_, '_> {
                 let info = d.info;
                 let mut ready = d.ready_at;
                 if info.class == UnitClass::Stream {
+                    let gid = d.tm as usize * sim.threads.len() + tid;
+                    let n = tms as usize * sim.threads.len();
+                    self.streams.spill_wait(c, n, gid, d.cycle, false);
+                    dispatch_transfers(self.mem, sh, d.cycle);
                     // A ray pushed or popped: one access to its slot's bank.
                     if let Some(slot) = sh.streams.last_slot.take() {
                         ready = self.streams.access(self.cfg, c, slot, d.cycle);
@@ -744,6 +788,14 @@ impl Driver<'_, '_> {
                 }
             }
             chip.serve_until(to, &mut sims);
+            // The sentinel's transfers free slots and bring rays back (seen next quantum).
+            for e in chip.dma_events() {
+                if e.done {
+                    sh.streams.dma_done(e.id);
+                } else {
+                    sh.streams.dma_progress(e.id, e.rays);
+                }
+            }
             if rounds.threads() > 1 && crossed(REBALANCE_EVERY) {
                 let loads: Vec<u64> = sims
                     .iter()
@@ -812,6 +864,20 @@ impl Driver<'_, '_> {
     }
 }
 
+/// Hands the block transfers a stream op started at `cycle` to the sentinel's DMA engine.
+fn dispatch_transfers(mem: &mut MemSystem, sh: &mut Shared, cycle: u64) {
+    for t in sh.streams.take_transfers() {
+        mem.chip_mut().dma_start(DmaJob {
+            id: t.id,
+            write: t.write,
+            addr: t.addr,
+            rays: t.rays,
+            ray_bytes: t.ray_bytes,
+            start: cycle,
+        });
+    }
+}
+
 /// Instructions executed so far: issued plus zero-cost debug ops, over every host thread.
 fn executed(parts: &[Mutex<Part>]) -> u64 {
     parts
@@ -860,6 +926,7 @@ impl Counters {
         self.stream_conflict_cycles += o.stream_conflict_cycles;
         self.stream_ray_cycles += o.stream_ray_cycles;
         self.stream_starved_tm_cycles += o.stream_starved_tm_cycles;
+        self.stream_spill_stall_cycles += o.stream_spill_stall_cycles;
     }
 }
 

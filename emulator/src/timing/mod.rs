@@ -24,12 +24,13 @@ mod workers;
 
 pub use config::{
     class_name, stream_energy_nj, ChipConfig, ConfigError, GlobalRegConfig, ICacheConfig,
-    LocalStoreConfig, PipeConfig, PipelinesConfig, RegisterFileConfig, StreamMemoryConfig,
-    UnitConfig, CHIP_PRESETS, DEFAULT_CHIP, STREAM_ENERGY_TABLE, UNIT_NAMES,
+    LocalStoreConfig, Overflow, PipeConfig, PipelinesConfig, RegisterFileConfig, SpillConfig,
+    StreamMemoryConfig, TreeletAlign, TreeletConfig, TreeletForm, UnitConfig, CHIP_PRESETS,
+    DEFAULT_CHIP, STREAM_ENERGY_TABLE, UNIT_NAMES,
 };
 pub use engine::ThreadCycles;
 pub use intervals::Interval;
 pub use stats::{
-    area_breakdown, pipe_op_energy_nj, AreaBreakdown, EnergyBreakdown, PipelineStats, StreamStats,
-    TimingStats,
+    area_breakdown, pipe_op_energy_nj, AreaBreakdown, EnergyBreakdown, PipelineStats, SpillStats,
+    StreamStats, TimingStats,
 };

@@ -12,6 +12,9 @@ pub const SCENE_HEADER_ADDR: u32 = 0x10000;
 pub const SCENE_MAGIC: u32 = 0x58415254;
 /// Value of the header's `version` field.
 pub const SCENE_VERSION: u32 = 1;
+/// The global register `pixel_share` hands pixels out from (sampled simulation
+/// follows a frame's progress along it).
+pub const PIXEL_COUNTER_REG: u32 = 255;
 
 // `abi::SceneHeader` (C: `trax_scene_header`).
 /// `SCENE_MAGIC`.

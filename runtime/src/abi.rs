@@ -38,6 +38,11 @@ pub const SCENE_SYMBOL_PREFIX: &str = "__trax_scene_";
 /// Version of the header layout; bump on any change.
 pub const SCENE_VERSION: u32 = 1;
 
+/// The global register from which `trax::scene::pixel_share` hands out pixels (one
+/// `atomic_add` per pixel block). Sampled simulation (`trax run --sample`) follows a
+/// frame's progress along it.
+pub const PIXEL_COUNTER_REG: u32 = 255;
+
 #[macro_use]
 pub mod encode;
 

@@ -121,6 +121,16 @@ pub fn render_layout() -> String {
         "pub const SCENE_VERSION: u32 = {};",
         abi::SCENE_VERSION
     );
+    let _ = writeln!(
+        out,
+        "/// The global register `pixel_share` hands pixels out from (sampled simulation\n\
+         /// follows a frame's progress along it)."
+    );
+    let _ = writeln!(
+        out,
+        "pub const PIXEL_COUNTER_REG: u32 = {};",
+        abi::PIXEL_COUNTER_REG
+    );
     let mut structs: Vec<StructLayout> = vec![abi::SceneHeader::layout(), abi::Component::layout()];
     for c in abi::SCENE_COMPONENTS {
         if let Kind::Struct(l) = c.element {

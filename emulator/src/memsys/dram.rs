@@ -263,6 +263,14 @@ impl Dram {
         }
     }
 
+    /// Functional warming (sampled simulation): the row of `addr` is open afterwards, as
+    /// after a timed access (the simple model has no rows).
+    pub fn warm(&mut self, addr: u32) {
+        if let Dram::Detailed(d) = self {
+            d.warm(addr);
+        }
+    }
+
     /// Whether nothing is queued.
     pub fn is_idle(&self) -> bool {
         match self {

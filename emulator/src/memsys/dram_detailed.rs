@@ -560,6 +560,30 @@ impl DetailedDram {
         self.now = target;
     }
 
+    /// Functional warming (sampled simulation): opens the row of `addr` in its bank, as
+    /// the access's ACT would (open-row policy: it stays open until a conflict or a
+    /// refresh), with the rank's active-time accounting; no command, timing constraint or
+    /// counter changes. Call it only while nothing is queued ([`Self::is_idle`]).
+    pub fn warm(&mut self, addr: u32) {
+        let (ch, rank, b, row) = self.decode(addr);
+        let now = self.now;
+        let c = &mut self.channels[ch];
+        let bank = &mut c.banks[b];
+        if bank.open_row == row {
+            return;
+        }
+        if bank.open_row == NO_ROW {
+            let r = &mut c.ranks[rank];
+            if r.open_banks == 0 {
+                r.active_since = c.now.max(now);
+            }
+            r.open_banks += 1;
+        }
+        bank.open_row = row;
+        c.local.valid &= !(1u64 << b);
+        c.decided.valid = false;
+    }
+
     /// Whether no request is queued anywhere.
     pub fn is_idle(&self) -> bool {
         self.channels

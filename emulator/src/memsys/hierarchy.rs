@@ -547,6 +547,62 @@ impl MemSystem {
         self.chip.next_event()
     }
 
+    /// Functional warming (sampled simulation): the load (`write` false) or store of TM
+    /// `tm` at `addr` changes the cache tags and DRAM row buffers as its timed access
+    /// would, at once and without statistics: a load looks up the L1, on a miss the L2
+    /// (both install the line), on a miss the DRAM opens the line's row; a store goes
+    /// around both caches (write-around, no allocation) and opens its row. Call it only
+    /// while nothing is in flight ([`Self::is_drained`]).
+    /// Returns where a load was served: 0 the L1, 1 the L2, 2 the DRAM (a store: 0).
+    pub fn warm(&mut self, tm: usize, addr: u32, write: bool) -> u8 {
+        if write {
+            self.chip.dram.warm(addr);
+            return 0;
+        }
+        let l1 = &mut self.tm[tm].l1;
+        if l1.warm(l1.line_of(addr)) {
+            return 0;
+        }
+        let chip = &mut self.chip;
+        if chip.l2[tm / chip.tms_per_l2].warm(addr >> chip.l1_line_shift) {
+            return 1;
+        }
+        self.chip.dram.warm(addr);
+        2
+    }
+
+    /// Whether nothing is in flight anywhere: no request waits between an L1 and its L2,
+    /// no L1 or L2 miss is outstanding, no DRAM request is queued.
+    pub fn is_drained(&self) -> bool {
+        self.tm.iter().all(|t| !t.busy() && t.l1.mshrs_busy() == 0)
+            && self.chip.owes_nothing()
+            && self.chip.dram.is_idle()
+    }
+
+    /// Serves everything in flight (requests, fills, DRAM reads and writes) from core cycle
+    /// `from` on, the TMs issuing nothing; returns the first cycle at which nothing is left
+    /// ([`Self::is_drained`]). Load completions are dropped: their threads are not waiting
+    /// for them any more. Gives up after `limit` cycles (`None`: the memory system does not
+    /// come to rest).
+    pub fn drain(&mut self, from: Cycle, limit: Cycle) -> Option<Cycle> {
+        let mut now = from;
+        let mut dropped = Vec::new();
+        while !self.is_drained() {
+            if now - from > limit {
+                return None;
+            }
+            now += 1;
+            self.advance_to(now, &mut dropped);
+            dropped.clear();
+        }
+        Some(now)
+    }
+
+    /// The L1 of TM `tm` and the L2s (for comparing cache states).
+    pub fn caches(&self, tm: usize) -> (&Cache, &[Cache]) {
+        (&self.tm[tm].l1, &self.chip.l2)
+    }
+
     /// Statistics so far.
     pub fn stats(&self) -> MemStats {
         self.stats_with(&self.tm)

@@ -17,6 +17,7 @@ mod config;
 pub(crate) mod engine;
 pub mod intervals;
 pub(crate) mod operands;
+pub mod sample;
 pub(crate) mod stats;
 mod stats_doc;
 mod tm;
@@ -30,6 +31,7 @@ pub use config::{
 };
 pub use engine::ThreadCycles;
 pub use intervals::Interval;
+pub use sample::{Estimate, Estimates, SampleRequest, SampledStats};
 pub use stats::{
     area_breakdown, pipe_op_energy_nj, AreaBreakdown, EnergyBreakdown, PipelineStats, SpillStats,
     StreamStats, TimingStats,

@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 
 use trax_assembler::image::{
     build_image, build_image_from_symbols, on_demand_components, ImageError, RenderOptions,
-    SceneImage,
+    SceneImage, StreamShape,
 };
 use trax_assembler::link::{link, Input, LinkOptions};
 use trax_assembler::scene::{LoadOptions, Scene};
@@ -103,10 +103,21 @@ impl Request {
             .collect()
     }
 
-    /// The image options with the chip's stack size.
+    /// The image options with the chip's stack size and stream memory shape.
     fn render_options(&self) -> RenderOptions {
+        let sm = &self.chip.stream_memory;
+        let stream = if sm.capacity_bytes > 0 {
+            StreamShape {
+                rays: sm.geometry().capacity_rays(),
+                ray_bytes: sm.ray_bytes,
+                buffers: sm.buffers,
+            }
+        } else {
+            StreamShape::default()
+        };
         RenderOptions {
             stack_size: self.chip.local_store.bytes,
+            stream,
             ..self.render.clone()
         }
     }

@@ -70,6 +70,20 @@ pub struct RenderOptions {
     pub stack_size: u32,
     /// BVH settings (treelets are formed when set here or when the program reads `treelet_ids`).
     pub bvh: BvhOptions,
+    /// The shape of the chip's ray stream memory, written into the header for kernels.
+    pub stream: StreamShape,
+}
+
+/// The ray stream memory's shape as kernels see it (header fields `stream_rays`,
+/// `stream_ray_bytes`, `stream_buffers`); all zero when the chip has none.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct StreamShape {
+    /// Rays it holds.
+    pub rays: u32,
+    /// Bytes of one ray record.
+    pub ray_bytes: u32,
+    /// Ray buffers.
+    pub buffers: u32,
 }
 
 impl Default for RenderOptions {
@@ -84,6 +98,7 @@ impl Default for RenderOptions {
             background: [0.0; 3],
             stack_size: abi::DEFAULT_STACK_SIZE,
             bvh: BvhOptions::default(),
+            stream: StreamShape::default(),
         }
     }
 }
@@ -305,6 +320,9 @@ pub fn build_image_from_symbols(
         epsilon: opts.epsilon.unwrap_or_else(|| default_epsilon(scene)),
         seed: opts.seed,
         background: opts.background,
+        stream_rays: opts.stream.rays,
+        stream_ray_bytes: opts.stream.ray_bytes,
+        stream_buffers: opts.stream.buffers,
         ..SceneHeader::new(opts.width, opts.height)
     };
     let ctx = Ctx {

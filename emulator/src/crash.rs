@@ -148,3 +148,91 @@ impl SourceFrame {
         caller.location()
     }
 }
+
+/// Formats the report of a deadlock: every live thread of `m`, grouped by TM and what it
+/// waits for (barrier, `trax.strsched`, semaphore), with the source line it waits at.
+pub fn deadlock_report(
+    m: &crate::machine::Machine,
+    cycle: Option<u64>,
+    exe: Option<&Executable>,
+    dbg: Option<&DebugInfo>,
+) -> String {
+    use crate::decode::Inst;
+    use crate::thread::RunState;
+    use trax_runtime::isa::TraxOp;
+    let sh = &m.shared;
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "error: deadlock{}: {} live thread(s) all wait for one another, and none can run:",
+        cycle.map_or(String::new(), |c| format!(" at cycle {c}")),
+        sh.live_threads
+    );
+    let place = |pc: u32| -> String {
+        let frames = dbg.map(|d| d.frames(pc));
+        match frames.as_deref().and_then(|f| f.first()) {
+            Some(f) => format!("at {} in {}", f.location(), fname(f)),
+            None => match exe.and_then(|e| e.symbol_at(pc)) {
+                Some((sym, off)) => format!("at {pc:#010x} <{}+{off:#x}>", demangle(&sym.name)),
+                None => format!("at {pc:#010x}"),
+            },
+        }
+    };
+    // (TM, what, where) per live thread, in thread order.
+    let mut rows: Vec<(u32, u32, String)> = Vec::new();
+    for t in &m.threads {
+        let what = match t.state {
+            RunState::Halted => continue,
+            RunState::Barrier { reg, .. } => format!(
+                "trax.barrier G[{reg}] ({} of {} live threads arrived) {}",
+                sh.barrier_waiting[reg as usize],
+                sh.live_threads,
+                place(t.wait_pc)
+            ),
+            RunState::StreamWait { .. } => {
+                let ts = &sh.sched.tms[t.tm as usize];
+                let why = if ts.idle {
+                    "its TM drained and every ray buffer is empty: waiting for a ray".to_string()
+                } else {
+                    format!(
+                        "waiting for {} more live thread(s) of its TM",
+                        ts.live.saturating_sub(ts.waiting)
+                    )
+                };
+                format!("trax.strsched ({why}) {}", place(t.wait_pc))
+            }
+            RunState::Running => match sh.program.get(t.pc) {
+                Some(Inst::Trax {
+                    op: TraxOp::SemAcquire,
+                    rs,
+                    ..
+                }) => {
+                    let reg = t.regs.gpr[(*rs & 31) as usize];
+                    format!("trax.semacq G[{reg}] (0) {}", place(t.pc))
+                }
+                _ => format!("runnable {}", place(t.pc)),
+            },
+        };
+        rows.push((t.gid, t.tm, what));
+    }
+    let mut i = 0;
+    while i < rows.len() {
+        let (g0, tm, what) = &rows[i];
+        let mut j = i + 1;
+        while j < rows.len()
+            && rows[j].1 == *tm
+            && rows[j].2 == *what
+            && rows[j].0 == g0 + (j - i) as u32
+        {
+            j += 1;
+        }
+        let who = if j - i == 1 {
+            format!("thread {g0}")
+        } else {
+            format!("threads {g0}-{}", rows[j - 1].0)
+        };
+        let _ = writeln!(s, "  {who} (TM {tm}): {what}");
+        i = j;
+    }
+    s
+}

@@ -232,35 +232,62 @@ fn a_read_is_ready_after_the_configured_latency() {
     assert_eq!(dts[1] - dts[0], 30);
 }
 
-const STARVED: &str = r#"
+/// TM 1 schedules with every buffer empty and idles; TM 0 writes a ray after 50
+/// dependent adds and halts; TM 1 wakes with that buffer, reads the ray, and its next
+/// schedule ends the frame (every live thread waits, the memory is empty).
+const IDLE_WAKE: &str = r#"
 #include "trax.h"
 void trax_main(void) {
-    unsigned t0 = trax_clock();
+    if (trax_tmid() == 0) {
+        float a = 1.0f, b = 0.5f;
+        __asm__ volatile(".rept 50\n add.s %0, %0, %1\n .endr\n mov.s %0, %0" : "+f"(a) : "f"(b));
+        trax_strwstart(3);
+        trax_strw(7);
+        unsigned t = trax_clock();
+        trax_strwend();
+        trax_printu(t);
+        trax_printc(' ');
+        return;
+    }
+    unsigned t = trax_clock();
     unsigned s = trax_strsched();
-    float a = 1.0f, b = 0.5f;
-    __asm__ volatile(".rept 50\n add.s %0, %0, %1\n .endr\n mov.s %0, %0" : "+f"(a) : "f"(b));
-    trax_strwstart(3);
-    trax_strw(1);
-    trax_strwend();
-    unsigned t1 = trax_clock();
+    unsigned got = trax_strrstart(), w = trax_strr();
+    trax_strrend();
     unsigned s2 = trax_strsched();
-    trax_printu(t1 - t0);
+    trax_printu(t);
     trax_printc(' ');
     trax_printu(s);
+    trax_printc(' ');
+    trax_printu(got * w);
     trax_printc(' ');
     trax_printu(s2);
 }
 "#;
 
 #[test]
-fn starved_tm_cycles_run_from_an_empty_schedule_to_a_full_one() {
-    let elf = common::build_c("s_starved", STARVED, "-O1");
-    let chip = stream_chip(1, 4, 8, 4);
+fn an_idle_tm_wakes_when_another_tm_writes_a_ray() {
+    let elf = common::build_c("s_idle", IDLE_WAKE, "-O1");
+    let mut chip = stream_chip(1, 4, 8, 4);
+    chip.tms = 2;
+    chip.tms_per_l2 = 2;
+    let (_, f) = finished(&elf, &chip, Mode::Functional);
     let (t, out) = finished(&elf, &chip, Mode::Timing);
     let v = numbers(&out);
-    assert_eq!((v[1], v[2]), (u64::from(u32::MAX), 3), "{out}");
-    // Each strsched issues in the cycle the clock before it reads.
-    assert_eq!(t.unwrap().stream.starved_tm_cycles, v[0], "{out}");
+    assert_eq!(&v[2..], [3, 7, u64::from(u32::MAX)], "{out}");
+    assert_eq!(&numbers(&f)[2..], &v[2..], "functional: {f}");
+    // TM 1's strsched issues in the cycle its clock read (v[1]), TM 0's strwend in the
+    // cycle of its own (v[0]): TM 1 idles from the one to the other.
+    let t = t.unwrap();
+    let idle = v[0] - v[1];
+    assert!(idle > 50, "{out}");
+    assert_eq!(t.stream.idle_tm_cycles, idle, "{out}");
+    // Its thread waits from the end of its strsched's quantum (until then: global_sync)
+    // to the end of the push's quantum, so by less than a quantum either way.
+    let q = u64::from(chip.memory.l1.hit_latency + chip.memory.l2.hit_latency);
+    let st = t.thread_cycles.stream_idle;
+    assert!(st + q > idle && st < idle + q, "{st} vs {idle}");
+    // One schedule that gave a buffer (the wake), then the end of the frame.
+    assert_eq!((t.stream.schedules, t.stream.switches), (1, 1));
 }
 
 /// `report(v)`: thread 0 prints every thread's `v` in thread order, after all arrive

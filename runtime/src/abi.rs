@@ -36,7 +36,11 @@ pub const SCENE_MAGIC: u32 = u32::from_le_bytes(*b"TRAX");
 /// components whose symbol the program references.
 pub const SCENE_SYMBOL_PREFIX: &str = "__trax_scene_";
 /// Version of the header layout; bump on any change.
-pub const SCENE_VERSION: u32 = 1;
+pub const SCENE_VERSION: u32 = 2;
+/// Bytes of the ray record the prelude's `trax::stream` writes and reads (thesis §3.2.1:
+/// origin and direction 24, ray state 20, traversal stack 4), and the default of the chip
+/// config's `stream_memory.ray_bytes`.
+pub const STREAM_RECORD_BYTES: u32 = 48;
 
 #[macro_use]
 pub mod encode;
@@ -354,6 +358,12 @@ scene_contract! {
         pub seed: u32,
         /// Background (sky) colour, linear RGB.
         pub background: [f32; 3],
+        /// Rays the chip's ray stream memory holds (0: the chip has none).
+        pub stream_rays: u32,
+        /// Bytes of one ray record in the stream memory.
+        pub stream_ray_bytes: u32,
+        /// Ray buffers of the stream memory (stream ids `0..stream_buffers`).
+        pub stream_buffers: u32,
     }
     components {
         /// The [`Camera`] (its address).
@@ -382,7 +392,7 @@ scene_contract! {
         treelet_ids: u32 => Range, Component, OnDemand, ReadOnly;
     }
     /// Reserved for future components; zero.
-    reserved: 8
+    reserved: 5
 }
 
 impl SceneHeader {
@@ -502,7 +512,11 @@ mod tests {
             h.treelet_ids.addr,
             word(offset_of!(SceneHeader, treelet_ids))
         );
-        assert_eq!(h.reserved[7], word(offset_of!(SceneHeader, reserved) + 28));
+        assert_eq!(h.reserved[4], word(offset_of!(SceneHeader, reserved) + 16));
+        assert_eq!(
+            h.stream_buffers,
+            word(offset_of!(SceneHeader, stream_buffers))
+        );
         let (c, bytes) = distinct::<Camera>(0x4000_0000);
         assert_eq!(c.to_bytes(), bytes);
         assert_eq!(

@@ -168,15 +168,28 @@ pub fn deadlock_report(
         cycle.map_or(String::new(), |c| format!(" at cycle {c}")),
         sh.live_threads
     );
-    let place = |pc: u32| -> String {
-        let frames = dbg.map(|d| d.frames(pc));
-        match frames.as_deref().and_then(|f| f.first()) {
-            Some(f) => format!("at {} in {}", f.location(), fname(f)),
-            None => match exe.and_then(|e| e.symbol_at(pc)) {
-                Some((sym, off)) => format!("at {pc:#010x} <{}+{off:#x}>", demangle(&sym.name)),
-                None => format!("at {pc:#010x}"),
-            },
+    // The source frames at `pc` (inlined ones first), then the call sites of the shadow
+    // call stack, at most four in all.
+    let place = |t: &crate::thread::Thread, pc: u32| -> String {
+        let mut parts = Vec::new();
+        for p in std::iter::once(pc).chain(t.calls.iter().rev().map(|c| c.call_pc)) {
+            let frames = dbg.map(|d| d.frames(p));
+            match frames.as_deref().filter(|f| !f.is_empty()) {
+                Some(fs) => parts.extend(
+                    fs.iter()
+                        .map(|f| format!("{} ({})", fname(f), f.location())),
+                ),
+                None => parts.push(match exe.and_then(|e| e.symbol_at(p)) {
+                    Some((sym, off)) => format!("{}+{off:#x}", demangle(&sym.name)),
+                    None => format!("{p:#010x}"),
+                }),
+            }
+            if parts.len() >= 4 {
+                break;
+            }
         }
+        parts.truncate(4);
+        format!("in {}", parts.join(" <- "))
     };
     // (TM, what, where) per live thread, in thread order.
     let mut rows: Vec<(u32, u32, String)> = Vec::new();
@@ -187,7 +200,7 @@ pub fn deadlock_report(
                 "trax.barrier G[{reg}] ({} of {} live threads arrived) {}",
                 sh.barrier_waiting[reg as usize],
                 sh.live_threads,
-                place(t.wait_pc)
+                place(t, t.wait_pc)
             ),
             RunState::StreamWait { .. } => {
                 let ts = &sh.sched.tms[t.tm as usize];
@@ -199,7 +212,7 @@ pub fn deadlock_report(
                         ts.live.saturating_sub(ts.waiting)
                     )
                 };
-                format!("trax.strsched ({why}) {}", place(t.wait_pc))
+                format!("trax.strsched ({why}) {}", place(t, t.wait_pc))
             }
             RunState::Running => match sh.program.get(t.pc) {
                 Some(Inst::Trax {
@@ -208,9 +221,9 @@ pub fn deadlock_report(
                     ..
                 }) => {
                     let reg = t.regs.gpr[(*rs & 31) as usize];
-                    format!("trax.semacq G[{reg}] (0) {}", place(t.pc))
+                    format!("trax.semacq G[{reg}] (0) {}", place(t, t.pc))
                 }
-                _ => format!("runnable {}", place(t.pc)),
+                _ => format!("runnable {}", place(t, t.pc)),
             },
         };
         rows.push((t.gid, t.tm, what));

@@ -206,8 +206,8 @@ impl Machine {
                 panic!("trax: stopped: another kernel thread panicked");
             }
             if b.live > 0 && blocked(&b) >= b.live {
-                b.aborted = true;
-                self.barrier_cv.notify_all();
+                // The other waiters stop once this thread's panic has been reported (its
+                // `LiveGuard` marks the run aborted).
                 let report = self.deadlock_report(&b);
                 drop(b);
                 panic!("{report}");

@@ -43,6 +43,11 @@ pub struct NativeArgs {
     /// The chip whose thread shape (TMs x threads) to run, as for `trax run`.
     #[command(flatten)]
     pub shape: ShapeArgs,
+    /// Set any chip config field by its dotted path, as `trax run --set` (the run uses the
+    /// thread shape and the ray stream memory: `stream_memory.capacity_bytes`, `ray_bytes`,
+    /// `buffers`, `schedule`). Repeatable; applied before `--tms/--threads`.
+    #[arg(long = "set", value_name = "PATH=VALUE", value_parser = super::run::parse_set)]
+    pub set: Vec<(String, toml::Value)>,
     /// Write the framebuffer as PNG (clamped, top row first).
     #[arg(short = 'o', long = "output")]
     pub output: Option<PathBuf>,
@@ -113,7 +118,8 @@ fn native(a: &NativeArgs) -> Result<(), NativeError> {
         }
     }
     let s = &a.shape;
-    let chip = chip_config(&s.config, &[], s.tms, s.threads, None).map_err(NativeError::Chip)?;
+    let chip =
+        chip_config(&s.config, &a.set, s.tms, s.threads, None).map_err(NativeError::Chip)?;
     let (tms, threads) = (chip.tms, chip.threads_per_tm);
     let total = tms as u64 * threads as u64;
     if total > 4096 {
@@ -135,7 +141,12 @@ fn native(a: &NativeArgs) -> Result<(), NativeError> {
     for w in &warnings {
         eprintln!("warning: {w}");
     }
-    let fb = run_kernel(&exe, &a.kernel, &scene_image.memory, tms, threads, &cache)?;
+    let shape = HostShape {
+        tms,
+        threads,
+        schedule: chip.stream_memory.schedule.name(),
+    };
+    let fb = run_kernel(&exe, &a.kernel, &scene_image.memory, &shape, &cache)?;
     eprint!("{}", scene_report(&scene_image));
     let bytes = fb
         .segments
@@ -456,22 +467,29 @@ fn run_kernel(
     exe: &Path,
     kernel: &Path,
     image: &MemoryImage,
-    tms: u32,
-    threads: u32,
+    shape: &HostShape,
     cache: &Path,
 ) -> Result<MemoryImage, NativeError> {
     let tmp = scratch_dir(cache, "run")?;
-    let result = run_in(exe, kernel, image, tms, threads, &tmp);
+    let result = run_in(exe, kernel, image, shape, &tmp);
     let _ = std::fs::remove_dir_all(&tmp);
     result
+}
+
+/// What the host runner takes from the chip config besides the memory image (whose
+/// header carries the stream memory's shape).
+struct HostShape {
+    tms: u32,
+    threads: u32,
+    /// `stream_memory.schedule`.
+    schedule: &'static str,
 }
 
 fn run_in(
     exe: &Path,
     kernel: &Path,
     image: &MemoryImage,
-    tms: u32,
-    threads: u32,
+    shape: &HostShape,
     tmp: &Path,
 ) -> Result<MemoryImage, NativeError> {
     let input = tmp.join("image.bin");
@@ -480,8 +498,9 @@ fn run_in(
     let mut child = Command::new(exe)
         .arg(&input)
         .arg(&output)
-        .arg(tms.to_string())
-        .arg(threads.to_string())
+        .arg(shape.tms.to_string())
+        .arg(shape.threads.to_string())
+        .arg(shape.schedule)
         .stdin(Stdio::null())
         .stderr(Stdio::piped())
         .spawn()

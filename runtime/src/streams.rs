@@ -509,4 +509,123 @@ mod tests {
             (1, 3, 4, 3)
         );
     }
+
+    /// A memory with `counts[b]` rays in buffer `b`.
+    fn filled(counts: &[u32]) -> StreamMemory {
+        let mut m = StreamMemory::with_capacity_rays(100, 48, counts.len() as u32);
+        for (b, &n) in counts.iter().enumerate() {
+            for _ in 0..n {
+                m.push(b, &[b as u32]).unwrap();
+            }
+        }
+        m
+    }
+
+    #[test]
+    fn with_capacity_rays_holds_exactly_that_many() {
+        for rays in [1, 7, 1000] {
+            let m = StreamMemory::with_capacity_rays(rays, 48, 16);
+            assert_eq!(m.capacity_rays(), rays);
+        }
+    }
+
+    #[test]
+    fn fullest_takes_the_most_rays_lowest_id_on_ties() {
+        let m = filled(&[0, 2, 5, 5, 1]);
+        for cur in [NO_BUFFER, 0, 2, 3, 4] {
+            assert_eq!(m.pick(SchedulePolicy::Fullest, cur), Some(2), "from {cur}");
+        }
+        assert_eq!(filled(&[0, 0, 0]).pick(SchedulePolicy::Fullest, 1), None);
+    }
+
+    #[test]
+    fn sticky_keeps_a_buffer_while_it_has_rays() {
+        let m = filled(&[0, 2, 5, 5, 1]);
+        let p = SchedulePolicy::Sticky;
+        assert_eq!(m.pick(p, 4), Some(4));
+        assert_eq!(m.pick(p, 1), Some(1));
+        // Empty or none: the fullest.
+        assert_eq!(m.pick(p, 0), Some(2));
+        assert_eq!(m.pick(p, NO_BUFFER), Some(2));
+        assert_eq!(filled(&[0, 0]).pick(p, 1), None);
+    }
+
+    #[test]
+    fn round_robin_takes_the_next_non_empty_buffer_wrapping() {
+        let m = filled(&[0, 2, 0, 5, 1, 0]);
+        let p = SchedulePolicy::RoundRobin;
+        assert_eq!(m.pick(p, NO_BUFFER), Some(1));
+        assert_eq!(m.pick(p, 1), Some(3));
+        assert_eq!(m.pick(p, 3), Some(4));
+        assert_eq!(m.pick(p, 4), Some(1));
+        assert_eq!(m.pick(p, 5), Some(1));
+        // The only non-empty buffer comes round again.
+        assert_eq!(filled(&[0, 0, 3]).pick(p, 2), Some(2));
+        assert_eq!(filled(&[0, 0, 0]).pick(p, 2), None);
+        for (q, n) in SchedulePolicy::ALL {
+            assert_eq!(SchedulePolicy::from_name(n), Some(q));
+            assert_eq!(q.name(), n);
+        }
+        assert_eq!(SchedulePolicy::from_name("random"), None);
+    }
+
+    #[test]
+    fn a_tm_schedules_only_when_every_live_thread_has_arrived() {
+        // 2 TMs of 3 threads.
+        let m = filled(&[1, 4]);
+        let mut s = StreamScheduler::new(2, 3, SchedulePolicy::Fullest, 2);
+        let g = s.arrive(0, &m, 6, 10);
+        s.arrive(0, &m, 6, 11);
+        assert!(!s.released(0, g, u64::MAX), "a thread of TM 0 is still working");
+        // A halted thread does not count: the TM has drained.
+        s.halted(0, &m, 5, 12);
+        assert!(!s.released(0, g, 13), "the decision takes 2 cycles");
+        assert!(s.released(0, g, 14));
+        assert_eq!(s.tms[0].current, 1);
+        assert_eq!((s.schedules, s.switches, s.waiting), (1, 1, 0));
+        // TM 1 is untouched.
+        assert_eq!((s.tms[1].current, s.tms[1].generation), (NO_BUFFER, 0));
+        // The same buffer again is a visit, not a switch.
+        let g = s.arrive(0, &m, 5, 20);
+        s.arrive(0, &m, 5, 20);
+        assert!(s.released(0, g, 22));
+        assert_eq!((s.schedules, s.switches), (2, 1));
+    }
+
+    #[test]
+    fn an_idle_tm_wakes_on_a_write_and_all_end_when_every_thread_waits_empty() {
+        let mut m = filled(&[0, 0, 0]);
+        let mut s = StreamScheduler::new(2, 1, SchedulePolicy::Fullest, 1);
+        let g0 = s.arrive(0, &m, 2, 100);
+        assert!(s.tms[0].idle && !s.released(0, g0, u64::MAX));
+        // TM 1 writes a ray at 130: TM 0 schedules buffer 2.
+        m.push(2, &[9]).unwrap();
+        s.pushed(&m, 130);
+        assert!(s.released(0, g0, 131) && !s.tms[0].idle);
+        assert_eq!((s.tms[0].current, s.idle_tm_cycles), (2, 30));
+        // TM 0 reads it; both wait with the memory empty: the frame is done for both.
+        m.pop(2).unwrap();
+        let g0 = s.arrive(0, &m, 2, 140);
+        let g1 = s.arrive(1, &m, 2, 150);
+        assert!(s.released(0, g0, 151) && s.released(1, g1, 151));
+        assert_eq!((s.tms[0].current, s.tms[1].current), (NO_BUFFER, NO_BUFFER));
+        assert_eq!((s.completions, s.schedules, s.waiting), (1, 1, 0));
+        // TM 0 idled 140..150, TM 1 not at all.
+        assert_eq!(s.idle_tm_cycles, 30 + 10);
+    }
+
+    #[test]
+    fn the_last_halt_can_end_the_frame() {
+        let m = filled(&[0]);
+        let mut s = StreamScheduler::new(2, 1, SchedulePolicy::Fullest, 1);
+        let g = s.arrive(0, &m, 2, 5);
+        assert!(!s.released(0, g, u64::MAX));
+        // TM 1's only thread halts without scheduling: no one can write a ray.
+        s.halted(1, &m, 1, 9);
+        assert!(s.released(0, g, u64::MAX));
+        assert_eq!((s.tms[0].current, s.completions), (NO_BUFFER, 1));
+        let mut s2 = s.clone();
+        s2.finish(1000);
+        assert_eq!(s2.idle_tm_cycles, s.idle_tm_cycles, "nothing left open");
+    }
 }

@@ -737,6 +737,21 @@ fn a_drain_loop_reads_every_ray_and_ends_for_every_thread_in_both_modes() {
         assert_eq!(t1.cycles, t2.cycles, "{policy}");
         assert_eq!(t1.stream, t2.stream, "{policy}");
         assert_eq!(t1.thread_cycles, t2.thread_cycles, "{policy}");
+        // Every thread-cycle lands in exactly one bucket, the stream waits included.
+        let tc = &t1.thread_cycles;
+        let buckets = tc.issued
+            + tc.data_dependence
+            + tc.unit_conflict
+            + tc.icache_conflict
+            + tc.l1_bank_conflict
+            + tc.l1_mshr_full
+            + tc.sync_wait
+            + tc.stream_drain
+            + tc.stream_idle
+            + tc.global_sync
+            + tc.halted;
+        assert_eq!(buckets, t1.cycles * 12, "{policy}: {tc:?}");
+        assert!(tc.stream_drain > 0, "{policy}: {tc:?}");
         let s = &t1.stream;
         assert_eq!(s.reads, 3 * n);
         assert!(s.schedules >= 5 && s.switches <= s.schedules, "{s:?}");

@@ -114,7 +114,10 @@ fn a_streaming_kernel_draws_the_same_image_natively_and_on_the_machine() {
         ] {
             let (stdout, fb) = machine(&k, &chip(schedule), mode);
             assert_eq!(stdout, EXPECTED, "{kernel} {mode:?} {schedule}");
-            assert!(fb == native_fb, "{kernel} {mode:?} {schedule}: images differ");
+            assert!(
+                fb == native_fb,
+                "{kernel} {mode:?} {schedule}: images differ"
+            );
         }
         // The host runner takes the policy too.
         let out = trax(
@@ -221,7 +224,9 @@ fn native_takes_set_and_rejects_bad_fields() {
     assert_eq!(out.status.code(), Some(1));
     let err = text(&out.stderr);
     assert!(
-        err.contains("unknown schedule policy `random` (expected one of fullest, sticky, round-robin)"),
+        err.contains(
+            "unknown schedule policy `random` (expected one of fullest, sticky, round-robin)"
+        ),
         "{err}"
     );
 }
@@ -268,8 +273,15 @@ fn the_prelude_adds_only_the_records_loads_and_stores() {
     assert_eq!(count(&push, "trax.strw"), 12, "{push:?}");
     assert_eq!(
         push.iter()
-            .filter(|m| !["lw", "trax.strw", "trax.strwstart", "trax.strwend", "jic", "jrc"]
-                .contains(m))
+            .filter(|m| ![
+                "lw",
+                "trax.strw",
+                "trax.strwstart",
+                "trax.strwend",
+                "jic",
+                "jrc"
+            ]
+            .contains(m))
             .count(),
         0,
         "{push:?}"

@@ -354,11 +354,8 @@ fn run_timing(mut req: RunRequest<'_>, out: &mut dyn Write) -> Result<RunReport,
         chip,
         &engine.c,
         cycles,
-        &machine.shared.program,
         engine.mem().stats(),
-        &machine.shared.stats,
-        &machine.shared.streams,
-        &machine.shared.sched,
+        &machine.shared,
     );
     if let Some(n) = req.stats_interval {
         let mut samples = std::mem::take(&mut engine.samples);

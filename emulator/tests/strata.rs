@@ -606,7 +606,11 @@ fn setpipe_to_the_current_mode_is_free() {
         let t = t.unwrap();
         assert_eq!(t.instruction_mix["trax.setpipe"], 9, "mode {mode}");
         // The one real change (modes 1, 2) reserves the pipeline's units from then on.
-        assert_eq!(t.pipelines.reserved_unit_cycles == 0, mode == 0, "mode {mode}");
+        assert_eq!(
+            t.pipelines.reserved_unit_cycles == 0,
+            mode == 0,
+            "mode {mode}"
+        );
     }
 }
 
@@ -670,8 +674,15 @@ fn strsched_resumes_no_thread_before_every_live_peer_arrived() {
     assert!(resume.iter().all(|&r| r > last), "{out}");
     let t = t.unwrap();
     // Threads 0 and 1 waited for thread 2 (draining), nobody idled.
-    assert!(t.thread_cycles.stream_drain >= 2 * 40, "{:?}", t.thread_cycles);
-    assert_eq!((t.thread_cycles.stream_idle, t.stream.idle_tm_cycles), (0, 0));
+    assert!(
+        t.thread_cycles.stream_drain >= 2 * 40,
+        "{:?}",
+        t.thread_cycles
+    );
+    assert_eq!(
+        (t.thread_cycles.stream_idle, t.stream.idle_tm_cycles),
+        (0, 0)
+    );
     assert_eq!((t.stream.schedules, t.stream.switches), (1, 1));
 }
 
@@ -800,14 +811,26 @@ fn schedule_policies_choose_as_documented() {
         assert_eq!(numbers(&f), order, "{policy}");
         assert_eq!(o, f, "{policy}");
         let s = t.unwrap().stream;
-        assert_eq!((s.schedules, s.switches, s.rays_per_visit), (6, switches, 1.0), "{policy}");
+        assert_eq!(
+            (s.schedules, s.switches, s.rays_per_visit),
+            (6, switches, 1.0),
+            "{policy}"
+        );
     }
     let mut chip = stream_chip(1, 4, 16, 4);
     let err = chip
-        .set_field("stream_memory.schedule", toml::Value::String("random".into()))
+        .set_field(
+            "stream_memory.schedule",
+            toml::Value::String("random".into()),
+        )
         .unwrap_err()
         .to_string();
-    assert!(err.contains("unknown schedule policy `random` (expected one of fullest, sticky, round-robin)"), "{err}");
+    assert!(
+        err.contains(
+            "unknown schedule policy `random` (expected one of fullest, sticky, round-robin)"
+        ),
+        "{err}"
+    );
 }
 
 /// One thread writes a ray and schedules, between two clock reads.
@@ -868,7 +891,11 @@ fn a_barrier_against_strsched_deadlock_names_the_threads() {
     chip.tms_per_l2 = 2;
     for mode in [Mode::Functional, Mode::Timing] {
         let (r, _, _) = go(&elf, &chip, mode);
-        assert!(matches!(r.outcome, Outcome::Deadlock { waiting: 4 }), "{mode:?}: {:?}", r.outcome);
+        assert!(
+            matches!(r.outcome, Outcome::Deadlock { waiting: 4 }),
+            "{mode:?}: {:?}",
+            r.outcome
+        );
         let report = r.failure.unwrap();
         assert!(report.contains("deadlock"), "{report}");
         assert!(
@@ -879,6 +906,9 @@ fn a_barrier_against_strsched_deadlock_names_the_threads() {
             report.contains("threads 2-3 (TM 1): trax.strsched (its TM drained and every ray buffer is empty: waiting for a ray)"),
             "{mode:?}: {report}"
         );
-        assert!(report.contains("s_dead.c:5") && report.contains("s_dead.c:7"), "{report}");
+        assert!(
+            report.contains("s_dead.c:5") && report.contains("s_dead.c:7"),
+            "{report}"
+        );
     }
 }

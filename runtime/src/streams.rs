@@ -576,7 +576,10 @@ mod tests {
         let mut s = StreamScheduler::new(2, 3, SchedulePolicy::Fullest, 2);
         let g = s.arrive(0, &m, 6, 10);
         s.arrive(0, &m, 6, 11);
-        assert!(!s.released(0, g, u64::MAX), "a thread of TM 0 is still working");
+        assert!(
+            !s.released(0, g, u64::MAX),
+            "a thread of TM 0 is still working"
+        );
         // A halted thread does not count: the TM has drained.
         s.halted(0, &m, 5, 12);
         assert!(!s.released(0, g, 13), "the decision takes 2 cycles");

@@ -118,8 +118,7 @@ fn native(a: &NativeArgs) -> Result<(), NativeError> {
         }
     }
     let s = &a.shape;
-    let chip =
-        chip_config(&s.config, &a.set, s.tms, s.threads, None).map_err(NativeError::Chip)?;
+    let chip = chip_config(&s.config, &a.set, s.tms, s.threads, None).map_err(NativeError::Chip)?;
     let (tms, threads) = (chip.tms, chip.threads_per_tm);
     let total = tms as u64 * threads as u64;
     if total > 4096 {

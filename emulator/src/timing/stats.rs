@@ -321,17 +321,17 @@ pub fn area_breakdown(cfg: &ChipConfig, l1_area_mm2: f64, l2_area_mm2: f64) -> A
     area
 }
 
-/// Builds the statistics from the raw counters.
+/// Builds the statistics from the raw counters and the chip after the run (program,
+/// `trax.stat` counters, stream memory and schedulers).
 pub fn build(
     cfg: &ChipConfig,
     c: &Counters,
     cycles: u64,
-    program: &Program,
     mem: MemStats,
-    counters: &[u64],
-    streams: &crate::streams::StreamMemory,
-    sched: &crate::streams::StreamScheduler,
+    sh: &crate::thread::Shared,
 ) -> TimingStats {
+    let (program, counters) = (&sh.program, &sh.stats[..]);
+    let (streams, sched) = (&sh.streams, &sh.sched);
     let threads = cfg.tms as u64 * cfg.threads_per_tm as u64;
     let hz = cfg.clock_ghz * 1e9;
     let seconds = cycles as f64 / hz;

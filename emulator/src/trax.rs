@@ -25,8 +25,13 @@
 //!   value is a fault. `trax.boxtest` needs mode 1 and `trax.tritest` mode 2 (a fault
 //!   otherwise), on the host as on the machine. A `trax.setpipe` to the mode the TM is in
 //!   does nothing (timing: an ordinary one-cycle instruction, no chip-wide ordering and no
-//!   reconfiguration); one that changes it is chip-wide state (ordered with the other TMs,
-//!   taking effect for the TM's next quantum in timing mode).
+//!   reconfiguration); one that changes it is chip-wide state, executed in order with
+//!   the other TMs' chip-wide instructions. In timing mode the TM's units follow the new
+//!   mode from its next quantum: pipeline tests already issued keep their results and
+//!   latency, tests issued before then by other threads of the TM still see the old mode
+//!   (functional mode, which has no quanta, checks each test against the mode at that
+//!   point of the interleaving), and the FP units and the pipeline are unavailable for
+//!   `pipelines.reconfig_cycles` from the quantum's start.
 //! - Box pipeline: slab test with the ray's inverse direction; NaN slab distances (0 * inf)
 //!   are ignored; returns the entry distance `max(tmin, 0)` when `tmax >= max(tmin, 0)`,
 //!   else +inf. Triangle pipeline: the Plücker-coordinate test of `pipes::tri_test`

@@ -200,10 +200,14 @@ impl Machine {
         mut done: impl FnMut(&Barriers) -> bool,
     ) -> std::sync::MutexGuard<'a, Barriers> {
         let blocked = |b: &Barriers| b.arrived.iter().sum::<u32>() + b.sched.waiting;
-        while !done(&b) {
+        loop {
+            // A panic elsewhere stops every waiter, even one its exit released.
             if b.aborted {
                 drop(b);
                 panic!("trax: stopped: another kernel thread panicked");
+            }
+            if done(&b) {
+                break;
             }
             if b.live > 0 && blocked(&b) >= b.live {
                 // The other waiters stop once this thread's panic has been reported (its

@@ -733,7 +733,11 @@ impl Driver<'_, '_> {
             }
             // Every live thread waits for another (barriers, stream schedulers): nothing
             // can run again.
-            if sh.live_threads > 0 && sh.blocked_threads() >= sh.live_threads {
+            // (Threads block and halt only through deferred instructions.)
+            if flags.any(Summary::DEFERRED)
+                && sh.live_threads > 0
+                && sh.blocked_threads() >= sh.live_threads
+            {
                 *self.now = to;
                 return Outcome::Deadlock {
                     waiting: sh.live_threads,

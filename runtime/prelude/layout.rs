@@ -38,36 +38,36 @@ pub const HDR_EPSILON: u32 = 32;
 pub const HDR_SEED: u32 = 36;
 /// Background (sky) colour, linear RGB.
 pub const HDR_BACKGROUND: u32 = 40;
-/// Rays the chip's ray stream memory holds (0: the chip has none).
-pub const HDR_STREAM_RAYS: u32 = 52;
-/// Bytes of one ray record in the stream memory.
-pub const HDR_STREAM_RAY_BYTES: u32 = 56;
-/// Ray buffers of the stream memory (stream ids `0..stream_buffers`).
-pub const HDR_STREAM_BUFFERS: u32 = 60;
 /// The `Camera` (its address).
-pub const HDR_CAMERA: u32 = 64;
+pub const HDR_CAMERA: u32 = 52;
 /// Framebuffer: `width*height` `Pixel`s, row 0 at the top.
-pub const HDR_FRAMEBUFFER: u32 = 68;
+pub const HDR_FRAMEBUFFER: u32 = 56;
 /// `BvhNode`s, root at index 0; leaves index `SceneHeader::triangles`.
-pub const HDR_BVH_NODES: u32 = 76;
+pub const HDR_BVH_NODES: u32 = 64;
 /// `Triangle`s, in BVH leaf order when the BVH is built.
-pub const HDR_TRIANGLES: u32 = 84;
+pub const HDR_TRIANGLES: u32 = 72;
 /// Per-vertex normals (`VertexNormals`), same order as the triangles.
-pub const HDR_NORMALS: u32 = 92;
+pub const HDR_NORMALS: u32 = 80;
 /// Per-vertex texture coordinates (`TexCoords`), same order as the triangles.
-pub const HDR_TEXCOORDS: u32 = 100;
+pub const HDR_TEXCOORDS: u32 = 88;
 /// Material index per triangle, same order as the triangles.
-pub const HDR_MATERIAL_IDS: u32 = 108;
+pub const HDR_MATERIAL_IDS: u32 = 96;
 /// `Material`s.
-pub const HDR_MATERIALS: u32 = 116;
+pub const HDR_MATERIALS: u32 = 104;
 /// Indices of the emissive triangles, for light sampling.
-pub const HDR_EMITTERS: u32 = 124;
+pub const HDR_EMITTERS: u32 = 112;
 /// `PointLight`s.
-pub const HDR_POINT_LIGHTS: u32 = 132;
+pub const HDR_POINT_LIGHTS: u32 = 120;
 /// BVH parent pointers: the parent's node index per node (the root's is 0xFFFFFFFF).
-pub const HDR_BVH_PARENTS: u32 = 140;
+pub const HDR_BVH_PARENTS: u32 = 128;
 /// Treelet id per BVH node.
-pub const HDR_TREELET_IDS: u32 = 148;
+pub const HDR_TREELET_IDS: u32 = 136;
+/// Rays the chip's ray stream memory holds (0: the chip has none).
+pub const HDR_STREAM_RAYS: u32 = 144;
+/// Bytes of one ray record in the stream memory.
+pub const HDR_STREAM_RAY_BYTES: u32 = 148;
+/// Ray buffers of the stream memory (stream ids `0..stream_buffers`).
+pub const HDR_STREAM_BUFFERS: u32 = 152;
 /// Reserved for future components; zero.
 pub const HDR_RESERVED: u32 = 156;
 /// Size of `SceneHeader` in bytes.

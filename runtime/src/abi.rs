@@ -286,8 +286,9 @@ macro_rules! slot_type {
     };
 }
 
-/// Defines the scene header (scalar fields, then one field per component, then reserved
-/// words) and [`SCENE_COMPONENTS`] from one list: a component is one line.
+/// Defines the scene header (scalar fields, then one field per component, then scalar
+/// fields added later, which took reserved words so that no earlier field moved, then the
+/// reserved words) and [`SCENE_COMPONENTS`] from one list: a component is one line.
 macro_rules! scene_contract {
     (
         $(#[doc = $doc:literal])*
@@ -298,6 +299,9 @@ macro_rules! scene_contract {
             $( $(#[doc = $cdoc:literal])*
                $c:ident : $ety:ty => $slot:ident, $align:ident, $need:ident, $access:ident; )*
         }
+        tail {
+            $( $(#[doc = $tdoc:literal])* pub $t:ident : $tty:ty, )*
+        }
         $(#[doc = $rdoc:literal])* reserved: $nres:literal
     ) => {
         contract_struct! {
@@ -305,6 +309,7 @@ macro_rules! scene_contract {
             pub struct $name as $cname, prefix $prefix {
                 $( $(#[doc = $sdoc])* pub $s: $sty, )*
                 $( $(#[doc = $cdoc])* pub $c: slot_type!($slot), )*
+                $( $(#[doc = $tdoc])* pub $t: $tty, )*
                 $(#[doc = $rdoc])* pub reserved: [u32; $nres],
             }
         }
@@ -358,12 +363,6 @@ scene_contract! {
         pub seed: u32,
         /// Background (sky) colour, linear RGB.
         pub background: [f32; 3],
-        /// Rays the chip's ray stream memory holds (0: the chip has none).
-        pub stream_rays: u32,
-        /// Bytes of one ray record in the stream memory.
-        pub stream_ray_bytes: u32,
-        /// Ray buffers of the stream memory (stream ids `0..stream_buffers`).
-        pub stream_buffers: u32,
     }
     components {
         /// The [`Camera`] (its address).
@@ -390,6 +389,14 @@ scene_contract! {
         bvh_parents: u32 => Range, Component, OnDemand, ReadOnly;
         /// Treelet id per BVH node.
         treelet_ids: u32 => Range, Component, OnDemand, ReadOnly;
+    }
+    tail {
+        /// Rays the chip's ray stream memory holds (0: the chip has none).
+        pub stream_rays: u32,
+        /// Bytes of one ray record in the stream memory.
+        pub stream_ray_bytes: u32,
+        /// Ray buffers of the stream memory (stream ids `0..stream_buffers`).
+        pub stream_buffers: u32,
     }
     /// Reserved for future components; zero.
     reserved: 5
@@ -570,12 +577,13 @@ mod tests {
             assert_eq!(back.addr, 0x40);
             assert_eq!(back.count, if c.slot == Slot::Range { 3 } else { 1 });
         }
-        // Every header field after the scalars is a component, up to the reserved words.
+        // Every header field after the scalars is a component, up to the tail scalars.
         let first = l.field("camera").unwrap().offset;
+        let tail = l.field("stream_rays").unwrap().offset;
         let comps: Vec<&str> = l
             .fields
             .iter()
-            .filter(|f| f.offset >= first && f.name != "reserved")
+            .filter(|f| f.offset >= first && f.offset < tail)
             .map(|f| f.name)
             .collect();
         let table: Vec<&str> = SCENE_COMPONENTS.iter().map(|c| c.name).collect();

@@ -32,9 +32,6 @@ fn header_offsets_match_abi() {
         ("epsilon", L::HDR_EPSILON),
         ("seed", L::HDR_SEED),
         ("background", L::HDR_BACKGROUND),
-        ("stream_rays", L::HDR_STREAM_RAYS),
-        ("stream_ray_bytes", L::HDR_STREAM_RAY_BYTES),
-        ("stream_buffers", L::HDR_STREAM_BUFFERS),
         ("camera", L::HDR_CAMERA),
         ("framebuffer", L::HDR_FRAMEBUFFER),
         ("bvh_nodes", L::HDR_BVH_NODES),
@@ -47,6 +44,9 @@ fn header_offsets_match_abi() {
         ("point_lights", L::HDR_POINT_LIGHTS),
         ("bvh_parents", L::HDR_BVH_PARENTS),
         ("treelet_ids", L::HDR_TREELET_IDS),
+        ("stream_rays", L::HDR_STREAM_RAYS),
+        ("stream_ray_bytes", L::HDR_STREAM_RAY_BYTES),
+        ("stream_buffers", L::HDR_STREAM_BUFFERS),
         ("reserved", L::HDR_RESERVED),
     ];
     let abi_fields = abi::scene_header_fields();

@@ -211,6 +211,16 @@ pub struct StreamMemoryConfig {
     /// (`memsys::cacti::dcache`, 64-byte lines; Table 2.2's 4 MB, 32 banks = 33.5 mm²),
     /// the linked-list logic taken to be the size of the cache's tags (§3.2.1).
     pub area_mm2: Option<f64>,
+    /// How a TM's stream scheduler picks the buffer its threads work on next when
+    /// `trax.strsched` has drained the TM: `fullest` (default: the non-empty buffer with
+    /// the most rays, lowest id on ties), `sticky` (the current buffer while it has rays,
+    /// else the fullest) or `round-robin` (the next non-empty buffer after the current
+    /// one). The thesis names no rule (§3.2.2), so each is an assumption.
+    #[serde(with = "schedule_policy")]
+    pub schedule: crate::streams::SchedulePolicy,
+    /// Cycles a scheduling decision takes before the TM's threads resume. Default 1 (an
+    /// assumption: one pass over the buffers' counters, as a priority encoder would).
+    pub schedule_cycles: u32,
     /// What a ray written to a full memory does: `"fault"` (default; the thesis's STRaTA,
     /// §3.2.1: rays are generated and consumed one for one) or `"spill"` (beyond the thesis,
     /// §7.1.1's proposal: a hardware sentinel moves blocks of rays to a DRAM spill area and
@@ -284,6 +294,8 @@ impl Default for StreamMemoryConfig {
             area_mm2: None,
             overflow: Overflow::Fault,
             spill: SpillConfig::default(),
+            schedule: crate::streams::SchedulePolicy::Fullest,
+            schedule_cycles: 1,
         }
     }
 }
@@ -367,6 +379,27 @@ impl StreamMemoryConfig {
     pub fn area(&self) -> f64 {
         self.area_mm2
             .unwrap_or_else(|| memsys::cacti::dcache(self.capacity_bytes, self.banks, 64).area_mm2)
+    }
+}
+
+/// `stream_memory.schedule` as its name in config files.
+mod schedule_policy {
+    use crate::streams::SchedulePolicy;
+    use serde::{Deserialize, Deserializer, Serializer};
+
+    pub fn serialize<S: Serializer>(p: &SchedulePolicy, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(p.name())
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<SchedulePolicy, D::Error> {
+        let name = String::deserialize(d)?;
+        SchedulePolicy::from_name(&name).ok_or_else(|| {
+            let names: Vec<&str> = SchedulePolicy::ALL.iter().map(|(_, n)| *n).collect();
+            serde::de::Error::custom(format!(
+                "unknown schedule policy `{name}` (expected one of {})",
+                names.join(", ")
+            ))
+        })
     }
 }
 
@@ -1002,6 +1035,12 @@ impl ChipConfig {
         }
         if sm.banks == 0 || sm.bank_busy_cycles == 0 || sm.latency == 0 {
             return bad("stream_memory.banks, bank_busy_cycles and latency must be >= 1".into());
+        }
+        if sm.schedule_cycles > 1_000_000 {
+            return bad(format!(
+                "stream_memory.schedule_cycles = {} must be at most 1000000",
+                sm.schedule_cycles
+            ));
         }
         if sm.capacity_bytes > 0 && sm.geometry().capacity_rays() == 0 {
             return bad(format!(

@@ -245,6 +245,14 @@ fn sum_at(v: &Value, path: &str) -> Option<f64> {
     }
 }
 
+/// The metric columns for runs in these modes (`functional`, `timing`).
+pub fn columns_for(functional: bool, timing: bool) -> Vec<&'static Metric> {
+    METRICS
+        .iter()
+        .filter(|m| timing || (functional && m.functional()))
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -288,12 +296,4 @@ mod tests {
         assert!(!metric("energy_memsys_j").unwrap().functional());
         assert!(metric("instructions").unwrap().functional());
     }
-}
-
-/// The metric columns for runs in these modes (`functional`, `timing`).
-pub fn columns_for(functional: bool, timing: bool) -> Vec<&'static Metric> {
-    METRICS
-        .iter()
-        .filter(|m| timing || (functional && m.functional()))
-        .collect()
 }

@@ -103,7 +103,8 @@ impl Request {
             .collect()
     }
 
-    /// The image options with the chip's stack size and stream memory shape.
+    /// The image options with the chip's stack size, stream memory shape and pipeline
+    /// modes.
     fn render_options(&self) -> RenderOptions {
         let sm = &self.chip.stream_memory;
         let stream = if sm.capacity_bytes > 0 {
@@ -118,6 +119,7 @@ impl Request {
         RenderOptions {
             stack_size: self.chip.local_store.bytes,
             stream,
+            pipe_modes: u32::from(self.chip.pipe_modes()),
             ..self.render.clone()
         }
     }

@@ -68,10 +68,13 @@ pub struct RenderOptions {
     pub background: [f32; 3],
     /// Per-thread stack (local store) size in bytes.
     pub stack_size: u32,
-    /// BVH settings (treelets are formed when set here or when the program reads `treelet_ids`).
+    /// BVH settings (treelets are formed when set here or when the program reads
+    /// `treelet_ids` or `tri_treelet_ids`).
     pub bvh: BvhOptions,
     /// The shape of the chip's ray stream memory, written into the header for kernels.
     pub stream: StreamShape,
+    /// The chip's `trax.setpipe` modes (header `pipe_modes`: bit m for mode m).
+    pub pipe_modes: u32,
 }
 
 /// The ray stream memory's shape as kernels see it (header fields `stream_rays`,
@@ -99,6 +102,7 @@ impl Default for RenderOptions {
             stack_size: abi::DEFAULT_STACK_SIZE,
             bvh: BvhOptions::default(),
             stream: StreamShape::default(),
+            pipe_modes: 1,
         }
     }
 }
@@ -295,7 +299,9 @@ pub fn build_image_from_symbols(
     // The BVH, only when the program reads a component built from it.
     let bvh = if wanted.iter().any(|c| from_bvh(c.name)) {
         let mut bo = opts.bvh.clone();
-        if referenced.contains(&"treelet_ids") && bo.treelets.is_none() {
+        let reads_treelets =
+            referenced.contains(&"treelet_ids") || referenced.contains(&"tri_treelet_ids");
+        if reads_treelets && bo.treelets.is_none() {
             bo.treelets = Some(TreeletOptions::default());
         }
         Some(Bvh::build(&scene.triangles, &bo)?)
@@ -323,6 +329,7 @@ pub fn build_image_from_symbols(
         stream_rays: opts.stream.rays,
         stream_ray_bytes: opts.stream.ray_bytes,
         stream_buffers: opts.stream.buffers,
+        pipe_modes: opts.pipe_modes,
         ..SceneHeader::new(opts.width, opts.height)
     };
     let ctx = Ctx {
@@ -439,7 +446,10 @@ impl Produced {
 
 /// Whether component `name` is built from the BVH.
 fn from_bvh(name: &str) -> bool {
-    matches!(name, "bvh_nodes" | "bvh_parents" | "treelet_ids")
+    matches!(
+        name,
+        "bvh_nodes" | "bvh_parents" | "treelet_ids" | "tri_treelet_ids" | "tri_leaf_ids"
+    )
 }
 
 /// An upper bound of component `c`'s element count, known before anything is built.
@@ -450,7 +460,8 @@ fn count_bound(c: &ComponentDesc, scene: &Scene, pixels: u64) -> Result<u64, Ima
         "framebuffer" => pixels,
         // A binary BVH over n triangles has fewer than 2n nodes.
         "bvh_nodes" | "bvh_parents" | "treelet_ids" => 2 * tris,
-        "triangles" | "normals" | "texcoords" | "material_ids" | "emitters" => tris,
+        "triangles" | "normals" | "texcoords" | "material_ids" | "emitters" | "tri_treelet_ids"
+        | "tri_leaf_ids" => tris,
         "materials" => scene.materials.len() as u64,
         "point_lights" => scene.point_lights.len() as u64,
         other => return Err(ImageError::NoProducer(table_name(other))),
@@ -508,6 +519,31 @@ fn produce(c: &ComponentDesc, x: &Ctx) -> Result<Produced, ImageError> {
                 .map(|t| t.node_treelet.clone())
                 .unwrap_or_default(),
         ),
+        "tri_treelet_ids" => {
+            let b = bvh()?;
+            let mut ids = vec![u32::MAX; b.tri_order.len()];
+            if let Some(t) = &b.treelets {
+                let first = t.node_ranges.len() as u32;
+                for (k, r) in t.tri_ranges.iter().enumerate() {
+                    for slot in r.clone() {
+                        if b.tri_order[slot as usize] != PAD {
+                            ids[slot as usize] = first + k as u32;
+                        }
+                    }
+                }
+            }
+            Produced::of(ids)
+        }
+        "tri_leaf_ids" => {
+            let b = bvh()?;
+            let mut ids = vec![u32::MAX; b.tri_order.len()];
+            for (i, n) in b.nodes.iter().enumerate() {
+                if n.is_leaf() {
+                    ids[n.a as usize..(n.a + n.b) as usize].fill(i as u32);
+                }
+            }
+            Produced::of(ids)
+        }
         other => return Err(ImageError::NoProducer(table_name(other))),
     })
 }

@@ -470,6 +470,20 @@ pub fn pipe_tri_v() -> f32 {
     TRI_UV.with(|uv| uv.get()[1])
 }
 
+/// The pipelines' tests in software (any mode).
+pub fn soft_box_test(o: [f32; 3], inv: [f32; 3], lo: [f32; 3], hi: [f32; 3]) -> f32 {
+    pipes::box_test(o, inv, lo, hi)
+}
+pub fn soft_tri_test(
+    o: [f32; 3],
+    d: [f32; 3],
+    a: [f32; 3],
+    b: [f32; 3],
+    c: [f32; 3],
+) -> (f32, f32, f32) {
+    pipes::tri_test(o, d, a, b, c)
+}
+
 /// The TM's `trax.setpipe` mode (checked by the pipeline tests; no timing on the host).
 pub fn set_pipe_general() {
     set_pipe(0);
@@ -697,6 +711,15 @@ pub fn hdr_bvh_parents() -> u32 {
 }
 pub fn hdr_treelet_ids() -> u32 {
     layout::SCENE_HEADER_ADDR + layout::HDR_TREELET_IDS
+}
+pub fn hdr_tri_treelet_ids() -> u32 {
+    layout::SCENE_HEADER_ADDR + layout::HDR_TRI_TREELET_IDS
+}
+pub fn hdr_tri_leaf_ids() -> u32 {
+    layout::SCENE_HEADER_ADDR + layout::HDR_TRI_LEAF_IDS
+}
+pub fn hdr_pipe_modes() -> u32 {
+    layout::SCENE_HEADER_ADDR + layout::HDR_PIPE_MODES
 }
 pub fn hdr_stream_rays() -> u32 {
     layout::SCENE_HEADER_ADDR + layout::HDR_STREAM_RAYS

@@ -222,6 +222,18 @@ pub fn hdr_treelet_ids() -> u32 {
     __trax_symbol_addr!("__trax_scene_treelet_ids")
 }
 
+pub fn hdr_tri_treelet_ids() -> u32 {
+    __trax_symbol_addr!("__trax_scene_tri_treelet_ids")
+}
+
+pub fn hdr_tri_leaf_ids() -> u32 {
+    __trax_symbol_addr!("__trax_scene_tri_leaf_ids")
+}
+
+pub fn hdr_pipe_modes() -> u32 {
+    __trax_symbol_addr!("__trax_scene_pipe_modes")
+}
+
 pub fn hdr_stream_rays() -> u32 {
     __trax_symbol_addr!("__trax_scene_stream_rays")
 }
@@ -315,6 +327,35 @@ pub fn pipe_tri_u() -> f32 {
 
 pub fn pipe_tri_v() -> f32 {
     __trax_mfc2!(22)
+}
+
+// ---- The pipelines' tests in software (the shared semantics compiled as kernel code) ----
+
+#[path = "../src/pipes.rs"]
+mod pipes;
+
+/// `trax.fmin`/`trax.fmax` under the names the shared pipeline semantics use.
+mod fops {
+    pub fn fmin(a: f32, b: f32) -> f32 {
+        super::fmin(a, b)
+    }
+    pub fn fmax(a: f32, b: f32) -> f32 {
+        super::fmax(a, b)
+    }
+}
+
+pub fn soft_box_test(o: [f32; 3], inv: [f32; 3], lo: [f32; 3], hi: [f32; 3]) -> f32 {
+    pipes::box_test(o, inv, lo, hi)
+}
+
+pub fn soft_tri_test(
+    o: [f32; 3],
+    d: [f32; 3],
+    a: [f32; 3],
+    b: [f32; 3],
+    c: [f32; 3],
+) -> (f32, f32, f32) {
+    pipes::tri_test(o, d, a, b, c)
 }
 
 pub fn set_pipe_general() {

@@ -397,28 +397,43 @@ fn finish(f: &Frame, r: &StreamRay, hit: &Hit, x: &PipeTests) -> Option<StreamRa
     bounce(f, path, depth, origin, sp.n, hit.tri, throughput)
 }
 
+/// `id` folded into `0..half` (no division unless there are more treelets than buffers).
+fn fold(id: u32, half: u32) -> u32 {
+    if id < half {
+        id
+    } else {
+        id % half
+    }
+}
+
 /// The buffer of the treelet `t`'s next step reads.
 fn buffer_of(f: &Frame, t: &Traversal) -> u32 {
     let id = t.treelet(&f.treelets);
     if t.at_leaf() {
-        f.half + id % f.half
+        f.half + fold(id, f.half)
     } else {
-        id % f.half
+        fold(id, f.half)
     }
 }
 
-/// The tests of `ray` on a TM working on buffer `b`: on its pipeline, if the chip has
-/// them, else in software.
-fn tests(f: &Frame, ray: &Ray, b: u32) -> PipeTests {
-    PipeTests::new(ray, f.pipes && b < f.half, f.pipes && b >= f.half)
+/// The `trax.setpipe` mode of a TM working on buffer `b`: the box or triangle pipeline
+/// if the chip has them, else general purpose.
+fn mode_of(f: &Frame, b: u32) -> u32 {
+    if !f.pipes {
+        0
+    } else if b < f.half {
+        1
+    } else {
+        2
+    }
 }
 
 /// Works on `r` while its next step reads buffer `b`'s treelet; then writes it to the
 /// buffer it needs, or, once its traversal is over, shades it and goes on with the ray
 /// that replaces it.
-fn process(f: &Frame, mut r: StreamRay, b: u32) {
+fn process(f: &Frame, mut r: StreamRay, b: u32, mode: u32) {
     loop {
-        let x = tests(f, &r.ray, b);
+        let x = PipeTests::new(&r.ray, mode);
         let mut hit = Hit::none(r.t);
         if !r.shadow() {
             hit.tri = r.tri;
@@ -494,15 +509,14 @@ fn trax_main() {
     trax::barrier(FILLED_REG);
     let mut rec: Record = [0; trax::stream::RECORD_WORDS];
     while let Some(b) = trax::stream::schedule() {
-        if f.pipes {
-            if b < f.half {
-                trax::pipe::use_box_pipeline();
-            } else {
-                trax::pipe::use_triangle_pipeline();
-            }
+        let mode = mode_of(&f, b);
+        if mode == 1 {
+            trax::pipe::use_box_pipeline();
+        } else if mode == 2 {
+            trax::pipe::use_triangle_pipeline();
         }
         while trax::stream::read(&mut rec) {
-            process(&f, StreamRay::unpack(&rec), b);
+            process(&f, StreamRay::unpack(&rec), b, mode);
         }
     }
     // Every path is done: each pixel is the mean of its samples, added in sample order.

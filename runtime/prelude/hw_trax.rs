@@ -321,6 +321,44 @@ pub fn pipe_tri_test(o: [f32; 3], d: [f32; 3], a: [f32; 3], b: [f32; 3], c: [f32
     __trax_op!("trax.tritest")
 }
 
+/// Loads a ray into the pipelines' input registers (cop2 0..5: origin, then the inverse
+/// direction for box tests or the direction for triangle tests); they keep it for
+/// [`pipe_box`] and [`pipe_tri`].
+pub fn pipe_load_ray(o: [f32; 3], v: [f32; 3]) {
+    __trax_mtc2!(0, o[0]);
+    __trax_mtc2!(1, o[1]);
+    __trax_mtc2!(2, o[2]);
+    __trax_mtc2!(3, v[0]);
+    __trax_mtc2!(4, v[1]);
+    __trax_mtc2!(5, v[2]);
+}
+
+/// `trax.boxtest` on the loaded ray and the box `[lo, hi]` (by coordinates, so they go
+/// from the registers they were loaded into straight to the pipeline's).
+pub fn pipe_box(lx: f32, ly: f32, lz: f32, hx: f32, hy: f32, hz: f32) -> f32 {
+    __trax_mtc2!(6, lx);
+    __trax_mtc2!(7, ly);
+    __trax_mtc2!(8, lz);
+    __trax_mtc2!(9, hx);
+    __trax_mtc2!(10, hy);
+    __trax_mtc2!(11, hz);
+    __trax_op!("trax.boxtest")
+}
+
+/// `trax.tritest` on the loaded ray and the triangle `(a, b, c)`.
+pub fn pipe_tri(a: [f32; 3], b: [f32; 3], c: [f32; 3]) -> f32 {
+    __trax_mtc2!(12, a[0]);
+    __trax_mtc2!(13, a[1]);
+    __trax_mtc2!(14, a[2]);
+    __trax_mtc2!(15, b[0]);
+    __trax_mtc2!(16, b[1]);
+    __trax_mtc2!(17, b[2]);
+    __trax_mtc2!(18, c[0]);
+    __trax_mtc2!(19, c[1]);
+    __trax_mtc2!(20, c[2]);
+    __trax_op!("trax.tritest")
+}
+
 pub fn pipe_tri_u() -> f32 {
     __trax_mfc2!(21)
 }

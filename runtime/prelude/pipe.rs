@@ -91,36 +91,50 @@ pub fn use_triangle_pipeline() {
     hw::set_pipe_tri();
 }
 
-/// One ray's box and triangle tests with the pipelines' semantics (hits at `t > 0`), each
-/// run by its pipeline (the TM must be in that mode) or by the same computation in
-/// software: the choice changes the cost, never a result. A traversal's tests
+/// One ray's box and triangle tests with the pipelines' semantics (hits at `t > 0`) for a
+/// TM in `trax.setpipe` mode `mode`: box tests on the box pipeline in mode 1, triangle
+/// tests on the triangle pipeline in mode 2, the others by the same computation in
+/// software. The choice changes the cost, never a result. A traversal's tests
 /// ([`super::bvh::Traversal`]).
+///
+/// In a pipeline mode, making the tests loads the ray into the pipeline's input
+/// registers once (§3.2.3: the program loads a ray, then a box or triangle per test); they
+/// serve this value's tests until the thread makes another.
 #[derive(Clone, Copy)]
 pub struct PipeTests {
     pub ray: Ray,
     /// `1 / dir` per component.
     pub inv_dir: Vec3,
-    /// Box tests on the box pipeline (`trax.boxtest`).
-    pub box_pipe: bool,
-    /// Triangle tests on the triangle pipeline (`trax.tritest`).
-    pub tri_pipe: bool,
+    /// The TM's `trax.setpipe` mode.
+    pub mode: u32,
 }
 
 impl PipeTests {
-    /// The tests of `ray`, on the pipelines chosen.
-    pub fn new(ray: &Ray, box_pipe: bool, tri_pipe: bool) -> PipeTests {
+    /// The tests of `ray` on a TM in mode `mode` (0 general purpose, 1 box pipeline, 2
+    /// triangle pipeline).
+    pub fn new(ray: &Ray, mode: u32) -> PipeTests {
+        let inv_dir = Vec3::new(1.0 / ray.dir.x, 1.0 / ray.dir.y, 1.0 / ray.dir.z);
+        if mode == 1 {
+            hw::pipe_load_ray(arr(ray.origin), arr(inv_dir));
+        } else if mode == 2 {
+            hw::pipe_load_ray(arr(ray.origin), arr(ray.dir));
+        }
         PipeTests {
             ray: *ray,
-            inv_dir: Vec3::new(1.0 / ray.dir.x, 1.0 / ray.dir.y, 1.0 / ray.dir.z),
-            box_pipe,
-            tri_pipe,
+            inv_dir,
+            mode,
         }
     }
 
     /// The triangle test's hit on `tri`.
     pub fn tri(&self, tri: &Triangle) -> PipeHit {
-        if self.tri_pipe {
-            tri_test(&self.ray, tri)
+        if self.mode == 2 {
+            let t = hw::pipe_tri(arr(tri.v0), arr(tri.v1), arr(tri.v2));
+            PipeHit {
+                t,
+                u: hw::pipe_tri_u(),
+                v: hw::pipe_tri_v(),
+            }
         } else {
             tri_test_soft(&self.ray, tri)
         }
@@ -129,8 +143,8 @@ impl PipeTests {
 
 impl RayTests for PipeTests {
     fn box_entry(&self, n: &BvhNode, t_max: f32) -> f32 {
-        let e = if self.box_pipe {
-            box_test(self.ray.origin, self.inv_dir, n.min, n.max)
+        let e = if self.mode == 1 {
+            hw::pipe_box(n.min.x, n.min.y, n.min.z, n.max.x, n.max.y, n.max.z)
         } else {
             box_test_soft(self.ray.origin, self.inv_dir, n.min, n.max)
         };

@@ -58,6 +58,13 @@ const DONE_REG: u32 = 3;
 
 /// Each path's radiance, RGB (`path * 3 ..`).
 static mut ACC: [f32; 3 * MAX_PATHS] = [0.0; 3 * MAX_PATHS];
+/// TMs a chip may have (the chip config's limit).
+const MAX_TMS: usize = 4096;
+/// Per TM, the last buffer visit in which one of its threads found the buffer empty: the
+/// visit is over for the TM's other threads too (they stop reading and schedule), so rays
+/// that other TMs keep writing to a hot buffer do not hold a few threads there while the
+/// rest of the TM waits in `schedule()`.
+static mut VISIT_OVER: [u32; MAX_TMS] = [0; MAX_TMS];
 
 /// Bits of the path word: shadow flag, vertex depth, path id.
 const SHADOW: u32 = 1;
@@ -508,14 +515,22 @@ fn trax_main() {
     }
     trax::barrier(FILLED_REG);
     let mut rec: Record = [0; trax::stream::RECORD_WORDS];
+    let tm = trax::tm_id() as usize;
+    // Every thread of a TM sees the same schedules, so they agree on the visit number.
+    let mut visit: u32 = 0;
     while let Some(b) = trax::stream::schedule() {
+        visit += 1;
         let mode = mode_of(&f, b);
         if mode == 1 {
             trax::pipe::use_box_pipeline();
         } else if mode == 2 {
             trax::pipe::use_triangle_pipeline();
         }
-        while trax::stream::read(&mut rec) {
+        while unsafe { VISIT_OVER[tm] } != visit {
+            if !trax::stream::read(&mut rec) {
+                unsafe { VISIT_OVER[tm] = visit };
+                break;
+            }
             process(&f, StreamRay::unpack(&rec), b, mode);
         }
     }

@@ -58,6 +58,14 @@ const DONE_REG: u32 = 3;
 
 /// Each path's radiance, RGB (`path * 3 ..`).
 static mut ACC: [f32; 3 * MAX_PATHS] = [0.0; 3 * MAX_PATHS];
+/// Treelet ids whose index range the kernel keeps ([`FIRST`], [`END`]); a step in a
+/// treelet beyond them asks `treelet_ids` / `tri_treelet_ids` instead.
+const MAX_TREELETS: usize = 1 << 16;
+/// Per treelet id (node treelets: node indices; triangle treelets: triangle slots), the
+/// first index and one past the last, found once from the treelet id arrays: a step whose
+/// node is in the current treelet's range stays on the TM without reading them.
+static mut FIRST: [u32; MAX_TREELETS] = [0; MAX_TREELETS];
+static mut END: [u32; MAX_TREELETS] = [0; MAX_TREELETS];
 /// TMs a chip may have (the chip config's limit).
 const MAX_TMS: usize = 4096;
 /// Per TM, the last buffer visit in which one of its threads found the buffer empty: the
@@ -435,10 +443,47 @@ fn mode_of(f: &Frame, b: u32) -> u32 {
     }
 }
 
+/// Records, for the treelet ids in `ids[0..n]` (one per node or slot), each id's first
+/// index and one past its last; this thread's share of the indices.
+fn find_ranges(ids: u32, n: u32) {
+    let threads = trax::num_threads();
+    let chunk = (n + threads - 1) / threads;
+    let start = trax::global_id() * chunk;
+    let end = n.min(start + chunk);
+    let id_at = |i: u32| trax::load_u32(ids + 4 * i);
+    let mut i = start;
+    while i < end {
+        let id = id_at(i);
+        if (id as usize) < MAX_TREELETS {
+            if i == 0 || id_at(i - 1) != id {
+                unsafe { FIRST[id as usize] = i };
+            }
+            if i + 1 == n || id_at(i + 1) != id {
+                unsafe { END[id as usize] = i + 1 };
+            }
+        }
+        i += 1;
+    }
+}
+
+/// The index range of the treelet of buffer `b` (without folding, the only one there):
+/// node indices for a box buffer, triangle slots for a triangle buffer; empty when
+/// unknown.
+fn range_of(f: &Frame, b: u32) -> (u32, u32) {
+    let id = if b < f.half { b } else { b - f.half };
+    if (id as usize) < MAX_TREELETS {
+        unsafe { (FIRST[id as usize], END[id as usize]) }
+    } else {
+        (0, 0)
+    }
+}
+
 /// Works on `r` while its next step reads buffer `b`'s treelet; then writes it to the
 /// buffer it needs, or, once its traversal is over, shades it and goes on with the ray
 /// that replaces it.
 fn process(f: &Frame, mut r: StreamRay, b: u32, mode: u32) {
+    let (first, end) = range_of(f, b);
+    let tri_buffer = b >= f.half;
     loop {
         let x = PipeTests::new(&r.ray, mode);
         let mut hit = Hit::none(r.t);
@@ -447,9 +492,14 @@ fn process(f: &Frame, mut r: StreamRay, b: u32, mode: u32) {
         }
         let mut next = b;
         while !r.trav.is_done() {
-            next = buffer_of(f, &r.trav);
-            if next != b {
-                break;
+            // In this buffer's treelet (no lookup), or in another that folds into it.
+            let n = r.trav.node();
+            let here = r.trav.at_leaf() == tri_buffer && first <= n && n < end;
+            if !here {
+                next = buffer_of(f, &r.trav);
+                if next != b {
+                    break;
+                }
             }
             r.trav.step(&x, &f.bvh, &mut hit, r.shadow());
         }
@@ -504,7 +554,10 @@ fn trax_main() {
         bvh: BvhArrays::load(),
         treelets: TreeletArrays::load(),
     };
-    // Fill the root treelet's buffer with camera rays, then every thread streams.
+    find_ranges(f.treelets.nodes, trax::scene::bvh_node_count());
+    find_ranges(f.treelets.tris, trax::scene::triangle_count());
+    // Fill the root treelet's buffer with camera rays, then every thread streams (after
+    // the barrier, which the ranges found above also need).
     let root = buffer_of(&f, &Traversal::new());
     loop {
         let p = trax::atomic_inc(FILL_REG);

@@ -223,8 +223,11 @@ fn bounce_event(depth: u32) -> u32 {
     2 + 2 * depth
 }
 
-/// Adds `c` to path `path`'s radiance.
+/// Adds `c` to path `path`'s radiance (nothing to do for black).
 fn accumulate(path: u32, c: Vec3) {
+    if c.is_black() {
+        return;
+    }
     let i = path as usize * 3;
     unsafe {
         ACC[i] += c.x;
@@ -490,20 +493,13 @@ fn process(f: &Frame, mut r: StreamRay, b: u32, mode: u32) {
         if !r.shadow() {
             hit.tri = r.tri;
         }
-        let mut next = b;
-        while !r.trav.is_done() {
-            // In this buffer's treelet (no lookup), or in another that folds into it.
-            let n = r.trav.node();
-            let here = r.trav.at_leaf() == tri_buffer && first <= n && n < end;
-            if !here {
-                next = buffer_of(f, &r.trav);
-                if next != b {
-                    break;
-                }
-            }
-            r.trav.step(&x, &f.bvh, &mut hit, r.shadow());
-        }
-        if !r.trav.is_done() {
+        // Steps in this buffer's treelet (no lookup), or in another that folds into it.
+        let stay = |t: &Traversal| {
+            let n = t.node();
+            (t.at_leaf() == tri_buffer && first <= n && n < end) || buffer_of(f, t) == b
+        };
+        if r.trav.run(&x, &f.bvh, &mut hit, r.shadow(), stay) {
+            let next = buffer_of(f, &r.trav);
             if !r.shadow() {
                 r.t = hit.t;
                 r.tri = hit.tri;

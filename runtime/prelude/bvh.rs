@@ -612,9 +612,37 @@ impl Traversal {
         self.word = (step << 30) | n.a;
     }
 
+    /// Runs steps while the traversal is not done and `stay` accepts the next one (a
+    /// streaming kernel: while it reads the current treelet); see [`Traversal::step`].
+    /// True if it stopped because `stay` refused a step.
+    pub fn run<X: RayTests, F: Fn(&Traversal) -> bool>(
+        &mut self,
+        x: &X,
+        b: &BvhArrays,
+        hit: &mut Hit,
+        any: bool,
+        stay: F,
+    ) -> bool {
+        // Locals, so the state stays in registers between steps.
+        let mut t = *self;
+        let mut h = *hit;
+        let mut refused = false;
+        while !t.is_done() {
+            if !stay(&t) {
+                refused = true;
+                break;
+            }
+            t.step(x, b, &mut h, any);
+        }
+        *self = t;
+        *hit = h;
+        refused
+    }
+
     /// Runs the next step with the tests `x` against `hit` (the closest hit so far, its
     /// `t` the search limit) on the BVH at `b`. With `any`, the traversal ends at the
     /// first triangle hit. Not to be called once done.
+    #[inline(always)]
     pub fn step<X: RayTests>(&mut self, x: &X, b: &BvhArrays, hit: &mut Hit, any: bool) {
         let kind = self.word >> 30;
         let node = self.word & NODE_MASK;

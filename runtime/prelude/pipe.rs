@@ -142,6 +142,7 @@ impl PipeTests {
 }
 
 impl RayTests for PipeTests {
+    #[inline(always)]
     fn box_entry(&self, n: &BvhNode, t_max: f32) -> f32 {
         let e = if self.mode == 1 {
             hw::pipe_box(n.min.x, n.min.y, n.min.z, n.max.x, n.max.y, n.max.z)
@@ -155,6 +156,7 @@ impl RayTests for PipeTests {
         }
     }
 
+    #[inline(always)]
     fn tri_hit(&self, tri: &Triangle, hit: &mut Hit) -> bool {
         let h = self.tri(tri);
         if h.t < hit.t {

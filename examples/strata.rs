@@ -33,14 +33,15 @@
 //!   or bounce ray by its vertex's shadow ray, a shadow ray by the vertex's bounce ray, a
 //!   path's last ray by the camera ray of the next path. Paths are (pixel, sample) pairs
 //!   handed out by a chip-wide counter, so every sample of the frame is work for any TM.
-//! - The image does not depend on ray order, chip or timing: each path adds its radiance
-//!   into its own accumulator in global memory (a path's rays are processed one after
-//!   the other), and after the last ray (`schedule()` returns `None`) and a barrier the
-//!   pixels are reduced in sample order into the framebuffer.
+//! - The image does not depend on ray order, chip or timing: each path vertex writes the
+//!   radiance it adds (direct light, or the background a ray escaped to; the camera
+//!   ray's emission apart) once, as one RGB9E5 word, into its own slot in global memory —
+//!   one store, no load — and after the last ray (`schedule()` returns `None`) and a
+//!   barrier the pixels are reduced in sample and vertex order into the framebuffer.
 //!
 //! Needs a chip with a stream memory (`--config strata`, or `--set
-//! stream_memory.capacity_bytes=...`); at most `MAX_PATHS` (pixel, sample) pairs and
-//! 16 vertices per path.
+//! stream_memory.capacity_bytes=...`); at most `MAX_SLOTS` / (`max_depth` + 1) (pixel,
+//! sample) pairs and 16 vertices per path.
 
 use trax::bvh::{BvhArrays, TreeletArrays, Traversal};
 use trax::pipe::PipeTests;
@@ -48,16 +49,18 @@ use trax::ray::{SurfacePoint, NO_HIT};
 use trax::stream::Record;
 use trax::{Hit, Ray, Vec3};
 
-/// (pixel, sample) pairs a frame may have: one radiance accumulator each (12 bytes).
-const MAX_PATHS: usize = 1 << 20;
+/// Radiance slots a frame may have: `max_depth + 1` per (pixel, sample) pair (one per
+/// vertex and one for the camera ray's emission), 4 bytes each.
+const MAX_SLOTS: usize = 6 << 20;
 /// Global registers: paths handed out by the initial fill and afterwards, two barriers.
 const FILL_REG: u32 = 0;
 const NEXT_REG: u32 = 1;
 const FILLED_REG: u32 = 2;
 const DONE_REG: u32 = 3;
 
-/// Each path's radiance, RGB (`path * 3 ..`).
-static mut ACC: [f32; 3 * MAX_PATHS] = [0.0; 3 * MAX_PATHS];
+/// Radiance each path vertex adds, RGB9E5 (path `p`, slot `k`: `p * (max_depth + 1) + k`;
+/// slot `max_depth` is the camera ray's emission).
+static mut RADIANCE: [u32; MAX_SLOTS] = [0; MAX_SLOTS];
 /// Treelet ids whose index range the kernel keeps ([`FIRST`], [`END`]); a step in a
 /// treelet beyond them asks `treelet_ids` / `tri_treelet_ids` instead.
 const MAX_TREELETS: usize = 1 << 16;
@@ -223,17 +226,14 @@ fn bounce_event(depth: u32) -> u32 {
     2 + 2 * depth
 }
 
-/// Adds `c` to path `path`'s radiance (nothing to do for black).
-fn accumulate(path: u32, c: Vec3) {
+/// Records `c` as the radiance of path `path`'s slot `slot` (written once per path and
+/// slot; black needs no store, the slots start at 0).
+fn accumulate(f: &Frame, path: u32, slot: u32, c: Vec3) {
     if c.is_black() {
         return;
     }
-    let i = path as usize * 3;
-    unsafe {
-        ACC[i] += c.x;
-        ACC[i + 1] += c.y;
-        ACC[i + 2] += c.z;
-    }
+    let i = (path * (f.max_depth + 1) + slot) as usize;
+    unsafe { RADIANCE[i] = rgb9e5(c) };
 }
 
 /// A shadow ray's direction and limit, and what it brings (times the path throughput)
@@ -376,13 +376,13 @@ fn finish(f: &Frame, r: &StreamRay, hit: &Hit, x: &PipeTests) -> Option<StreamRa
         if !hit.is_hit() {
             let albedo = trax::scene::triangle_material(r.tri).diffuse;
             if let Some(ls) = light_sample(path, depth, origin, n, albedo) {
-                accumulate(path, throughput * ls.contribution);
+                accumulate(f, path, depth, throughput * ls.contribution);
             }
         }
         return bounce(f, path, depth, origin, n, r.tri, throughput);
     }
     if !hit.is_hit() {
-        accumulate(path, throughput * trax::scene::background());
+        accumulate(f, path, depth, throughput * trax::scene::background());
         return next_path(f);
     }
     let tri = trax::scene::triangle(hit.tri);
@@ -396,7 +396,7 @@ fn finish(f: &Frame, r: &StreamRay, hit: &Hit, x: &PipeTests) -> Option<StreamRa
     };
     let m = trax::scene::triangle_material(hit.tri);
     if depth == 0 && !m.emission.is_black() {
-        accumulate(path, m.emission);
+        accumulate(f, path, f.max_depth, m.emission);
     }
     // New rays start just off the surface, by the hit point's rounding error.
     let sp = SurfacePoint::new(&r.ray, &full, &tri);
@@ -531,10 +531,14 @@ fn trax_main() {
         panic!("strata.rs follows paths of at most {} vertices, not {}", DEPTH_LIMIT, max_depth);
     }
     let paths = pixels as u64 * spp as u64;
-    if paths > MAX_PATHS as u64 || paths >= PATH_LIMIT as u64 {
+    let slots = paths * (max_depth as u64 + 1);
+    if slots > MAX_SLOTS as u64 || paths >= PATH_LIMIT as u64 {
         panic!(
-            "strata.rs renders at most {} (pixel, sample) pairs, not {} x {}: fewer pixels or samples",
-            MAX_PATHS, pixels, spp
+            "strata.rs renders at most {} radiance slots, not {} pixels x {} samples x {} (depth + 1): fewer pixels, samples or bounces",
+            MAX_SLOTS,
+            pixels,
+            spp,
+            max_depth + 1
         );
     }
     let paths = paths as u32;
@@ -583,15 +587,17 @@ fn trax_main() {
             process(&f, StreamRay::unpack(&rec), b, mode);
         }
     }
-    // Every path is done: each pixel is the mean of its samples, added in sample order.
+    // Every path is done: each pixel is the mean of its samples, added in sample and
+    // slot order.
     trax::barrier(DONE_REG);
     let inv_spp = 1.0 / spp as f32;
+    let per_path = max_depth + 1;
     let mut i = trax::global_id();
     while i < pixels {
         let mut c = Vec3::zero();
-        for s in 0..spp {
-            let k = ((i * spp + s) * 3) as usize;
-            c += unsafe { Vec3::new(ACC[k], ACC[k + 1], ACC[k + 2]) };
+        let first = (i * spp * per_path) as usize;
+        for k in 0..(spp * per_path) as usize {
+            c += from_rgb9e5(unsafe { RADIANCE[first + k] });
         }
         trax::scene::set_pixel_index(i, c.scale(inv_spp));
         i += trax::num_threads();

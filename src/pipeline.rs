@@ -11,6 +11,7 @@
 
 use std::path::{Path, PathBuf};
 
+use trax_assembler::bvh::{TreeletLayout, TreeletOptions};
 use trax_assembler::image::{
     build_image, build_image_from_symbols, on_demand_components, ImageError, RenderOptions,
     SceneImage, StreamShape,
@@ -18,7 +19,7 @@ use trax_assembler::image::{
 use trax_assembler::link::{link, Input, LinkOptions};
 use trax_assembler::scene::{LoadOptions, Scene};
 use trax_compiler::{compile_file, CompileError, CompileOptions, Emit, Prelude};
-use trax_emulator::timing::{ChipConfig, DEFAULT_CHIP};
+use trax_emulator::timing::{ChipConfig, TreeletForm, DEFAULT_CHIP};
 use trax_emulator::{Mode, RunReport, RunRequest, Segment};
 use trax_runtime::abi::PIXEL_BYTES;
 use trax_runtime::exe::Executable;
@@ -74,8 +75,8 @@ pub struct Request {
     pub scene: String,
     /// Camera and light files and the scene scale.
     pub load: LoadOptions,
-    /// Image and header parameters. Its `stack_size` is replaced by the chip's local-store
-    /// size, so the image's stack window is the one the machine gives each thread.
+    /// Image and header parameters. Its `stack_size` and `treelets` are replaced by the
+    /// chip's ([`image_options`]).
     pub render: RenderOptions,
     /// The chip the program will run on.
     pub chip: ChipConfig,
@@ -102,27 +103,38 @@ impl Request {
             .chain(self.more.iter().cloned())
             .collect()
     }
+}
 
-    /// The image options with the chip's stack size, stream memory shape and pipeline
-    /// modes.
-    fn render_options(&self) -> RenderOptions {
-        let sm = &self.chip.stream_memory;
-        let stream = if sm.capacity_bytes > 0 {
-            StreamShape {
-                rays: sm.geometry().capacity_rays(),
-                ray_bytes: sm.ray_bytes,
-                buffers: sm.buffers,
-            }
-        } else {
-            StreamShape::default()
-        };
-        RenderOptions {
-            stack_size: self.chip.local_store.bytes,
-            stream,
-            pipe_modes: u32::from(self.chip.pipe_modes()),
-            ..self.render.clone()
+/// The image options for `render` on `chip`: the chip's local-store size as each thread's
+/// stack window, its ray stream memory's shape (scene header `stream_*`), its pipeline
+/// modes (`pipe_modes`) and the chip's treelet layout (`[treelets]`: form, size, alignment). Every
+/// image that runs on a chip, or that `trax native` runs over, is laid out with these
+/// ([`lay_out`], [`scene_image`], [`lay_out_scene`]), so run and native lay out alike.
+pub fn image_options(render: &RenderOptions, chip: &ChipConfig) -> Result<RenderOptions, String> {
+    let align_bytes = chip.treelet_align_bytes().map_err(|e| e.to_string())?;
+    let sm = &chip.stream_memory;
+    let stream = if sm.capacity_bytes > 0 {
+        StreamShape {
+            rays: sm.geometry().capacity_rays(),
+            ray_bytes: sm.ray_bytes,
+            buffers: sm.buffers,
         }
-    }
+    } else {
+        StreamShape::default()
+    };
+    Ok(RenderOptions {
+        stack_size: chip.local_store.bytes,
+        stream,
+        pipe_modes: u32::from(chip.pipe_modes()),
+        treelets: TreeletLayout {
+            always: chip.treelets.form == TreeletForm::Always,
+            options: TreeletOptions {
+                budget_bytes: chip.treelet_bytes(),
+                align_bytes,
+            },
+        },
+        ..render.clone()
+    })
 }
 
 /// A program ready to run: its executable and initial memory.
@@ -225,7 +237,8 @@ pub fn prepare(req: &Request) -> Result<Prepared, PrepareError> {
         &req.kernel.display().to_string(),
         elf,
         &scene,
-        &req.render_options(),
+        &req.render,
+        &req.chip,
     )
 }
 
@@ -358,14 +371,16 @@ pub fn load_scene(scene: &str, opts: &LoadOptions) -> Result<Scene, PrepareError
 }
 
 /// Lays out the memory image of the executable `elf` (named `name` in messages) with
-/// `scene`: only the components the program references.
+/// `scene` for `chip` ([`image_options`]): only the components the program references.
 pub fn lay_out(
     name: &str,
     elf: Vec<u8>,
     scene: &Scene,
-    opts: &RenderOptions,
+    render: &RenderOptions,
+    chip: &ChipConfig,
 ) -> Result<Prepared, PrepareError> {
-    let image = build_image(&elf, scene, opts).map_err(|source| PrepareError::Image {
+    let opts = image_options(render, chip).map_err(PrepareError::Flag)?;
+    let image = build_image(&elf, scene, &opts).map_err(|source| PrepareError::Image {
         path: name.to_string(),
         source,
     })?;
@@ -402,7 +417,7 @@ pub fn scene_image(req: &Request) -> Result<(SceneImage, Vec<String>), PrepareEr
         }
     };
     let referenced: Vec<&str> = referenced.iter().map(String::as_str).collect();
-    let image = lay_out_scene(&scene, &referenced, &req.render_options()).map_err(|source| {
+    let image = lay_out_scene(&scene, &referenced, &req.render, &req.chip).map_err(|source| {
         PrepareError::Image {
             path: req.kernel.display().to_string(),
             source,
@@ -411,19 +426,21 @@ pub fn scene_image(req: &Request) -> Result<(SceneImage, Vec<String>), PrepareEr
     Ok((image, warnings))
 }
 
-/// The memory image of `scene` alone (no program), with the optional components in
-/// `referenced` (camera and framebuffer always).
+/// The memory image of `scene` alone (no program) for `chip` ([`image_options`]), with the
+/// optional components in `referenced` (camera and framebuffer always).
 pub fn lay_out_scene(
     scene: &Scene,
     referenced: &[&str],
-    opts: &RenderOptions,
+    render: &RenderOptions,
+    chip: &ChipConfig,
 ) -> Result<SceneImage, ImageError> {
+    let opts = image_options(render, chip).map_err(ImageError::BadOption)?;
     build_image_from_symbols(
         Vec::new(),
         trax_runtime::abi::TEXT_BASE,
         referenced,
         scene,
-        opts,
+        &opts,
     )
 }
 

@@ -8,7 +8,7 @@
 
 use serde::Serialize;
 use trax_assembler::image::SceneImage;
-use trax_emulator::timing::{ChipConfig, TimingStats};
+use trax_emulator::timing::{ChipConfig, SampledStats, TimingStats};
 use trax_emulator::{Outcome, RunReport};
 
 use crate::pipeline::{left_out, KernelFile, Request};
@@ -22,7 +22,7 @@ pub const SCHEMA: u32 = 1;
 pub struct StatsDocument<'a> {
     /// [`SCHEMA`].
     pub schema: u32,
-    /// `functional` or `timing`.
+    /// `functional`, `timing` or `sampled`.
     pub mode: &'static str,
     /// How the run ended (see [`outcome_name`]).
     pub outcome: &'static str,
@@ -34,17 +34,21 @@ pub struct StatsDocument<'a> {
     pub chip: &'a ChipConfig,
     /// Hardware threads (TMs x threads per TM).
     pub threads: u32,
-    /// Functional: instructions retired. Timing: instructions issued, without zero-cost
-    /// debug ops (`timing.debug_ops`).
+    /// Functional and sampled: instructions retired (executed). Timing: instructions
+    /// issued, without zero-cost debug ops (`timing.debug_ops`).
     pub instructions: u64,
     /// Rays (`trax.stat 0`).
     pub rays: u64,
     /// The `trax.stat` counters.
     pub counters: &'a [u64],
-    /// Core cycles until the last thread halted (timing), `null` in functional mode.
+    /// Core cycles until the last thread halted (timing), `null` in functional and
+    /// sampled mode (a sampled run estimates them: `sampled.estimates.cycles`).
     pub cycles: Option<u64>,
-    /// Timing-model statistics, `null` in functional mode.
+    /// Timing-model statistics, `null` in functional and sampled mode.
     pub timing: Option<&'a TimingStats>,
+    /// A sampled run's estimates with confidence intervals, costs and parameters (`null`
+    /// unless `--sample`).
+    pub sampled: Option<&'a SampledStats>,
     /// The scene data in memory.
     pub scene: SceneData,
 }
@@ -148,11 +152,15 @@ impl<'a> StatsDocument<'a> {
         quantum: u32,
         limits: trax_emulator::Limits,
     ) -> StatsDocument<'a> {
-        let functional = run.timing.is_none();
+        let functional = run.mode == trax_emulator::Mode::Functional;
         let path = |p: &Option<std::path::PathBuf>| p.as_ref().map(|p| p.display().to_string());
         StatsDocument {
             schema: SCHEMA,
-            mode: run.mode.name(),
+            mode: if run.sampled.is_some() {
+                "sampled"
+            } else {
+                run.mode.name()
+            },
             outcome: outcome_name(&run.outcome),
             trax_version: env!("CARGO_PKG_VERSION"),
             inputs: Inputs {
@@ -182,6 +190,7 @@ impl<'a> StatsDocument<'a> {
             counters: &run.counters,
             cycles: run.cycles,
             timing: run.timing.as_ref(),
+            sampled: run.sampled.as_ref(),
             scene: SceneData::of(image),
         }
     }

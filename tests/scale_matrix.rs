@@ -67,10 +67,10 @@ fn render(elf: &[u8], scene: &Scene, k: &Kernel) -> Vec<[f32; 3]> {
         background: k.background,
         ..RenderOptions::default()
     };
-    let prepared = lay_out("kernel", elf.to_vec(), scene, &opts).unwrap();
     let mut chip = ChipConfig::preset(DEFAULT_CHIP).unwrap();
     chip.tms = 2;
     chip.threads_per_tm = 4;
+    let prepared = lay_out("kernel", elf.to_vec(), scene, &opts, &chip).unwrap();
     let mut out = Vec::new();
     let result = run(prepared.run_request(&chip, Mode::Functional), &mut out).unwrap();
     assert!(

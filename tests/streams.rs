@@ -132,6 +132,66 @@ fn a_streaming_kernel_draws_the_same_image_natively_and_on_the_machine() {
     }
 }
 
+/// A stream memory of 38 rays that spills blocks of 8 rays to DRAM (`overflow = "spill"`):
+/// the 192 rays of the bounce kernel do not fit, so buffers' rays sit in DRAM when TMs
+/// schedule them and the frame's stream work may end only when the spill area is empty
+/// too. Every ray still comes back twice, and natively (blocks move at once) as on the
+/// machine in both modes.
+#[test]
+fn a_spilling_stream_memory_loses_no_ray_and_ends_the_frame_only_when_dram_is_empty() {
+    let sets: Vec<(String, toml::Value)> = vec![
+        ("stream_memory.capacity_bytes".into(), 2048.into()),
+        ("stream_memory.buffers".into(), 16.into()),
+        ("stream_memory.overflow".into(), "spill".into()),
+        ("stream_memory.spill.block_bytes".into(), 384.into()),
+        ("stream_memory.spill.area_bytes".into(), (384 * 64).into()),
+    ];
+    let chip = chip_config("tiny", &sets, Some(2), Some(3), None).unwrap();
+    assert_eq!(chip.stream_memory.geometry().capacity_rays(), 38);
+    let expected = "192 192 18336 6 38\n";
+    let k = root().join("tests/kernels/stream_bounce.rs");
+    let dir = scratch("spill");
+    let raw = dir.join("native.fb");
+    let mut args = vec![
+        "native".to_string(),
+        k.to_str().unwrap().to_string(),
+        "--raw-framebuffer".into(),
+        raw.to_str().unwrap().into(),
+    ];
+    for (f, v) in &sets {
+        args.push("--set".into());
+        args.push(format!("{f}={v}"));
+    }
+    args.extend(SHAPE.iter().map(|s| s.to_string()));
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let out = trax(&args);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert_eq!(text(&out.stdout), expected, "natively");
+    let native_fb = std::fs::read(&raw).unwrap();
+    for mode in [Mode::Functional, Mode::Timing] {
+        let mut req = Request::new(&k);
+        req.render.width = 16;
+        req.render.height = 12;
+        req.chip = chip.clone();
+        let p = prepare(&req).unwrap_or_else(|e| panic!("{e}"));
+        let mut out = Vec::new();
+        let r = run(p.run_request(&chip, mode), &mut out).unwrap();
+        assert!(r.finished(), "{mode:?}: {:?}", r.failure);
+        assert_eq!(String::from_utf8(out).unwrap(), expected, "{mode:?}");
+        assert!(
+            p.framebuffer(&r).unwrap() == native_fb,
+            "{mode:?}: images differ"
+        );
+        if mode == Mode::Timing {
+            let spill = &r.timing.as_ref().unwrap().stream.spill;
+            assert!(
+                spill.spills > 0 && spill.spills == spill.refills,
+                "{spill:?}"
+            );
+        }
+    }
+}
+
 /// Writes `trax::stream::capacity() + EXTRA` rays to buffer 0, one per line of source.
 const FILL: &str = "use trax::stream;\n\
 fn trax_main() {\n\

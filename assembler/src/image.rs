@@ -27,7 +27,7 @@ use trax_runtime::abi::{
 use trax_runtime::exe::{ExeError, Executable};
 pub use trax_runtime::image::{MemoryImage, Perms, Segment};
 
-use crate::bvh::{Bvh, BvhError, BvhOptions, TreeletOptions, PAD};
+use crate::bvh::{Bvh, BvhError, BvhOptions, TreeletLayout, PAD};
 use crate::scene::{Scene, SceneError};
 
 /// Alignment of every placed component.
@@ -68,9 +68,13 @@ pub struct RenderOptions {
     pub background: [f32; 3],
     /// Per-thread stack (local store) size in bytes.
     pub stack_size: u32,
-    /// BVH settings (treelets are formed when set here or when the program reads
-    /// `treelet_ids` or `tri_treelet_ids`).
+    /// BVH build settings; `bvh.treelets` must be `None` (the treelets come from
+    /// `treelets`).
     pub bvh: BvhOptions,
+    /// When treelets are formed and how (from the chip's `[treelets]`: see
+    /// `trax::pipeline::image_options`). Treelet-aligned components (`bvh_nodes`,
+    /// `triangles`) start on the alignment of the treelets actually formed.
+    pub treelets: TreeletLayout,
     /// The shape of the chip's ray stream memory, written into the header for kernels.
     pub stream: StreamShape,
     /// The chip's `trax.setpipe` modes (header `pipe_modes`: bit m for mode m).
@@ -101,6 +105,7 @@ impl Default for RenderOptions {
             background: [0.0; 3],
             stack_size: abi::DEFAULT_STACK_SIZE,
             bvh: BvhOptions::default(),
+            treelets: TreeletLayout::default(),
             stream: StreamShape::default(),
             pipe_modes: 1,
         }
@@ -298,12 +303,10 @@ pub fn build_image_from_symbols(
 
     // The BVH, only when the program reads a component built from it.
     let bvh = if wanted.iter().any(|c| from_bvh(c.name)) {
-        let mut bo = opts.bvh.clone();
-        let reads_treelets =
-            referenced.contains(&"treelet_ids") || referenced.contains(&"tri_treelet_ids");
-        if reads_treelets && bo.treelets.is_none() {
-            bo.treelets = Some(TreeletOptions::default());
-        }
+        let bo = BvhOptions {
+            treelets: opts.treelets.for_program(referenced),
+            ..opts.bvh.clone()
+        };
         Some(Bvh::build(&scene.triangles, &bo)?)
     } else {
         None
@@ -313,11 +316,12 @@ pub fn build_image_from_symbols(
         Some(b) => b.tri_order.clone(),
         None => (0..scene.triangles.len() as u32).collect(),
     };
-    let row_align = opts
-        .bvh
-        .treelets
+    // Treelet-aligned components start on the alignment of the treelets formed (treelet
+    // starts are offsets from the arrays' starts).
+    let row_align = bvh
         .as_ref()
-        .map_or(0, |t| t.align_bytes)
+        .and_then(|b| b.treelets.as_ref())
+        .map_or(0, |t| t.options.align_bytes)
         .max(COMPONENT_ALIGN);
 
     let mut header = SceneHeader {
@@ -591,6 +595,12 @@ fn check_options(o: &RenderOptions) -> Result<(), ImageError> {
             abi::STACK_TOP - abi::TEXT_BASE,
             o.stack_size
         )));
+    }
+    if o.bvh.treelets.is_some() {
+        return Err(ImageError::BadOption(
+            "bvh.treelets is set by the image builder: give the treelet layout as `treelets`"
+                .into(),
+        ));
     }
     if let Some(e) = o.epsilon {
         if !(e.is_finite() && e >= 0.0) {

@@ -75,7 +75,18 @@ fn check_treelets(b: &Bvh, budget: u32, align: u32) {
             "triangle treelet {k} over budget"
         );
         if align > 0 {
-            assert_eq!(r.start * TRI % align, 0, "triangle treelet {k} not aligned");
+            // It starts in the first slot of an aligned block and stays within the budget
+            // from the block's start.
+            let (start, end) = (u64::from(r.start * TRI), u64::from(r.end * TRI));
+            let block = start / u64::from(align) * u64::from(align);
+            assert!(
+                start - block < u64::from(TRI),
+                "triangle treelet {k} does not start in its block's first slot"
+            );
+            assert!(
+                end <= block + u64::from(budget),
+                "triangle treelet {k} runs past its block's budget"
+            );
         }
         for s in prev..r.start {
             assert_eq!(b.tri_order[s as usize], PAD);
@@ -131,6 +142,36 @@ fn dram_row_aligned_treelets() {
                 p.len()
             );
         }
+    }
+}
+
+/// An aligned triangle treelet starts in the first 36-byte slot of its aligned block, so the
+/// array holds at most one `round_up(budget, align)` span per treelet, and every treelet but
+/// the last is full up to one leaf short of its slots. Before the fix treelets started on
+/// multiples of lcm(36, align) bytes: 72 KiB apart for 16 KiB treelets on 8 KiB rows, 4.5x
+/// the triangles' bytes.
+#[test]
+fn aligned_triangle_treelets_pad_to_the_next_block_only() {
+    let p = procedural(30_000).unwrap();
+    let max_leaf = BvhOptions::default().max_leaf;
+    for (budget, align) in [(16384, 8192), (16384, 2048), (4096, 4096), (32768, 8192)] {
+        let b = build(&p.triangles, budget, align);
+        check_treelets(&b, budget, align);
+        let t = b.treelets.as_ref().unwrap();
+        let n = t.tri_ranges.len() as u64;
+        // Slots a treelet can hold from any start in the block's first slot.
+        let least_slots = u64::from((budget - (TRI - 1)) / TRI);
+        let most_treelets = (p.len() as u64).div_ceil(least_slots - u64::from(max_leaf - 1));
+        assert!(
+            n <= most_treelets,
+            "{n} triangle treelets > {most_treelets}"
+        );
+        let span = u64::from(budget.div_ceil(align) * align);
+        let bytes = b.tri_order.len() as u64 * u64::from(TRI);
+        assert!(
+            bytes <= n * span,
+            "budget {budget}, align {align}: {bytes} triangle bytes > {n} treelets x {span}"
+        );
     }
 }
 

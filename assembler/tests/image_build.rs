@@ -4,7 +4,7 @@ use std::path::PathBuf;
 use std::process::Command;
 
 use std::mem::size_of;
-use trax_assembler::bvh::{BvhOptions, TreeletOptions, PAD};
+use trax_assembler::bvh::{BvhOptions, TreeletLayout, TreeletOptions, PAD};
 use trax_assembler::image::{
     build_image, build_image_from_symbols, on_demand_components, ImageError, Perms, RenderOptions,
     SceneImage, Segment,
@@ -216,12 +216,12 @@ fn all_components_with_bvh_and_treelets() {
     let opts = RenderOptions {
         width: 64,
         height: 32,
-        bvh: BvhOptions {
-            treelets: Some(TreeletOptions {
+        treelets: TreeletLayout {
+            always: true,
+            options: TreeletOptions {
                 budget_bytes: 4096,
                 align_bytes: 2048,
-            }),
-            ..BvhOptions::default()
+            },
         },
         ..RenderOptions::default()
     };
@@ -334,6 +334,70 @@ fn all_components_with_bvh_and_treelets() {
             );
         }
     }
+}
+
+/// A program that reads `treelet_ids` on a chip whose treelets are formed when read and
+/// aligned gets its node and triangle arrays on the treelet alignment (treelet starts are
+/// offsets from the arrays' starts). The arrays were placed on a 64-byte boundary only: the
+/// alignment was taken from treelets set to be formed always.
+#[test]
+fn treelets_formed_when_read_align_the_arrays() {
+    let s = procedural(3_000).unwrap();
+    let layout = TreeletLayout {
+        always: false,
+        options: TreeletOptions {
+            budget_bytes: 16384,
+            align_bytes: 8192,
+        },
+    };
+    let opts = RenderOptions {
+        treelets: layout.clone(),
+        ..RenderOptions::default()
+    };
+    let reads = ["treelet_ids", "bvh_nodes", "triangles"];
+    let img = build_image_from_symbols(Vec::new(), abi::TEXT_BASE, &reads, &s, &opts).unwrap();
+    check_layout(&img);
+    assert_eq!(
+        img.bvh.as_ref().unwrap().treelets.as_ref().unwrap().options,
+        layout.options
+    );
+    let h = img.header;
+    assert_eq!(
+        h.bvh_nodes.addr % 8192,
+        0,
+        "node array on the treelet alignment"
+    );
+    assert_eq!(
+        h.triangles.addr % 8192,
+        0,
+        "triangle array on the treelet alignment"
+    );
+    // A program that does not read `treelet_ids` sees the BVH in build order, its arrays on
+    // the components' own alignment; with `always` it gets the treelets.
+    let img = build_image_from_symbols(Vec::new(), abi::TEXT_BASE, &reads[1..], &s, &opts).unwrap();
+    assert!(img.bvh.as_ref().unwrap().treelets.is_none());
+    let always = RenderOptions {
+        treelets: TreeletLayout {
+            always: true,
+            ..layout
+        },
+        ..RenderOptions::default()
+    };
+    let img =
+        build_image_from_symbols(Vec::new(), abi::TEXT_BASE, &reads[1..], &s, &always).unwrap();
+    assert!(img.bvh.as_ref().unwrap().treelets.is_some());
+    assert_eq!(img.header.bvh_nodes.addr % 8192, 0);
+    assert_eq!(img.header.triangles.addr % 8192, 0);
+    // The treelets are the layout's alone: setting them in the BVH options is refused.
+    let twice = RenderOptions {
+        bvh: BvhOptions {
+            treelets: Some(TreeletOptions::default()),
+            ..BvhOptions::default()
+        },
+        ..RenderOptions::default()
+    };
+    let e = build_image_from_symbols(Vec::new(), abi::TEXT_BASE, &reads, &s, &twice).unwrap_err();
+    assert!(e.to_string().contains("treelets"), "{e}");
 }
 
 #[test]

@@ -36,6 +36,11 @@ pub trait Chip {
     fn stats(&mut self) -> &mut [u64; NUM_STATS];
     /// Instructions counted per profile region (`trax.profbegin/profend`).
     fn profile(&mut self) -> &mut [u64; 32];
+    /// Told the address of every data load before it reads memory (global memory or the
+    /// local store). Nothing by default; sampled simulation's functional warming
+    /// ([`crate::timing::sample`]) warms the caches with it.
+    #[inline(always)]
+    fn note_load(&mut self, _addr: u32) {}
 }
 
 impl Chip for Shared {

@@ -321,12 +321,14 @@ impl Thread {
             };
         }
         macro_rules! load {
-            ($n:literal, $base:expr, $off:expr) => {
-                match sh.shared().mem.read::<$n>(&self.local, ea!($base, $off)) {
+            ($n:literal, $base:expr, $off:expr) => {{
+                let a = ea!($base, $off);
+                sh.note_load(a);
+                match sh.shared().mem.read::<$n>(&self.local, a) {
                     Ok(b) => b,
                     Err(f) => fault!(mem_fault(f)),
                 }
-            };
+            }};
         }
         macro_rules! store {
             ($base:expr, $off:expr, $v:expr) => {
@@ -526,6 +528,7 @@ impl Thread {
             Addiupc { rs, off } => g!(rs) = pc.wrapping_add(off as u32),
             Lwpc { rs, off } => {
                 let a = pc.wrapping_add(off as u32);
+                sh.note_load(a);
                 match sh.shared().mem.read::<4>(&self.local, a) {
                     Ok(b) => g!(rs) = u32::from_le_bytes(b),
                     Err(f) => fault!(mem_fault(f)),

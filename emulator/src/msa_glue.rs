@@ -30,6 +30,7 @@ impl<C: Chip> MsaMemory for ThreadMem<'_, C> {
     // MSA vector accesses are 16 bytes and need no alignment; the memory performs
     // misaligned accesses itself (byte-exact checks, stores all or nothing).
     fn load(&mut self, addr: u32, buf: &mut [u8]) -> Result<(), MemExit> {
+        self.chip.note_load(addr);
         buf.copy_from_slice(&self.chip.shared().mem.read::<16>(self.local, addr)?);
         Ok(())
     }

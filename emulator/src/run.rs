@@ -89,6 +89,10 @@ pub struct RunRequest<'a> {
     /// Timing mode: record statistics for every interval of this many cycles (a multiple
     /// of the quantum, the L1 plus L2 hit latency) in [`crate::timing::TimingStats`].
     pub stats_interval: Option<u64>,
+    /// Timing mode: simulate sampled windows in detail and fast-forward between them
+    /// ([`crate::timing::sample`]); the report then has estimates with confidence
+    /// intervals ([`RunReport::sampled`]) instead of exact timing statistics.
+    pub sample: Option<crate::timing::SampleRequest>,
 }
 
 impl<'a> RunRequest<'a> {
@@ -108,6 +112,7 @@ impl<'a> RunRequest<'a> {
             gdb: None,
             progress: None,
             stats_interval: None,
+            sample: None,
         }
     }
 }
@@ -162,8 +167,10 @@ pub struct RunReport {
     pub cycles: Option<u64>,
     /// The `trax.stat` counters (counter 0 counts rays).
     pub counters: Vec<u64>,
-    /// Timing statistics (timing mode).
+    /// Timing statistics (timing mode, not sampled).
     pub timing: Option<TimingStats>,
+    /// A sampled run's estimates, costs and parameters.
+    pub sampled: Option<crate::timing::SampledStats>,
     /// The resolved profile, when asked for.
     pub profile: Option<Profile>,
     /// The DWARF, when a profile or a crash report needed it.
@@ -238,6 +245,27 @@ pub fn run(req: RunRequest<'_>, out: &mut dyn Write) -> Result<RunReport, RunErr
         Mode::Timing if req.gdb.is_some() => Err(RunError::Request(
             "the debugger needs functional mode (it drives the functional core)".into(),
         )),
+        Mode::Functional if req.sample.is_some() => Err(RunError::Request(
+            "sampling needs timing mode (it estimates what the timing model measures)".into(),
+        )),
+        Mode::Timing if req.sample.is_some() => {
+            let what = [
+                (req.profile, "a profile"),
+                (req.stats_interval.is_some(), "statistics intervals"),
+                (req.limits.max_cycles.is_some(), "a cycle limit"),
+                (
+                    req.limits.max_instructions.is_some(),
+                    "an instruction limit",
+                ),
+            ];
+            match what.iter().find(|(on, _)| *on) {
+                Some((_, name)) => Err(RunError::Request(format!(
+                    "a sampled run cannot take {name}: it simulates only windows of the run in \
+                     detail"
+                ))),
+                None => run_timing(req, out),
+            }
+        }
         Mode::Functional => run_functional(req, out),
         Mode::Timing => run_timing(req, out),
     }
@@ -309,6 +337,7 @@ fn run_functional(mut req: RunRequest<'_>, out: &mut dyn Write) -> Result<RunRep
             instructions,
             cycles: None,
             timing: None,
+            sampled: None,
             profiler,
             host_threads: 1,
             warnings,
@@ -336,6 +365,29 @@ fn run_timing(mut req: RunRequest<'_>, out: &mut dyn Write) -> Result<RunReport,
     let mut engine = timing::engine::Engine::new(chip, &machine, req.limits, host_threads)
         .map_err(RunError::Memory)?;
     engine.progress = req.progress.take();
+    if let Some(spec) = &req.sample {
+        let s = timing::sample::run(&mut engine, &mut machine, chip, spec, out)
+            .map_err(RunError::Request)?;
+        let instructions = s
+            .stats
+            .as_ref()
+            .map_or_else(|| retired(&machine), |st| st.executed_instructions);
+        return finish(
+            &req,
+            Ended {
+                outcome: s.outcome,
+                instructions,
+                cycles: None,
+                timing: None,
+                sampled: s.stats,
+                profiler: None,
+                host_threads,
+                warnings: warning.into_iter().collect(),
+            },
+            machine,
+            exe,
+        );
+    }
     engine.interval = req.stats_interval;
     if req.profile {
         engine.profiler = Some(Profiler::new(
@@ -343,6 +395,8 @@ fn run_timing(mut req: RunRequest<'_>, out: &mut dyn Write) -> Result<RunReport,
             machine.threads.len(),
         ));
     }
+    // Spill transfers take time on this chip (functional runs move blocks at once).
+    machine.shared.streams.set_timed(true);
     let outcome = engine.run(&mut machine, out);
     let profiler = engine.profiler.take();
     let cycles = engine.now;
@@ -374,6 +428,7 @@ fn run_timing(mut req: RunRequest<'_>, out: &mut dyn Write) -> Result<RunReport,
             instructions: stats.instructions,
             cycles: Some(cycles),
             timing: Some(stats),
+            sampled: None,
             profiler,
             host_threads,
             warnings: warning.into_iter().collect(),
@@ -389,6 +444,7 @@ struct Ended {
     instructions: u64,
     cycles: Option<u64>,
     timing: Option<TimingStats>,
+    sampled: Option<crate::timing::SampledStats>,
     profiler: Option<Profiler>,
     host_threads: usize,
     warnings: Vec<String>,
@@ -443,6 +499,7 @@ fn finish(
         cycles: e.cycles,
         counters: machine.shared.stats.to_vec(),
         timing: e.timing,
+        sampled: e.sampled,
         profile,
         debug,
         threads: req.chip.tms * req.chip.threads_per_tm,

@@ -1,6 +1,6 @@
-//! The STRaTA ray stream memory and the TMs' stream schedulers: the exact semantics live
-//! in `trax_runtime::streams` (shared with `trax native`); this module turns their errors
-//! into the faults a crash report names.
+//! The STRaTA ray stream memory, its overflow sentinel and the TMs' stream schedulers: the
+//! exact semantics live in `trax_runtime::streams` (shared with `trax native`); this module
+//! turns their errors into the faults a crash report names.
 
 pub use trax_runtime::streams::*;
 
@@ -14,11 +14,19 @@ pub fn buffer(m: &StreamMemory, id: u32) -> Result<usize, Fault> {
     })
 }
 
-/// Pushes a ray onto buffer `b`; a full memory is [`Fault::StreamFull`].
-pub fn push(m: &mut StreamMemory, b: usize, words: &[u32]) -> Result<(), Fault> {
-    m.push(b, words).map_err(|e| Fault::StreamFull {
-        stream: e.stream,
-        capacity_rays: e.capacity_rays,
-        ray_bytes: e.ray_bytes,
+/// Pushes a ray onto buffer `b`; a full memory is [`Fault::StreamFull`], a full spill
+/// area [`Fault::SpillAreaFull`].
+pub fn push(m: &mut StreamMemory, b: usize, words: &[u32]) -> Result<Flow, Fault> {
+    m.push(b, words).map_err(|e| match e {
+        StreamError::Full(e) => Fault::StreamFull {
+            stream: e.stream,
+            capacity_rays: e.capacity_rays,
+            ray_bytes: e.ray_bytes,
+        },
+        StreamError::SpillAreaFull(e) => Fault::SpillAreaFull {
+            stream: e.stream,
+            blocks: e.blocks,
+            block_bytes: e.block_bytes,
+        },
     })
 }

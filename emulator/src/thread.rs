@@ -110,6 +110,15 @@ pub enum Fault {
         /// Bytes of a ray record.
         ray_bytes: u32,
     },
+    /// A spill of the ray stream memory found its DRAM spill area full.
+    SpillAreaFull {
+        /// The stream a block was spilled from.
+        stream: u32,
+        /// Blocks the area holds.
+        blocks: u32,
+        /// Bytes of a block.
+        block_bytes: u32,
+    },
     /// `trax.strw` past the end of a ray record.
     RayTooLong {
         /// Bytes of a ray record.
@@ -210,6 +219,15 @@ impl std::fmt::Display for Fault {
                 f,
                 "ray stream memory full: writing a ray to stream {stream}, but all \
                  {capacity_rays} slots of {ray_bytes}-byte rays are taken"
+            ),
+            Fault::SpillAreaFull {
+                stream,
+                blocks,
+                block_bytes,
+            } => write!(
+                f,
+                "ray spill area full: spilling a block of stream {stream}, but all {blocks} \
+                 blocks of {block_bytes} bytes are taken (stream_memory.spill.area_bytes)"
             ),
             Fault::RayTooLong { ray_bytes } => write!(
                 f,

@@ -303,7 +303,11 @@ pub fn exec_trax<C: Chip>(
                 let sh = exclusive!();
                 if let Some((id, words)) = t.stream_write.take() {
                     let b = streams::buffer(&sh.streams, id)?;
-                    streams::push(&mut sh.streams, b, &words)?;
+                    if streams::push(&mut sh.streams, b, &words)? == streams::Flow::Wait {
+                        // The spill sentinel is making room: retry (the record is kept).
+                        t.stream_write = Some((id, words));
+                        return Ok(TraxFlow::Retry);
+                    }
                     sh.sched.pushed(&sh.streams, sh.clock);
                 }
             }
@@ -311,9 +315,11 @@ pub fn exec_trax<C: Chip>(
         StreamReadStart => {
             let sh = exclusive!();
             let cur = sh.sched.tms[t.tm as usize].current;
-            let ray = match sh.streams.buffer(cur) {
-                Some(b) => sh.streams.pop(b),
-                None => None,
+            let ray = match sh.streams.buffer(cur).map(|b| sh.streams.pop(b)) {
+                Some(streams::Popped::Ray(r)) => Some(r),
+                // The buffer's rays are on their way back from DRAM: retry.
+                Some(streams::Popped::Wait) => return Ok(TraxFlow::Retry),
+                _ => None,
             };
             let got = ray.is_some();
             t.stream_read = ray.map(|r| (r, 0));

@@ -298,3 +298,110 @@ fn baseline_area_matches_thesis_tables() {
         a.total
     );
 }
+
+/// The chapter 5 presets against §3.2.4 and §5.1: 128 TMs of 32 threads, the baseline's
+/// 4 MB of L2 and STRaTA+'s 512 KB beside a stream memory of the baseline L2's size, both
+/// on the 512 GB/s GDDR5; STRaTA+'s treelets are L1-sized (16 KB) and start on the 8 KB
+/// rows, so one treelet is two rows.
+#[test]
+fn chapter_5_presets_follow_the_thesis() {
+    let total_l2 = |c: &ChipConfig| c.memory.l2.capacity_bytes * c.tms.div_ceil(c.tms_per_l2);
+    let b = ChipConfig::preset("baseline-ch5").unwrap();
+    let s = ChipConfig::preset("strata-plus").unwrap();
+    for c in [&b, &s] {
+        assert_eq!((c.tms, c.threads_per_tm), (128, 32));
+        assert_eq!(c.memory.dram.model, DramModel::Detailed);
+        assert!((c.memory.dram.detailed.peak_gbps() - 512.0).abs() < 1e-9);
+        assert_eq!(c.memory.dram.detailed.row_bytes(), 8192);
+    }
+    assert_eq!(total_l2(&b), 4 << 20);
+    assert_eq!(b.memory.l1.capacity_bytes, 32 * 1024);
+    assert_eq!(b.stream_memory.capacity_bytes, 0);
+    assert_eq!(b.treelet_align_bytes().unwrap(), 0, "build order");
+    assert_eq!(total_l2(&s), 512 << 10);
+    assert_eq!(s.memory.l1.capacity_bytes, 16 * 1024);
+    assert_eq!(s.stream_memory.capacity_bytes, total_l2(&b));
+    assert_eq!(s.treelet_bytes(), 16 * 1024);
+    assert_eq!(s.treelet_align_bytes().unwrap(), 8192);
+    assert_eq!(s.treelet_bytes() / s.treelet_align_bytes().unwrap(), 2);
+}
+
+#[test]
+fn treelet_table_fields_defaults_and_errors() {
+    use trax_emulator::timing::{TreeletAlign, TreeletForm};
+    // Defaults: formed when read, L1-sized, packed.
+    let c = ChipConfig::preset("tiny").unwrap();
+    assert_eq!(c.treelets.form, TreeletForm::WhenRead);
+    assert_eq!(c.treelet_bytes(), c.memory.l1.capacity_bytes);
+    assert_eq!(c.treelet_align_bytes().unwrap(), 0);
+    let c = ChipConfig::from_toml_str(
+        "preset = \"baseline-ch5\"\n[treelets]\nform = \"always\"\nbytes = 16384\nalign = \"dram-row\"\n",
+        "t.toml",
+    )
+    .unwrap();
+    assert_eq!(c.treelets.form, TreeletForm::Always);
+    assert_eq!(
+        (c.treelet_bytes(), c.treelet_align_bytes().unwrap()),
+        (16384, 8192)
+    );
+    let c = ChipConfig::from_toml_str("[treelets]\nalign = 4096\n", "t.toml").unwrap();
+    assert_eq!(c.treelets.align, TreeletAlign::Bytes(4096));
+    let err = |text: &str| {
+        ChipConfig::from_toml_str(text, "t.toml")
+            .unwrap_err()
+            .to_string()
+    };
+    for (text, want) in [
+        ("[treelets]\nform = \"sometimes\"\n", "sometimes"),
+        ("[treelets]\nalign = \"rows\"\n", "dram-row"),
+        ("[treelets]\nalign = 100\n", "treelets.align = 100"),
+        ("[treelets]\nalign = 65536\n", "treelets.align = 65536"),
+        ("[treelets]\nbytes = 100\n", "treelets.bytes = 100"),
+        ("[treelets]\nsize = 1\n", "size"),
+        // `tiny` has the simple DRAM: no rows.
+        (
+            "preset = \"tiny\"\n[treelets]\nalign = \"dram-row\"\n",
+            "needs the detailed DRAM",
+        ),
+    ] {
+        let e = err(text);
+        assert!(e.contains(want), "{text:?}: {e}");
+    }
+    // Set by path, as `--set treelets.align=dram-row` does.
+    let mut c = ChipConfig::preset("strata").unwrap();
+    c.set_field("treelets.align", toml::Value::String("dram-row".into()))
+        .unwrap();
+    assert_eq!(c.treelet_align_bytes().unwrap(), 8192);
+}
+
+/// Chapter 5's mapping: consecutive lines stay in one row and consecutive rows go to
+/// consecutive channels (`gddr5-thesis`, row:rank:bank:channel:column), so a row-aligned
+/// 16 KB treelet is two rows on two channels.
+#[test]
+fn thesis_mapping_keeps_lines_in_a_row_and_strides_rows_over_channels() {
+    use trax_emulator::memsys::dram_detailed::DetailedDram;
+    let cfg = ChipConfig::preset("strata-plus")
+        .unwrap()
+        .memory
+        .dram
+        .detailed;
+    let d = DetailedDram::new(&cfg, 1000);
+    let row = cfg.row_span_bytes();
+    assert_eq!(row, cfg.row_bytes());
+    for base in [0u32, 8192 * 37, 0x0123_0000] {
+        let (ch, _, bank, r) = d.decode(base);
+        for off in (0..row).step_by(64) {
+            assert_eq!(d.decode(base + off), (ch, 0, bank, r), "{base:#x}+{off}");
+        }
+        let (ch2, _, bank2, r2) = d.decode(base + row);
+        assert_eq!(
+            (ch2, bank2, r2),
+            ((ch + 1) % cfg.channels as usize, bank, r)
+        );
+    }
+    // The USIMM default mapping interleaves lines over channels: one line per row span.
+    let u = trax_emulator::memsys::DramConfig::preset("gddr5-usimm")
+        .unwrap()
+        .detailed;
+    assert_eq!(u.row_span_bytes(), 64);
+}

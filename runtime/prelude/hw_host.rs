@@ -548,17 +548,29 @@ pub fn stream_write_end() {
     with_machine(|m| {
         let mut b = m.waits();
         let Barriers { streams, sched, .. } = &mut *b;
-        if let Err(e) = streams.push(buffer as usize, &ray) {
-            drop(b);
-            if e.capacity_rays == 0 {
+        // Blocks spill and refill at once here (a host run is untimed): a write never
+        // waits for the sentinel.
+        match streams.push(buffer as usize, &ray) {
+            Ok(_) => {}
+            Err(streams::StreamError::Full(e)) => {
+                drop(b);
+                if e.capacity_rays == 0 {
+                    panic!(
+                        "trax: this chip has no ray stream memory (stream_memory.capacity_bytes = 0)"
+                    );
+                }
                 panic!(
-                    "trax: this chip has no ray stream memory (stream_memory.capacity_bytes = 0)"
+                    "trax: ray stream memory full: writing a ray to stream {}, but all {} slots of {}-byte rays are taken",
+                    e.stream, e.capacity_rays, e.ray_bytes
                 );
             }
-            panic!(
-                "trax: ray stream memory full: writing a ray to stream {}, but all {} slots of {}-byte rays are taken",
-                e.stream, e.capacity_rays, e.ray_bytes
-            );
+            Err(streams::StreamError::SpillAreaFull(e)) => {
+                drop(b);
+                panic!(
+                    "trax: ray spill area full: spilling a block of stream {}, but all {} blocks of {} bytes are taken (stream_memory.spill.area_bytes)",
+                    e.stream, e.blocks, e.block_bytes
+                );
+            }
         }
         let before: u64 = sched.tms.iter().map(|t| t.generation).sum();
         sched.pushed(streams, 0);
@@ -573,9 +585,11 @@ pub fn stream_read_start() -> u32 {
     let ray = with_machine(|m| {
         let mut b = m.waits();
         let cur = b.sched.tms[ids().tmid as usize].current;
-        match b.streams.buffer(cur) {
-            Some(k) => b.streams.pop(k),
-            None => None,
+        match b.streams.buffer(cur).map(|k| b.streams.pop(k)) {
+            Some(streams::Popped::Ray(r)) => Some(r),
+            // Untimed: a refill completes at once, so a read never waits.
+            Some(streams::Popped::Wait) => unreachable!("host streams move blocks at once"),
+            Some(streams::Popped::Empty) | None => None,
         }
     });
     let got = ray.is_some() as u32;
@@ -768,7 +782,16 @@ fn build_machine(
     num_tms: u32,
     threads_per_tm: u32,
     schedule: &str,
+    spill: Option<&str>,
 ) -> Result<Machine, String> {
+    let spill = match spill {
+        None => None,
+        Some(a) => Some(streams::SpillGeometry::from_arg(a).ok_or_else(|| {
+            format!(
+                "bad spill sentinel `{a}` (expected HIGH,LOW,BLOCK_RAYS,BLOCK_BYTES,AREA_BLOCKS)"
+            )
+        })?),
+    };
     let policy = streams::SchedulePolicy::from_name(schedule).ok_or_else(|| {
         let names: Vec<&str> = streams::SchedulePolicy::ALL
             .iter()
@@ -891,7 +914,7 @@ fn build_machine(
         m.barriers
             .get_mut()
             .unwrap_or_else(|e| e.into_inner())
-            .streams = streams::StreamMemory::with_capacity_rays(rays, ray_bytes, buffers);
+            .streams = streams::StreamMemory::with_capacity_rays(rays, ray_bytes, buffers, spill);
     }
     Ok(m)
 }
@@ -941,20 +964,24 @@ pub fn run_image_stats(
     threads_per_tm: u32,
     kernel: fn(),
 ) -> Result<(Image, RunStats), RunError> {
-    run_image_with(image, num_tms, threads_per_tm, "fullest", kernel)
+    run_image_with(image, num_tms, threads_per_tm, "fullest", None, kernel)
 }
 
 /// [`run_image_stats`] with the ray stream schedulers' policy (`stream_memory.schedule`
-/// of the chip config: `fullest`, `sticky` or `round-robin`).
+/// of the chip config: `fullest`, `sticky` or `round-robin`) and, when the chip's stream
+/// memory spills (`stream_memory.overflow = "spill"`), its sentinel's shape in
+/// `SpillGeometry::to_arg`'s form (blocks move at once, as in a functional run).
 pub fn run_image_with(
     image: &Image,
     num_tms: u32,
     threads_per_tm: u32,
     schedule: &str,
+    spill: Option<&str>,
     kernel: fn(),
 ) -> Result<(Image, RunStats), RunError> {
-    let machine =
-        Arc::new(build_machine(image, num_tms, threads_per_tm, schedule).map_err(RunError::Setup)?);
+    let machine = Arc::new(
+        build_machine(image, num_tms, threads_per_tm, schedule, spill).map_err(RunError::Setup)?,
+    );
     let mut failed = Vec::new();
     std::thread::scope(|scope| {
         let mut handles = Vec::new();
@@ -1056,21 +1083,23 @@ impl Machine {
 }
 
 /// Entry point of a natively built kernel: `PROGRAM IMAGE_IN FRAMEBUFFER_OUT TMS THREADS
-/// [SCHEDULE]` (SCHEDULE: the ray stream schedulers' policy, default `fullest`).
+/// [SCHEDULE [SPILL]]` (SCHEDULE: the ray stream schedulers' policy, default `fullest`;
+/// SPILL: the stream memory's spill sentinel, `HIGH,LOW,BLOCK_RAYS,BLOCK_BYTES,AREA_BLOCKS`).
 ///
 /// Runs the kernel over the memory image and writes the framebuffer (header field
 /// `framebuffer`, `count × layout::PIXEL_SIZE` bytes) as a one-segment memory image. Exits with status 1
 /// (after the panic message) if any kernel thread panics, 2 on a usage or I/O error.
 pub fn host_main(kernel: fn()) {
     let args: Vec<String> = std::env::args().collect();
-    if args.len() != 5 && args.len() != 6 {
+    if !(5..=7).contains(&args.len()) {
         eprintln!(
-            "usage: {} IMAGE_IN FRAMEBUFFER_OUT TMS THREADS [SCHEDULE]",
+            "usage: {} IMAGE_IN FRAMEBUFFER_OUT TMS THREADS [SCHEDULE [SPILL]]",
             args[0]
         );
         std::process::exit(2);
     }
     let schedule = args.get(5).map_or("fullest", String::as_str);
+    let spill = args.get(6).map(String::as_str);
     let fail = |msg: String| -> ! {
         eprintln!("trax native: {msg}");
         std::process::exit(2)
@@ -1090,7 +1119,7 @@ pub fn host_main(kernel: fn()) {
         default_hook(info);
         std::process::exit(1);
     }));
-    let out = match run_image_with(&image, tms, threads, schedule, kernel) {
+    let out = match run_image_with(&image, tms, threads, schedule, spill, kernel) {
         Ok((out, stats)) => {
             let mut line = format!(
                 "trax native: {} threads, {:.3} s",

@@ -12,6 +12,9 @@ pub const SCENE_HEADER_ADDR: u32 = 0x10000;
 pub const SCENE_MAGIC: u32 = 0x58415254;
 /// Value of the header's `version` field.
 pub const SCENE_VERSION: u32 = 3;
+/// The global register `pixel_share` hands pixels out from (sampled simulation
+/// follows a frame's progress along it).
+pub const PIXEL_COUNTER_REG: u32 = 255;
 /// Words of the ray record `trax::stream` writes and reads (thesis §3.2.1).
 pub const STREAM_RECORD_WORDS: usize = 12;
 
@@ -62,9 +65,9 @@ pub const HDR_POINT_LIGHTS: u32 = 120;
 pub const HDR_BVH_PARENTS: u32 = 128;
 /// Treelet id per BVH node.
 pub const HDR_TREELET_IDS: u32 = 136;
-/// Triangle treelet id per triangle slot (ids after the node treelets', as the
+/// Triangle treelet id per triangle slot.
 pub const HDR_TRI_TREELET_IDS: u32 = 144;
-/// BVH leaf (node index) per triangle slot (0xFFFFFFFF for padding slots): a
+/// BVH leaf (node index) per triangle slot.
 pub const HDR_TRI_LEAF_IDS: u32 = 152;
 /// Rays the chip's ray stream memory holds (0: the chip has none).
 pub const HDR_STREAM_RAYS: u32 = 160;
@@ -72,7 +75,7 @@ pub const HDR_STREAM_RAYS: u32 = 160;
 pub const HDR_STREAM_RAY_BYTES: u32 = 164;
 /// Ray buffers of the stream memory (stream ids `0..stream_buffers`).
 pub const HDR_STREAM_BUFFERS: u32 = 168;
-/// The `trax.setpipe` modes the chip's TMs offer: bit `m` for mode `m` (bit 0,
+/// The `trax.setpipe` modes the chip's TMs offer, bit `m` for mode `m`.
 pub const HDR_PIPE_MODES: u32 = 172;
 /// Reserved for future components; zero.
 pub const HDR_RESERVED: u32 = 176;

@@ -101,9 +101,9 @@ pub fn set_pixel_index(i: u32, c: Vec3) {
 /// What [`PixelShare::next_pixel`] returns when every pixel has been handed out.
 pub const NO_PIXEL: u32 = 0xffff_ffff;
 
-/// The global register that counts the pixels [`pixel_share`] has handed out. A kernel
-/// that calls `pixel_share` must leave it alone.
-pub const PIXEL_COUNTER_REG: u32 = 255;
+/// The global register that counts the pixels [`pixel_share`] has handed out (from the
+/// scene contract). A kernel that calls `pixel_share` must leave it alone.
+pub const PIXEL_COUNTER_REG: u32 = layout::PIXEL_COUNTER_REG;
 
 /// Pixels handed out per `atomic_add` on [`PIXEL_COUNTER_REG`]. One: the atomic costs a
 /// thread one quantum per pixel, little beside a path-tracer or AO pixel, while the last

@@ -42,6 +42,11 @@ pub const SCENE_VERSION: u32 = 3;
 /// config's `stream_memory.ray_bytes`.
 pub const STREAM_RECORD_BYTES: u32 = 48;
 
+/// The global register from which `trax::scene::pixel_share` hands out pixels (one
+/// `atomic_add` per pixel block). Sampled simulation (`trax run --sample`) follows a
+/// frame's progress along it.
+pub const PIXEL_COUNTER_REG: u32 = 255;
+
 #[macro_use]
 pub mod encode;
 
@@ -389,11 +394,13 @@ scene_contract! {
         bvh_parents: u32 => Range, Component, OnDemand, ReadOnly;
         /// Treelet id per BVH node.
         treelet_ids: u32 => Range, Component, OnDemand, ReadOnly;
-        /// Triangle treelet id per triangle slot (ids after the node treelets', as the
-        /// assembler's `Treelets` numbers them; 0xFFFFFFFF for padding slots).
+        /// Triangle treelet id per triangle slot.
+        /// (Ids follow the node treelets', as the assembler's `Treelets` numbers them;
+        /// 0xFFFFFFFF for padding slots.)
         tri_treelet_ids: u32 => Range, Component, OnDemand, ReadOnly;
-        /// BVH leaf (node index) per triangle slot (0xFFFFFFFF for padding slots): a
-        /// leaf's triangles are the run of slots from its first that name it.
+        /// BVH leaf (node index) per triangle slot.
+        /// (A leaf's triangles are the run of slots from its first that name it;
+        /// 0xFFFFFFFF for padding slots.)
         tri_leaf_ids: u32 => Range, Component, OnDemand, ReadOnly;
     }
     tail {
@@ -403,8 +410,8 @@ scene_contract! {
         pub stream_ray_bytes: u32,
         /// Ray buffers of the stream memory (stream ids `0..stream_buffers`).
         pub stream_buffers: u32,
-        /// The `trax.setpipe` modes the chip's TMs offer: bit `m` for mode `m` (bit 0,
-        /// general-purpose units, always; 0b111 with the box and triangle pipelines).
+        /// The `trax.setpipe` modes the chip's TMs offer, bit `m` for mode `m`.
+        /// (Bit 0, general-purpose units, always; 0b111 with both pipelines.)
         pub pipe_modes: u32,
     }
     /// Reserved for future components; zero.

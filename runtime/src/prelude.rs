@@ -1,9 +1,9 @@
 //! The kernel prelude (crate `trax`) sources, embedded for the compiler and for
 //! `trax native`.
 //!
-//! Paths are relative to the prelude directory [`DIR`]. Five entries lie outside it
-//! (`../src/rng.rs`, `../src/fops.rs`, `../src/pipes.rs`, `../src/streams.rs`,
-//! `../src/image.rs`): the host implementation shares the emulator's RNG, f32 operation,
+//! Paths are relative to the prelude directory [`DIR`]. Six entries lie outside it
+//! (`../src/rng.rs`, `../src/fops.rs`, `../src/pipes.rs`, `../src/streams.rs` with its
+//! `../src/stream_spill.rs`, `../src/image.rs`): the host implementation shares the emulator's RNG, f32 operation,
 //! pipeline and ray-stream semantics and the memory-image format verbatim. Writers of these files to disk must keep
 //! the relative layout (write `p` to `<root>/prelude/<p>`).
 
@@ -35,6 +35,7 @@ pub static FILES: &[(&str, &str)] = &[
     ("../src/fops.rs", include_str!("fops.rs")),
     ("../src/pipes.rs", include_str!("pipes.rs")),
     ("../src/streams.rs", include_str!("streams.rs")),
+    ("../src/stream_spill.rs", include_str!("stream_spill.rs")),
     ("../src/image.rs", include_str!("image.rs")),
 ];
 
@@ -122,6 +123,16 @@ pub fn render_layout() -> String {
         out,
         "pub const SCENE_VERSION: u32 = {};",
         abi::SCENE_VERSION
+    );
+    let _ = writeln!(
+        out,
+        "/// The global register `pixel_share` hands pixels out from (sampled simulation\n\
+         /// follows a frame's progress along it)."
+    );
+    let _ = writeln!(
+        out,
+        "pub const PIXEL_COUNTER_REG: u32 = {};",
+        abi::PIXEL_COUNTER_REG
     );
     let _ = writeln!(
         out,

@@ -31,6 +31,21 @@
 //! Everything here is the same in functional and timing mode, so images are identical in
 //! both; timing mode adds the cycles (the `clock` arguments) for idle time and the
 //! decision's cost.
+//!
+//! With `stream_memory.overflow = "spill"` ([`SpillGeometry`]) a sentinel ([`spill`], thesis
+//! §7.1.1) keeps the SRAM below a high watermark by moving blocks of rays to a DRAM spill
+//! area and back; a buffer's rays then are those in its list plus those in DRAM or in
+//! transit, and `trax.strsize`/`trax.strsched` count them all. In functional mode blocks
+//! move at once; in timing mode ([`StreamMemory::set_timed`]) the timing engine carries the
+//! transfers out ([`StreamMemory::take_transfers`]) and reports their progress, and a write
+//! to a memory whose slots are all taken, or a read of rays still in transit, waits
+//! ([`Flow::Wait`], [`Popped::Wait`]). The sentinel's state lives here, so `trax native`
+//! spills as a functional run does (blocks move at once).
+
+#[path = "stream_spill.rs"]
+pub mod spill;
+
+pub use spill::SpillGeometry;
 
 /// What `trax.strsched` returns when the frame's stream work is done (and the TM's
 /// current buffer before its first schedule).
@@ -53,16 +68,19 @@ pub struct StreamGeometry {
     pub buffers: u32,
     /// Banks.
     pub banks: u32,
+    /// The spill sentinel, when overflow spills.
+    pub spill: Option<SpillGeometry>,
 }
 
 impl Default for StreamGeometry {
-    /// The chip config's defaults (the emulator's `timing::StreamMemoryConfig`).
+    /// The chip config's defaults (`timing::StreamMemoryConfig`).
     fn default() -> Self {
         StreamGeometry {
             capacity_bytes: 4 << 20,
             ray_bytes: 48,
             buffers: 1024,
             banks: 32,
+            spill: None,
         }
     }
 }
@@ -85,21 +103,48 @@ impl StreamGeometry {
     }
 }
 
+/// What a ray write did.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Flow {
+    /// Done.
+    Done,
+    /// Every slot is taken while the sentinel moves rays out: retry later (timing mode).
+    Wait,
+}
+
+/// What a ray read found.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Popped {
+    /// A ray (its record's words).
+    Ray(Vec<u32>),
+    /// The buffer holds no ray.
+    Empty,
+    /// The buffer's rays are in DRAM or in transit: retry later (timing mode).
+    Wait,
+}
+
 /// The stream memory's contents and counters.
 #[derive(Clone, Debug, Default)]
 pub struct StreamMemory {
     geom: StreamGeometry,
     capacity: u32,
-    /// Per buffer: newest slot (NIL when empty) and ray count (allocated on first use).
+    /// Per buffer: newest slot (NIL when empty), rays (in SRAM, DRAM or transit) and rays
+    /// in its SRAM list (allocated on first use).
     heads: Vec<u32>,
     counts: Vec<u32>,
+    listed: Vec<u32>,
     /// Per slot used so far: its link pointer and its record.
     link: Vec<u32>,
     data: Vec<u32>,
     /// Head of the free list of released slots; slots `fresh..capacity` were never used.
     free: u32,
     fresh: u32,
-    /// Rays stored now.
+    /// Slots taken (rays in lists plus slots the sentinel holds), and rays in lists.
+    slots_used: u32,
+    resident: u32,
+    /// The sentinel's state (blocks in DRAM, transfers).
+    spill: spill::SpillState,
+    /// Rays stored now (in SRAM, DRAM or transit).
     pub in_flight: u32,
     /// Most rays stored at once.
     pub max_in_flight: u32,
@@ -123,13 +168,20 @@ impl StreamMemory {
     }
 
     /// An empty memory holding exactly `rays` records of `ray_bytes` in `buffers` buffers
-    /// (the shape the scene header gives a host run; banks do not matter there).
-    pub fn with_capacity_rays(rays: u32, ray_bytes: u32, buffers: u32) -> StreamMemory {
+    /// (the shape the scene header gives a host run; banks do not matter there), spilling
+    /// to DRAM as `spill` says.
+    pub fn with_capacity_rays(
+        rays: u32,
+        ray_bytes: u32,
+        buffers: u32,
+        spill: Option<SpillGeometry>,
+    ) -> StreamMemory {
         let geom = StreamGeometry {
             capacity_bytes: 0,
             ray_bytes,
             buffers,
             banks: 1,
+            spill,
         };
         let bytes = geom.head_bytes() + u64::from(rays) * u64::from(ray_bytes + POINTER_BYTES);
         StreamMemory::new(StreamGeometry {
@@ -143,7 +195,7 @@ impl StreamMemory {
         &self.geom
     }
 
-    /// Rays that fit.
+    /// Rays that fit in the SRAM (what `trax.strcap` reports, spilling or not).
     pub fn capacity_rays(&self) -> u32 {
         self.capacity
     }
@@ -153,67 +205,67 @@ impl StreamMemory {
         (id < self.geom.buffers).then_some(id as usize)
     }
 
-    /// Rays in buffer `b`.
+    /// Rays in buffer `b` (in SRAM, DRAM or transit).
     pub fn len(&self, b: usize) -> u32 {
         self.counts.get(b).copied().unwrap_or(0)
     }
 
-    /// Pushes a ray (its words, at most a record's, zero-padded to a record) onto buffer
-    /// `b`; a full memory is an error.
-    pub fn push(&mut self, b: usize, words: &[u32]) -> Result<(), StreamFull> {
-        if self.in_flight >= self.capacity {
-            return Err(StreamFull {
+    /// Pushes a ray (its words, zero-padded to a record) onto buffer `b`. When spilling, a
+    /// push that leaves the SRAM above the high watermark makes the sentinel spill a block.
+    pub fn push(&mut self, b: usize, words: &[u32]) -> Result<Flow, StreamError> {
+        if self.slots_used >= self.capacity {
+            if self.geom.spill.is_some() && self.capacity > 0 {
+                // The sentinel is draining a block (the watermarks leave a block of room
+                // otherwise): the writer waits for it.
+                return Ok(Flow::Wait);
+            }
+            return Err(StreamError::Full(StreamFull {
                 stream: b as u32,
                 capacity_rays: self.capacity,
                 ray_bytes: self.geom.ray_bytes,
-            });
+            }));
         }
-        if self.heads.is_empty() {
-            self.heads = vec![NIL; self.geom.buffers as usize];
-            self.counts = vec![0; self.geom.buffers as usize];
-        }
+        self.ensure_buffers();
+        let slot = self.alloc_slot();
         let w = self.geom.ray_words();
-        let slot = if self.free != NIL {
-            let s = self.free;
-            self.free = self.link[s as usize];
-            s
-        } else {
-            let s = self.fresh;
-            self.fresh += 1;
-            self.link.push(NIL);
-            self.data.resize(self.data.len() + w, 0);
-            s
-        };
         let rec = &mut self.data[slot as usize * w..][..w];
         rec.fill(0);
         let n = words.len().min(w);
         rec[..n].copy_from_slice(&words[..n]);
-        self.link[slot as usize] = self.heads[b];
-        self.heads[b] = slot;
+        self.link_slot(b, slot);
         self.counts[b] += 1;
         self.in_flight += 1;
         self.max_in_flight = self.max_in_flight.max(self.in_flight);
         self.writes += 1;
         self.last_slot = Some(slot);
-        Ok(())
+        if self.geom.spill.is_some() {
+            self.spill_over()?;
+        }
+        Ok(Flow::Done)
     }
 
-    /// Pops the newest ray of buffer `b` (LIFO), or `None` when it is empty.
-    pub fn pop(&mut self, b: usize) -> Option<Vec<u32>> {
-        let slot = *self.heads.get(b)?;
-        if slot == NIL {
-            return None;
+    /// Pops the newest ray of buffer `b` (LIFO). When spilling, a buffer whose rays are all
+    /// in DRAM is refilled first, and a pop that leaves the SRAM below the low watermark
+    /// makes the sentinel refill a block.
+    pub fn pop(&mut self, b: usize) -> Popped {
+        if self.len(b) == 0 {
+            return Popped::Empty;
         }
+        if self.listed[b] == 0 && !self.refill_for(b) {
+            return Popped::Wait;
+        }
+        let slot = self.unlink_slot(b);
         let w = self.geom.ray_words();
         let ray = self.data[slot as usize * w..][..w].to_vec();
-        self.heads[b] = self.link[slot as usize];
-        self.link[slot as usize] = self.free;
-        self.free = slot;
+        self.free_slot(slot);
         self.counts[b] -= 1;
         self.in_flight -= 1;
         self.reads += 1;
         self.last_slot = Some(slot);
-        Some(ray)
+        if self.geom.spill.is_some() {
+            self.refill_under();
+        }
+        Popped::Ray(ray)
     }
 
     /// The non-empty buffer with the most rays (lowest id on ties), if any.
@@ -248,6 +300,74 @@ impl StreamMemory {
             }
         }
     }
+
+    fn ensure_buffers(&mut self) {
+        if self.heads.is_empty() {
+            let n = self.geom.buffers as usize;
+            self.heads = vec![NIL; n];
+            self.counts = vec![0; n];
+            self.listed = vec![0; n];
+        }
+    }
+
+    /// Takes a free slot (the caller checked that one is).
+    fn alloc_slot(&mut self) -> u32 {
+        self.slots_used += 1;
+        if self.free != NIL {
+            let s = self.free;
+            self.free = self.link[s as usize];
+            s
+        } else {
+            let s = self.fresh;
+            self.fresh += 1;
+            self.link.push(NIL);
+            self.data.resize(self.data.len() + self.geom.ray_words(), 0);
+            s
+        }
+    }
+
+    fn free_slot(&mut self, slot: u32) {
+        self.link[slot as usize] = self.free;
+        self.free = slot;
+        self.slots_used -= 1;
+    }
+
+    /// Puts `slot` on top of buffer `b`'s list.
+    fn link_slot(&mut self, b: usize, slot: u32) {
+        self.link[slot as usize] = self.heads[b];
+        self.heads[b] = slot;
+        self.listed[b] += 1;
+        self.resident += 1;
+    }
+
+    /// Takes the top slot of buffer `b`'s list (which is not empty).
+    fn unlink_slot(&mut self, b: usize) -> u32 {
+        let slot = self.heads[b];
+        self.heads[b] = self.link[slot as usize];
+        self.listed[b] -= 1;
+        self.resident -= 1;
+        slot
+    }
+}
+
+/// Why a ray write failed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StreamError {
+    /// Every SRAM slot is taken and the memory does not spill.
+    Full(StreamFull),
+    /// Spilling, but every block of the DRAM spill area is taken.
+    SpillAreaFull(SpillAreaFull),
+}
+
+/// A spill with every block of the spill area taken.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SpillAreaFull {
+    /// The stream a block was spilled from.
+    pub stream: u32,
+    /// Blocks the area holds.
+    pub blocks: u32,
+    /// Bytes of a block.
+    pub block_bytes: u32,
 }
 
 /// A write to a stream memory with every slot taken.
@@ -463,6 +583,7 @@ mod tests {
             ray_bytes: 48,
             buffers: 4,
             banks: 2,
+            spill: None,
         }
     }
 
@@ -487,23 +608,25 @@ mod tests {
         m.push(1, &[3, 4]).unwrap();
         assert_eq!(
             m.push(0, &[9]),
-            Err(StreamFull {
+            Err(StreamError::Full(StreamFull {
                 stream: 0,
                 capacity_rays: 3,
                 ray_bytes: 48
-            })
+            }))
         );
         assert_eq!((m.len(1), m.len(2), m.fullest()), (2, 1, Some(1)));
-        let r = m.pop(1).unwrap();
+        let Popped::Ray(r) = m.pop(1) else {
+            panic!("buffer 1 has rays")
+        };
         assert_eq!(&r[..3], &[3, 4, 0]);
         assert_eq!(r.len(), 12);
         assert_eq!(m.last_slot, Some(2));
         // The freed slot is the next one used.
         m.push(3, &[5]).unwrap();
         assert_eq!(m.last_slot, Some(2));
-        assert_eq!(m.pop(1).unwrap()[0], 1);
-        assert_eq!(m.pop(1), None);
-        assert_eq!(m.pop(3).unwrap()[0], 5);
+        assert!(matches!(m.pop(1), Popped::Ray(r) if r[0] == 1));
+        assert_eq!(m.pop(1), Popped::Empty);
+        assert!(matches!(m.pop(3), Popped::Ray(r) if r[0] == 5));
         assert_eq!(
             (m.in_flight, m.max_in_flight, m.writes, m.reads),
             (1, 3, 4, 3)
@@ -512,7 +635,7 @@ mod tests {
 
     /// A memory with `counts[b]` rays in buffer `b`.
     fn filled(counts: &[u32]) -> StreamMemory {
-        let mut m = StreamMemory::with_capacity_rays(100, 48, counts.len() as u32);
+        let mut m = StreamMemory::with_capacity_rays(100, 48, counts.len() as u32, None);
         for (b, &n) in counts.iter().enumerate() {
             for _ in 0..n {
                 m.push(b, &[b as u32]).unwrap();
@@ -524,7 +647,7 @@ mod tests {
     #[test]
     fn with_capacity_rays_holds_exactly_that_many() {
         for rays in [1, 7, 1000] {
-            let m = StreamMemory::with_capacity_rays(rays, 48, 16);
+            let m = StreamMemory::with_capacity_rays(rays, 48, 16, None);
             assert_eq!(m.capacity_rays(), rays);
         }
     }
@@ -607,7 +730,7 @@ mod tests {
         assert!(s.released(0, g0, 131) && !s.tms[0].idle);
         assert_eq!((s.tms[0].current, s.idle_tm_cycles), (2, 30));
         // TM 0 reads it; both wait with the memory empty: the frame is done for both.
-        m.pop(2).unwrap();
+        assert!(matches!(m.pop(2), Popped::Ray(_)));
         let g0 = s.arrive(0, &m, 2, 140);
         let g1 = s.arrive(1, &m, 2, 150);
         assert!(s.released(0, g0, 151) && s.released(1, g1, 151));

@@ -7,12 +7,15 @@ use clap::Args;
 use trax::pipeline::Request;
 use trax_assembler::image::RenderOptions;
 use trax_assembler::scene::LoadOptions;
-use trax_emulator::timing::{ChipConfig, DEFAULT_CHIP};
+use trax_emulator::timing::sample::MIN_WARMUP_CYCLES;
+use trax_emulator::timing::{ChipConfig, SampleRequest, DEFAULT_CHIP};
+use trax_runtime::abi::PIXEL_COUNTER_REG;
 
 /// The chip and its thread shape.
 #[derive(Args, Debug, Clone)]
 pub struct ShapeArgs {
-    /// Chip configuration: a preset (`tiny`, `baseline`, `strata`) or a TOML file.
+    /// Chip configuration: a preset (`tiny`, `baseline`, `strata`, `baseline-ch5`,
+    /// `strata-plus`) or a TOML file.
     #[arg(long, default_value = DEFAULT_CHIP)]
     pub config: String,
     /// Thread multiprocessors (overrides the config).
@@ -21,6 +24,75 @@ pub struct ShapeArgs {
     /// Threads per TM (overrides the config).
     #[arg(long)]
     pub threads: Option<u32>,
+    /// Set any chip config field by its dotted path, as a line of the config file would
+    /// (`--set memory.l2.capacity_bytes=262144`, `--set memory.dram.preset=hbm2`,
+    /// `--set treelets.align=dram-row`); VALUE is TOML (a bare word is a string).
+    /// Repeatable; applied before `--tms/--threads/--l2s`.
+    #[arg(long = "set", value_name = "PATH=VALUE", value_parser = super::run::parse_set)]
+    pub set: Vec<(String, toml::Value)>,
+}
+
+/// How a sampled run samples (`trax run --sample N`, `trax ladder --rates`).
+#[derive(Args, Debug, Clone, Default)]
+pub struct SampleArgs {
+    /// Sampling: detailed cycles before each window's measurement (default 2000, at least
+    /// 1000).
+    #[arg(long, value_name = "CYCLES")]
+    pub sample_warmup: Option<u64>,
+    /// Sampling: measured cycles of each window (default 8000, at least the warm-up).
+    #[arg(long, value_name = "CYCLES")]
+    pub sample_window: Option<u64>,
+    /// Sampling: the global register the kernel takes its pixels from (default 255, that
+    /// of `trax::scene::pixel_share`, as the examples' path tracer and AO; a kernel using
+    /// `trax::atomic_inc(R)` needs R, e.g. 0 for examples/raycast.rs).
+    #[arg(long, value_name = "REG")]
+    pub sample_counter: Option<u32>,
+    /// Sampling: seed of the windows' positions (default 1).
+    #[arg(long, value_name = "S")]
+    pub sample_seed: Option<u32>,
+}
+
+/// Default `--sample-warmup`, cycles.
+pub const DEFAULT_WARMUP: u64 = 2000;
+/// Default `--sample-window`, cycles.
+pub const DEFAULT_WINDOW: u64 = 8000;
+
+const _: () = assert!(DEFAULT_WARMUP >= MIN_WARMUP_CYCLES && DEFAULT_WINDOW >= DEFAULT_WARMUP);
+
+impl SampleArgs {
+    /// The request for `windows` windows over a frame of `pixels` pixels on `chip`,
+    /// checked ([`SampleRequest::check`]: refused settings name the flag).
+    pub fn request(
+        &self,
+        windows: u32,
+        pixels: u32,
+        chip: &ChipConfig,
+    ) -> Result<SampleRequest, String> {
+        let r = SampleRequest {
+            windows,
+            warmup_cycles: self.sample_warmup.unwrap_or(DEFAULT_WARMUP),
+            measure_cycles: self.sample_window.unwrap_or(DEFAULT_WINDOW),
+            counter: self.sample_counter.unwrap_or(PIXEL_COUNTER_REG),
+            items: pixels,
+            seed: self.sample_seed.unwrap_or(1),
+        };
+        r.check(chip.tms.saturating_mul(chip.threads_per_tm))?;
+        Ok(r)
+    }
+
+    /// An error naming a sampling flag given without sampling.
+    pub fn unused(&self) -> Result<(), String> {
+        let given = [
+            ("--sample-warmup", self.sample_warmup.is_some()),
+            ("--sample-window", self.sample_window.is_some()),
+            ("--sample-counter", self.sample_counter.is_some()),
+            ("--sample-seed", self.sample_seed.is_some()),
+        ];
+        match given.iter().find(|(_, on)| *on) {
+            Some((flag, _)) => Err(format!("{flag} needs --sample N (a sampled run)")),
+            None => Ok(()),
+        }
+    }
 }
 
 /// Scene and image parameters.

@@ -139,7 +139,7 @@ fn converge(a: &ConvergeArgs) -> Result<(), String> {
     }
     std::fs::create_dir_all(&a.out).map_err(|e| format!("{}: {e}", a.out.display()))?;
     let s = &a.shape;
-    let chip = chip_config(&s.config, &[], s.tms, s.threads, None)?;
+    let chip = chip_config(&s.config, &s.set, s.tms, s.threads, None)?;
     let size = (a.width, a.height);
     let reference = match &a.reference {
         Some(path) => {
@@ -197,7 +197,8 @@ fn converge(a: &ConvergeArgs) -> Result<(), String> {
         for rep in 0..a.repeats {
             let seed = a.seed.wrapping_add(rep);
             let opts = a.render(spp, seed).render_options();
-            let prepared = lay_out(&name, elf.clone(), &scene, &opts).map_err(|e| e.to_string())?;
+            let prepared =
+                lay_out(&name, elf.clone(), &scene, &opts, &chip).map_err(|e| e.to_string())?;
             let mut req = prepared.run_request(&chip, mode);
             req.host_threads = a.host_threads;
             let start = Instant::now();
@@ -323,6 +324,10 @@ fn render_reference(a: &ConvergeArgs) -> Result<Image, String> {
         if let Some(v) = v {
             cmd.arg(flag).arg(v);
         }
+    }
+    // The same chip: its thread shape and treelet layout give the same image.
+    for (path, value) in &a.shape.set {
+        cmd.arg("--set").arg(format!("{path}={value}"));
     }
     cmd.arg("--raw-framebuffer").arg(&path);
     let start = Instant::now();

@@ -9,6 +9,7 @@ mod compare;
 mod converge;
 mod disasm;
 mod header;
+mod ladder;
 mod native;
 mod plot;
 mod progress;
@@ -53,6 +54,10 @@ enum Command {
     /// Image error against samples per pixel: a `trax native` reference, one simulated run
     /// per level, a table, the log-log slope and a chart.
     Converge(converge::ConvergeArgs),
+    /// The fidelity ladder: one frame in each simulation mode (functional, timing with
+    /// simple or detailed DRAM, sampled at several rates), with each mode's host time and
+    /// error in cycles, MRPS and energy against full detailed timing; table, CSV, JSON, chart.
+    Ladder(ladder::LadderArgs),
 }
 
 pub fn main() -> std::process::ExitCode {
@@ -70,6 +75,7 @@ pub fn main() -> std::process::ExitCode {
         Command::Plot(a) => plot::run(a),
         Command::Compare(a) => compare::run(a),
         Command::Converge(a) => converge::run(a),
+        Command::Ladder(a) => ladder::run(a),
     }
 }
 

@@ -43,11 +43,6 @@ pub struct NativeArgs {
     /// The chip whose thread shape (TMs x threads) to run, as for `trax run`.
     #[command(flatten)]
     pub shape: ShapeArgs,
-    /// Set any chip config field by its dotted path, as `trax run --set` (the run uses the
-    /// thread shape and the ray stream memory: `stream_memory.capacity_bytes`, `ray_bytes`,
-    /// `buffers`, `schedule`). Repeatable; applied before `--tms/--threads`.
-    #[arg(long = "set", value_name = "PATH=VALUE", value_parser = super::run::parse_set)]
-    pub set: Vec<(String, toml::Value)>,
     /// Write the framebuffer as PNG (clamped, top row first).
     #[arg(short = 'o', long = "output")]
     pub output: Option<PathBuf>,
@@ -118,7 +113,7 @@ fn native(a: &NativeArgs) -> Result<(), NativeError> {
         }
     }
     let s = &a.shape;
-    let chip = chip_config(&s.config, &a.set, s.tms, s.threads, None).map_err(NativeError::Chip)?;
+    let chip = chip_config(&s.config, &s.set, s.tms, s.threads, None).map_err(NativeError::Chip)?;
     let (tms, threads) = (chip.tms, chip.threads_per_tm);
     let total = tms as u64 * threads as u64;
     if total > 4096 {
@@ -144,6 +139,7 @@ fn native(a: &NativeArgs) -> Result<(), NativeError> {
         tms,
         threads,
         schedule: chip.stream_memory.schedule.name(),
+        spill: chip.stream_memory.geometry().spill.map(|g| g.to_arg()),
     };
     let fb = run_kernel(&exe, &a.kernel, &scene_image.memory, &shape, &cache)?;
     eprint!("{}", scene_report(&scene_image));
@@ -482,6 +478,8 @@ struct HostShape {
     threads: u32,
     /// `stream_memory.schedule`.
     schedule: &'static str,
+    /// The spill sentinel (`stream_memory.overflow = "spill"`), in its argument form.
+    spill: Option<String>,
 }
 
 fn run_in(
@@ -500,6 +498,7 @@ fn run_in(
         .arg(shape.tms.to_string())
         .arg(shape.threads.to_string())
         .arg(shape.schedule)
+        .args(shape.spill.as_deref())
         .stdin(Stdio::null())
         .stderr(Stdio::piped())
         .spawn()

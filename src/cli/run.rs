@@ -20,7 +20,7 @@ use trax_emulator::timing::ChipConfig;
 use trax_emulator::{gdb, DebugInfo, Limits, Mode, DEFAULT_QUANTUM};
 use trax_runtime::host::framebuffer_rgb8;
 
-use super::common::{RenderArgs, ShapeArgs};
+use super::common::{RenderArgs, SampleArgs, ShapeArgs};
 use super::native::write_png;
 use super::progress::ProgressLine;
 
@@ -84,37 +84,13 @@ pub struct Executed {
 /// Kernel, scene, chip and run parameters shared by `trax run` and `trax annotate`.
 #[derive(Args, Debug)]
 pub struct ExecArgs {
-    /// The kernel: TRaX-Rust (`.rs`), C (`.c`) or C++ (`.cpp`, `.cc`) source, built
-    /// first, or a linked executable (ELF).
-    pub kernel: PathBuf,
-    /// Further sources (`.rs`, `.c`, `.cpp`, `.cc`) and objects (`.o`) linked with the kernel.
-    #[arg(value_name = "MORE")]
-    pub more: Vec<PathBuf>,
-    /// Optimisation level when building from source (`-O0` .. `-O3`).
-    #[arg(short = 'O', default_value_t = pipeline::DEFAULT_OPT_LEVEL, value_parser = clap::value_parser!(u8).range(0..=3))]
-    pub opt_level: u8,
-    /// Scene and image parameters.
+    /// The kernel, scene and chip.
     #[command(flatten)]
-    pub render: RenderArgs,
-    /// Chip and thread shape.
-    #[command(flatten)]
-    pub shape: ShapeArgs,
-    /// Number of L2 caches; TMs are split evenly among them (overrides the config).
-    #[arg(long)]
-    pub l2s: Option<u32>,
-    /// Set any chip config field by its dotted path, as a line of the config file would
-    /// (`--set memory.l2.capacity_bytes=262144`, `--set memory.dram.preset=hbm2`); VALUE is
-    /// TOML (a bare word is a string). Repeatable; applied before `--tms/--threads/--l2s`.
-    #[arg(long = "set", value_name = "PATH=VALUE", value_parser = parse_set)]
-    pub set: Vec<(String, toml::Value)>,
+    pub program: ProgramArgs,
     /// Functional mode: execute without the timing model (fast; no cycle statistics).
     #[arg(long)]
     pub functional: bool,
-    /// Host threads for the timing simulation; default: the host's cores (at most one per
-    /// TM). Results are identical for any value.
-    #[arg(long)]
-    pub host_threads: Option<usize>,
-    /// Write the statistics as JSON to this file (one shape for both modes, `schema: 1`;
+    /// Write the statistics as JSON to this file (one shape for all modes, `schema: 1`;
     /// fields in docs/STATS.md).
     #[arg(long)]
     pub stats_json: Option<PathBuf>,
@@ -134,6 +110,16 @@ pub struct ExecArgs {
     /// `--stats-json` document. N must be a multiple of the quantum (L1 + L2 hit latency).
     #[arg(long, value_name = "N")]
     pub stats_interval: Option<u64>,
+    /// Sampled timing simulation: N detailed windows at seeded random points of N equal
+    /// strata of the frame's pixels, the frame's first and last pixels in full, the rest
+    /// fast-forwarded functionally with cache and DRAM-row warming (every pixel is
+    /// rendered). Reports cycles, frames/s, MRPS, issue rate, hit rates, DRAM traffic and
+    /// energy as estimate ± 95% confidence interval. At least 10.
+    #[arg(long, value_name = "N", conflicts_with = "functional")]
+    pub sample: Option<u32>,
+    /// How `--sample` samples.
+    #[command(flatten)]
+    pub sampling: SampleArgs,
     /// Write the framebuffer as PNG (clamped, top row first).
     #[arg(short = 'o', long = "output")]
     pub output: Option<PathBuf>,
@@ -141,6 +127,34 @@ pub struct ExecArgs {
     /// `trax native --raw-framebuffer`).
     #[arg(long)]
     pub raw_framebuffer: Option<PathBuf>,
+}
+
+/// The program to run and the chip to run it on: the flags of `trax run` that `trax
+/// ladder` shares.
+#[derive(Args, Debug, Clone)]
+pub struct ProgramArgs {
+    /// The kernel: TRaX-Rust (`.rs`), C (`.c`) or C++ (`.cpp`, `.cc`) source, built
+    /// first, or a linked executable (ELF).
+    pub kernel: PathBuf,
+    /// Further sources (`.rs`, `.c`, `.cpp`, `.cc`) and objects (`.o`) linked with the kernel.
+    #[arg(value_name = "MORE")]
+    pub more: Vec<PathBuf>,
+    /// Optimisation level when building from source (`-O0` .. `-O3`).
+    #[arg(short = 'O', default_value_t = pipeline::DEFAULT_OPT_LEVEL, value_parser = clap::value_parser!(u8).range(0..=3))]
+    pub opt_level: u8,
+    /// Scene and image parameters.
+    #[command(flatten)]
+    pub render: RenderArgs,
+    /// Chip and thread shape.
+    #[command(flatten)]
+    pub shape: ShapeArgs,
+    /// Number of L2 caches; TMs are split evenly among them (overrides the config).
+    #[arg(long)]
+    pub l2s: Option<u32>,
+    /// Host threads for the timing simulation; default: the host's cores (at most one per
+    /// TM). Results are identical for any value.
+    #[arg(long)]
+    pub host_threads: Option<usize>,
 }
 
 /// Runs `trax run`.
@@ -176,11 +190,11 @@ fn write_profile(a: &RunArgs, p: &Profile) -> Result<(), String> {
         ProfileFormat::Tree => (p.render_tree(TREE_MIN_PERCENT), None),
         ProfileFormat::Folded => (p.folded(), Some("profile.folded")),
         ProfileFormat::Speedscope => {
-            let name = a.exec.kernel.display().to_string();
+            let name = a.exec.program.kernel.display().to_string();
             (p.speedscope(&name), Some("profile.speedscope.json"))
         }
         ProfileFormat::Flamegraph => {
-            let title = format!("{} ({})", a.exec.kernel.display(), p.unit());
+            let title = format!("{} ({})", a.exec.program.kernel.display(), p.unit());
             let svg = flamegraph_svg(&p.folded(), p.unit(), &title)?;
             (svg, Some("profile.svg"))
         }
@@ -259,10 +273,24 @@ pub fn parse_set(s: &str) -> Result<(String, toml::Value), String> {
     Ok((path.to_string(), value))
 }
 
-/// The chip: the named config with the command-line overrides applied.
-fn chip_config(a: &ExecArgs) -> Result<ChipConfig, String> {
-    let s = &a.shape;
-    pipeline::chip_config(&s.config, &a.set, s.tms, s.threads, a.l2s)
+impl ProgramArgs {
+    /// The chip: the named config with the command-line overrides applied.
+    pub fn chip_config(&self) -> Result<ChipConfig, String> {
+        let s = &self.shape;
+        pipeline::chip_config(&s.config, &s.set, s.tms, s.threads, self.l2s)
+    }
+
+    /// The pipeline request for this program on `chip`.
+    pub fn request(&self, chip: &ChipConfig) -> pipeline::Request {
+        let mut request = self.render.request(&self.kernel, self.opt_level, chip);
+        request.more = self.more.clone();
+        request
+    }
+
+    /// Pixels of the frame (the items a sampled run's counter hands out).
+    pub fn pixels(&self) -> u32 {
+        self.render.width.saturating_mul(self.render.height)
+    }
 }
 
 /// Prepares and runs the kernel, reports statistics, writes the PNG; with `extras`,
@@ -271,7 +299,8 @@ pub fn execute(a: &ExecArgs, extras: &Extras) -> Result<Executed, String> {
     if a.quantum == 0 {
         return Err("--quantum must be at least 1".into());
     }
-    if a.host_threads == Some(0) {
+    let p = &a.program;
+    if p.host_threads == Some(0) {
         return Err("--host-threads must be at least 1".into());
     }
     for out in a
@@ -289,9 +318,15 @@ pub fn execute(a: &ExecArgs, extras: &Extras) -> Result<Executed, String> {
             }
         }
     }
-    let chip = chip_config(a)?;
-    let mut request = a.render.request(&a.kernel, a.opt_level, &chip);
-    request.more = a.more.clone();
+    let chip = p.chip_config()?;
+    let sample = match a.sample {
+        Some(n) => Some(a.sampling.request(n, p.pixels(), &chip)?),
+        None => {
+            a.sampling.unused()?;
+            None
+        }
+    };
+    let request = p.request(&chip);
     let prepared = match prepare(&request) {
         Ok(p) => p,
         Err(e) => {
@@ -317,8 +352,9 @@ pub fn execute(a: &ExecArgs, extras: &Extras) -> Result<Executed, String> {
     let mut req = prepared.run_request(&chip, mode);
     req.quantum = a.quantum;
     req.limits = limits;
-    req.host_threads = a.host_threads;
+    req.host_threads = p.host_threads;
     req.stats_interval = a.stats_interval;
+    req.sample = sample;
     req.profile = extras.profile;
     if let Some((addr, allow_remote)) = &extras.gdb {
         let listener = gdb::bind(addr, *allow_remote).map_err(|e| e.to_string())?;
@@ -351,6 +387,16 @@ pub fn execute(a: &ExecArgs, extras: &Extras) -> Result<Executed, String> {
         eprintln!("warning: {w}");
     }
     match &r.timing {
+        None if r.sampled.is_some() => {
+            if let Some(s) = &r.sampled {
+                eprint!("{}", s.summary());
+            }
+            eprint!("{}", scene_report(&prepared.image));
+            eprintln!(
+                "simulated (sampled) in {secs:.3} s on {} host thread(s)",
+                r.host_threads
+            );
+        }
         None => {
             let n = r.instructions;
             eprintln!(
@@ -380,7 +426,7 @@ pub fn execute(a: &ExecArgs, extras: &Extras) -> Result<Executed, String> {
     if r.finished() && (a.output.is_some() || a.raw_framebuffer.is_some()) {
         let bytes = prepared.framebuffer(&r).unwrap_or_default();
         if let Some(path) = &a.output {
-            let (w, h) = (a.render.width, a.render.height);
+            let (w, h) = (p.render.width, p.render.height);
             write_png(path, w, h, &framebuffer_rgb8(&bytes, w, h)).map_err(|e| e.to_string())?;
             eprintln!("wrote {}", path.display());
         }

@@ -7,10 +7,11 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use clap::{Args, Subcommand};
-use trax::pipeline::lay_out_scene;
-use trax_assembler::bvh::{Bvh, BvhOptions, TreeletOptions};
+use trax::pipeline::{chip_config, image_options, lay_out_scene};
+use trax_assembler::bvh::{Bvh, BvhOptions};
 use trax_assembler::image::{on_demand_components, RenderOptions};
 use trax_assembler::scene::{load_scene, LoadOptions};
+use trax_emulator::timing::DEFAULT_CHIP;
 use trax_runtime::abi::BvhNode;
 
 /// Arguments of `trax scene`.
@@ -66,12 +67,19 @@ struct InfoArgs {
     /// SAH bins per axis.
     #[arg(long, default_value_t = BvhOptions::default().bins)]
     bins: u32,
-    /// Treelet budget in bytes (0 = no treelets).
-    #[arg(long, default_value_t = TreeletOptions::default().budget_bytes)]
-    treelet_bytes: u32,
-    /// Align each treelet to this many bytes, e.g. a DRAM row (0 = packed).
-    #[arg(long, default_value_t = 0)]
-    treelet_align: u32,
+    /// The chip whose `[treelets]` table lays out the BVH (size, alignment; the memory
+    /// section shows a kernel that reads every component): a preset or a TOML file.
+    #[arg(long, default_value = DEFAULT_CHIP)]
+    config: String,
+    /// Set a chip config field, as `trax run --set` does (`--set treelets.align=dram-row`).
+    #[arg(long = "set", value_name = "PATH=VALUE", value_parser = super::run::parse_set)]
+    set: Vec<(String, toml::Value)>,
+    /// Treelet size in bytes: sets the chip's `treelets.bytes` (0 = its L1's capacity).
+    #[arg(long, value_name = "BYTES")]
+    treelet_bytes: Option<u32>,
+    /// Treelet alignment: sets the chip's `treelets.align` (`none`, `dram-row` or bytes).
+    #[arg(long, value_name = "none|dram-row|BYTES")]
+    treelet_align: Option<String>,
     /// Image width (for the framebuffer size).
     #[arg(long, default_value_t = RenderOptions::default().width)]
     width: u32,
@@ -114,15 +122,35 @@ fn info(a: &InfoArgs) -> Result<(), Box<dyn std::error::Error>> {
     for w in &scene.warnings {
         let _ = writeln!(std::io::stderr(), "warning: {w}");
     }
-    let treelets = (a.treelet_bytes > 0).then_some(TreeletOptions {
-        budget_bytes: a.treelet_bytes,
-        align_bytes: a.treelet_align,
-    });
+    let mut sets = a.set.clone();
+    if let Some(b) = a.treelet_bytes {
+        sets.push(("treelets.bytes".into(), toml::Value::Integer(b.into())));
+    }
+    if let Some(v) = &a.treelet_align {
+        let value = match v.parse::<u32>() {
+            Ok(b) => toml::Value::Integer(b.into()),
+            Err(_) => toml::Value::String(v.clone()),
+        };
+        sets.push(("treelets.align".into(), value));
+    }
+    let chip = chip_config(&a.config, &sets, None, None, None)?;
+    let opts = image_options(
+        &RenderOptions {
+            width: a.width,
+            height: a.height,
+            bvh: BvhOptions {
+                max_leaf: a.max_leaf,
+                bins: a.bins,
+                ..BvhOptions::default()
+            },
+            ..RenderOptions::default()
+        },
+        &chip,
+    )?;
+    // The BVH as a kernel that reads `treelet_ids` gets it.
     let bvh_opts = BvhOptions {
-        max_leaf: a.max_leaf,
-        bins: a.bins,
-        treelets,
-        ..BvhOptions::default()
+        treelets: Some(opts.treelets.options.clone()),
+        ..opts.bvh.clone()
     };
     let t1 = Instant::now();
     let bvh = Bvh::build(&scene.triangles, &bvh_opts)?;
@@ -154,24 +182,20 @@ fn info(a: &InfoArgs) -> Result<(), Box<dyn std::error::Error>> {
                 .sum::<f64>()
                 / (t.node_ranges.len() as f64 * t.options.budget_bytes as f64);
             outln!(
-                "treelets     {} node treelets ({:.0}% full on average), {} triangle treelets, budget {} bytes, align {}",
+                "treelets     {} node treelets ({:.0}% full on average), {} triangle treelets, budget {} bytes, align {}, formed {} (chip {})",
                 t.node_ranges.len(),
                 100.0 * fill,
                 t.tri_ranges.len(),
                 t.options.budget_bytes,
-                t.options.align_bytes
+                t.options.align_bytes,
+                if opts.treelets.always { "always" } else { "when read" },
+                chip.name
             );
         }
         None => outln!("treelets     none"),
     }
-    let opts = RenderOptions {
-        width: a.width,
-        height: a.height,
-        bvh: bvh_opts,
-        ..RenderOptions::default()
-    };
     let t2 = Instant::now();
-    let image = lay_out_scene(&scene, &on_demand_components(), &opts)?;
+    let image = lay_out_scene(&scene, &on_demand_components(), &opts, &chip)?;
     let image_time = t2.elapsed();
     outln!("memory (all components referenced):");
     for c in &image.components {
@@ -218,8 +242,10 @@ mod tests {
             light: None,
             max_leaf: 4,
             bins: 256,
-            treelet_bytes: 4096,
-            treelet_align: 2048,
+            config: DEFAULT_CHIP.into(),
+            set: Vec::new(),
+            treelet_bytes: Some(4096),
+            treelet_align: Some("2048".into()),
             width: 16,
             height: 16,
         }
@@ -238,9 +264,26 @@ mod tests {
         let e = info(&args("procedural:1")).unwrap_err();
         assert!(e.to_string().contains("procedural"), "{e}");
         let bad = InfoArgs {
-            treelet_align: 100,
+            treelet_align: Some("100".into()),
             ..args("cornell")
         };
-        assert!(info(&bad).unwrap_err().to_string().contains("alignment"));
+        let e = info(&bad).unwrap_err().to_string();
+        assert!(e.contains("treelets.align = 100"), "{e}");
+        let bad = InfoArgs {
+            treelet_align: Some("rows".into()),
+            ..args("cornell")
+        };
+        let e = info(&bad).unwrap_err().to_string();
+        assert!(
+            e.contains("treelets.align") && e.contains("dram-row"),
+            "{e}"
+        );
+        // The tiny chip's DRAM is the simple model: it has no rows to align to.
+        let bad = InfoArgs {
+            treelet_align: Some("dram-row".into()),
+            ..args("cornell")
+        };
+        let e = info(&bad).unwrap_err().to_string();
+        assert!(e.contains("needs the detailed DRAM"), "{e}");
     }
 }

@@ -12,7 +12,7 @@ pub mod sweep;
 pub mod treelet;
 
 pub use aabb::Aabb;
-pub use treelet::{TreeletOptions, Treelets};
+pub use treelet::{TreeletLayout, TreeletOptions, Treelets};
 
 use crate::scene::Vec3;
 
@@ -73,7 +73,8 @@ pub struct BvhOptions {
     pub bins: u32,
     /// Depth past which the builder switches from SAH to median splits (bounds the depth).
     pub sah_depth: u32,
-    /// Treelets to form, if any.
+    /// Treelets to form, if any. The image builder sets this itself from
+    /// `RenderOptions::treelets` (and rejects it set).
     pub treelets: Option<TreeletOptions>,
 }
 

@@ -1,8 +1,10 @@
 //! Treelets (thesis §3.1.1 and chapter 5): the node array is cut into groups of at most a byte
 //! budget (L1 capacity by default), each stored contiguously; triangles are grouped
 //! separately into triangle treelets of the same budget, in leaf order. With `align_bytes`
-//! set (STRaTA+), every treelet starts on a multiple of that many bytes from its array's
-//! start (padding nodes are zero, padding triangle slots are [`PAD`]).
+//! set (STRaTA+), every node treelet starts on a multiple of that many bytes from its array's
+//! start and every triangle treelet in the first 36-byte slot of such a block, holding what
+//! fits in the budget from the block's start (padding nodes are zero, padding triangle slots
+//! are [`PAD`]).
 //!
 //! Node treelets grow greedily from a root (the BVH root, or a sibling pair that did not fit
 //! in its parent's treelet): the candidate sibling pair with the largest surface area joins
@@ -41,6 +43,37 @@ impl Default for TreeletOptions {
             budget_bytes: 32 * 1024,
             align_bytes: 0,
         }
+    }
+}
+
+/// When the image builder forms treelets, and with which options (a chip config's
+/// `[treelets]`, resolved by the pipeline).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct TreeletLayout {
+    /// Form treelets for every program that reads the BVH; when false, only for a program
+    /// that reads `treelet_ids` or `tri_treelet_ids` (the others see the BVH in build
+    /// order).
+    pub always: bool,
+    /// Budget and alignment.
+    pub options: TreeletOptions,
+}
+
+impl Default for TreeletLayout {
+    /// Treelets only for programs that read `treelet_ids`, with the default options.
+    fn default() -> Self {
+        TreeletLayout {
+            always: false,
+            options: TreeletOptions::default(),
+        }
+    }
+}
+
+impl TreeletLayout {
+    /// The treelets to form for a program that references the header fields `referenced`
+    /// (formed for one that reads `treelet_ids` or `tri_treelet_ids`).
+    pub fn for_program(&self, referenced: &[&str]) -> Option<TreeletOptions> {
+        let reads = referenced.contains(&"treelet_ids") || referenced.contains(&"tri_treelet_ids");
+        (self.always || reads).then(|| self.options.clone())
     }
 }
 
@@ -93,21 +126,20 @@ fn round_up(x: u32, to: u32) -> u32 {
     }
 }
 
-fn gcd(a: u32, b: u32) -> u32 {
-    if b == 0 {
-        a
-    } else {
-        gcd(b, a % b)
-    }
-}
-
 /// Forms treelets and reorders `bvh.nodes` and `bvh.tri_order` so each treelet is contiguous.
 pub fn apply(bvh: &mut Bvh, opts: &TreeletOptions, max_leaf: u32) -> Result<(), BvhError> {
-    let min_budget = (3 * NODE_BYTES).max(max_leaf * TRI_BYTES);
+    // An aligned triangle treelet may start up to 35 bytes into its block.
+    let slack = if opts.align_bytes == 0 {
+        0
+    } else {
+        TRI_BYTES - 1
+    };
+    let min_budget = (3 * NODE_BYTES).max(max_leaf * TRI_BYTES + slack);
     if opts.budget_bytes < min_budget {
         return Err(BvhError::BadOption(format!(
-            "treelet budget {} bytes is below the minimum {min_budget} (three nodes, one full leaf)",
-            opts.budget_bytes
+            "treelet budget {} bytes is below the minimum {min_budget} (three nodes, one full leaf{})",
+            opts.budget_bytes,
+            if slack > 0 { " from any slot of an aligned block" } else { "" }
         )));
     }
     if opts.align_bytes != 0
@@ -236,23 +268,32 @@ pub fn apply(bvh: &mut Bvh, opts: &TreeletOptions, max_leaf: u32) -> Result<(), 
     }
 
     // 3. Triangles follow the new leaf order, grouped greedily without splitting a leaf.
-    // Aligned triangle treelets start on a multiple of `align_tris` slots (36-byte slots meet
-    // a power-of-two boundary only every lcm(36, align) bytes); their capacity is then a
-    // multiple of that, so a full treelet needs no padding.
-    let align_tris = if opts.align_bytes == 0 {
-        1
-    } else {
-        opts.align_bytes / gcd(opts.align_bytes, TRI_BYTES)
+    // An aligned triangle treelet starts in the first 36-byte slot of its aligned block
+    // (36-byte slots meet a power-of-two boundary only every lcm(36, align) bytes, so
+    // starting exactly on one would pad up to 4.5x) and holds what fits in the budget
+    // counted from the block's start, so it covers no more blocks than a node treelet.
+    let align = u64::from(opts.align_bytes);
+    let budget = u64::from(opts.budget_bytes);
+    let tri = u64::from(TRI_BYTES);
+    // First slot of the treelet that follows slot `len`, and how many slots it holds.
+    let next_start = |len: u32| -> u64 {
+        if align == 0 {
+            u64::from(len)
+        } else {
+            ((u64::from(len) * tri).div_ceil(align) * align).div_ceil(tri)
+        }
     };
-    let slots = opts.budget_bytes / TRI_BYTES;
-    let tri_cap = if align_tris <= slots {
-        slots / align_tris * align_tris
-    } else {
-        slots
+    let capacity = |start: u32| -> u32 {
+        let at = u64::from(start) * tri;
+        match at.checked_div(align) {
+            None => (budget / tri) as u32,
+            Some(blocks) => ((blocks * align + budget - at) / tri) as u32,
+        }
     };
     let mut tri_order: Vec<u32> = Vec::with_capacity(bvh.tri_order.len());
     let mut tri_ranges: Vec<Range<u32>> = Vec::new();
     let mut cur_start = 0u32;
+    let mut tri_cap = capacity(0);
     let mut nodes: Vec<Node> = Vec::with_capacity(layout.len());
     let mut node_treelet = Vec::with_capacity(layout.len());
     for (t, r) in node_ranges.iter().enumerate() {
@@ -266,10 +307,12 @@ pub fn apply(bvh: &mut Bvh, opts: &TreeletOptions, max_leaf: u32) -> Result<(), 
                 let len = tri_order.len() as u32;
                 if len - cur_start + n.b > tri_cap && len > cur_start {
                     tri_ranges.push(cur_start..len);
-                    cur_start = round_up(len, align_tris);
-                    if cur_start as u64 * TRI_BYTES as u64 >= LIMIT {
+                    let start = next_start(len);
+                    if start * tri >= LIMIT {
                         return Err(BvhError::TooLarge(bvh.tri_order.len()));
                     }
+                    cur_start = start as u32;
+                    tri_cap = capacity(cur_start);
                     tri_order.resize(cur_start as usize, PAD);
                 }
                 let first = tri_order.len() as u32;

@@ -198,6 +198,7 @@ pub fn signal_for(f: &Fault) -> Signal {
         Fault::Memory { .. }
         | Fault::BadIndex { .. }
         | Fault::StreamFull { .. }
+        | Fault::SpillAreaFull { .. }
         | Fault::RayTooLong { .. } => Signal::SIGSEGV,
         Fault::PipeMode { .. } => Signal::SIGILL,
         Fault::ReservedInstruction(_) | Fault::BranchInSlot => Signal::SIGILL,

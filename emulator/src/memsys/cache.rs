@@ -264,6 +264,43 @@ impl Cache {
 
     /// Installs `line`, valid from cycle `ready` (evicting the LRU or only way of its set).
     pub fn install(&mut self, line: u32, ready: Cycle) {
+        self.place(line, ready);
+        self.stats.fill_bytes += u64::from(self.line_bytes);
+    }
+
+    /// Functional warming (sampled simulation): a load of `line` that changes the tags and
+    /// the LRU order as a timed access would once its fill arrived (a hit marks the line
+    /// used, a miss installs it, valid at once), without timing or statistics. Returns
+    /// whether it hit.
+    pub fn warm(&mut self, line: u32) -> bool {
+        let key = line.wrapping_add(1);
+        if self.set_range(line).any(|w| self.tags[w] == key) {
+            self.touch(line);
+            true
+        } else {
+            self.place(line, 0);
+            false
+        }
+    }
+
+    /// The tags and the LRU order of every set (for comparing cache states).
+    pub fn contents(&self) -> Vec<Vec<u32>> {
+        let sets = self.tags.len() / self.ways;
+        (0..sets)
+            .map(|s| {
+                let range = s * self.ways..(s + 1) * self.ways;
+                let mut ways: Vec<(u64, u32)> = range
+                    .filter(|&w| self.tags[w] != 0)
+                    .map(|w| (self.lru.get(w).copied().unwrap_or(0), self.tags[w] - 1))
+                    .collect();
+                ways.sort_unstable();
+                ways.into_iter().map(|(_, line)| line).collect()
+            })
+            .collect()
+    }
+
+    /// Puts `line` in its set, valid from cycle `ready`.
+    fn place(&mut self, line: u32, ready: Cycle) {
         let key = line.wrapping_add(1);
         let range = self.set_range(line);
         let mut victim = range.start;
@@ -284,7 +321,6 @@ impl Cache {
         }
         self.tags[victim] = key;
         self.ready[victim] = ready;
-        self.stats.fill_bytes += u64::from(self.line_bytes);
     }
 
     /// Whether a new MSHR can be allocated.

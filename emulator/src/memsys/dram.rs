@@ -263,6 +263,14 @@ impl Dram {
         }
     }
 
+    /// Functional warming (sampled simulation): the row of `addr` is open afterwards, as
+    /// after a timed access (the simple model has no rows).
+    pub fn warm(&mut self, addr: u32) {
+        if let Dram::Detailed(d) = self {
+            d.warm(addr);
+        }
+    }
+
     /// Whether nothing is queued.
     pub fn is_idle(&self) -> bool {
         match self {
@@ -276,6 +284,17 @@ impl Dram {
         match self {
             Dram::Simple(s) => f64::from(s.cfg.bandwidth_bytes_per_cycle),
             Dram::Detailed(d) => d.config().peak_gbps() * 1000.0 / f64::from(core_mhz),
+        }
+    }
+
+    /// Column accesses of DMA requests (the ray sentinel's) and how many found their row
+    /// open; (0, 0) for the simple model, which has no rows.
+    pub fn dma_row_hits(&self) -> (u64, u64) {
+        match self {
+            Dram::Simple(_) => (0, 0),
+            Dram::Detailed(d) => d
+                .counters()
+                .fold((0, 0), |(c, h), k| (c + k.dma_cols, h + k.dma_row_hits)),
         }
     }
 

@@ -264,6 +264,23 @@ impl DramTimingSpec {
 }
 
 impl DetailedDramConfig {
+    /// Bytes of one row: `columns x line_bytes`.
+    pub fn row_bytes(&self) -> u32 {
+        self.columns * self.line_bytes
+    }
+
+    /// Bytes of consecutive addresses the address mapping keeps in one row: the whole row
+    /// for `row:rank:bank:channel:column` (consecutive lines fill a row, the next row goes to
+    /// the next channel), one line for `row:column:rank:bank:channel` (consecutive lines go
+    /// to consecutive channels). Data aligned to this and no larger is read from the fewest
+    /// rows (`[treelets] align = "dram-row"`).
+    pub fn row_span_bytes(&self) -> u32 {
+        match self.mapping {
+            AddressMapping::RowRankBankChannelColumn => self.row_bytes(),
+            AddressMapping::RowColumnRankBankChannel => self.line_bytes,
+        }
+    }
+
     /// Peak data bandwidth in GB/s (all channels, one line per `tBURST`).
     pub fn peak_gbps(&self) -> f64 {
         let t = self.timing.resolve(self.clock_mhz);

@@ -93,6 +93,9 @@ pub(crate) struct ChanCounters {
     pub max_reads: u32,
     pub max_writes: u32,
     pub drain_episodes: u64,
+    /// Column accesses of DMA requests (`sentinel::is_dma` ids), and those that hit.
+    pub dma_cols: u64,
+    pub dma_row_hits: u64,
 }
 
 struct Channel {
@@ -555,6 +558,30 @@ impl DetailedDram {
         }
         self.min_wake = min_wake;
         self.now = target;
+    }
+
+    /// Functional warming (sampled simulation): opens the row of `addr` in its bank, as
+    /// the access's ACT would (open-row policy: it stays open until a conflict or a
+    /// refresh), with the rank's active-time accounting; no command, timing constraint or
+    /// counter changes. Call it only while nothing is queued ([`Self::is_idle`]).
+    pub fn warm(&mut self, addr: u32) {
+        let (ch, rank, b, row) = self.decode(addr);
+        let now = self.now;
+        let c = &mut self.channels[ch];
+        let bank = &mut c.banks[b];
+        if bank.open_row == row {
+            return;
+        }
+        if bank.open_row == NO_ROW {
+            let r = &mut c.ranks[rank];
+            if r.open_banks == 0 {
+                r.active_since = c.now.max(now);
+            }
+            r.open_banks += 1;
+        }
+        bank.open_row = row;
+        c.local.valid &= !(1u64 << b);
+        c.decided.valid = false;
     }
 
     /// Whether no request is queued anywhere.
@@ -1024,6 +1051,10 @@ impl Channel {
                     None => self.c.row_hits += 1,
                     Some(RowOutcome::Miss) => self.c.row_misses += 1,
                     Some(RowOutcome::Conflict) => self.c.row_conflicts += 1,
+                }
+                if super::sentinel::is_dma(req.id) {
+                    self.c.dma_cols += 1;
+                    self.c.dma_row_hits += u64::from(req.outcome.is_none());
                 }
                 if writes {
                     bank.pre_ok = bank.pre_ok.max(tc + t.t_cwd + t.t_burst + t.t_wr);

@@ -10,6 +10,7 @@ use super::cache::{Cache, CacheGeometry, CacheStats, Lookup};
 use super::cacti::{self, CacheCost};
 use super::config::MemSysConfig;
 use super::dram::{Dram, DramStats};
+use super::sentinel::{is_dma, DmaEvent, DmaJob, DmaStats, Sentinel};
 use super::{AccessKind, Completion, Cycle, MemRequest, MemSysError};
 
 /// Outcome of [`MemSystem::access`].
@@ -56,6 +57,12 @@ pub struct MemStats {
     pub l2_area_mm2: f64,
     /// Request-cycles an L2 request waited because its DRAM channel queue was full.
     pub dram_queue_full: u64,
+    /// The ray sentinel's DMA engine.
+    pub dma: DmaStats,
+    /// DRAM column accesses of its requests, and how many found their row open.
+    pub dma_columns: u64,
+    /// See `dma_columns`.
+    pub dma_row_hits: u64,
 }
 
 /// A load or store leaving a TM's L1 for its L2.
@@ -211,6 +218,8 @@ pub struct ChipMem {
     waiters_l2: Vec<u64>,
     /// Request-cycles a DRAM channel queue was full.
     dram_queue_full: u64,
+    /// The ray stream memory's DMA engine (spills and refills).
+    sentinel: Sentinel,
 }
 
 impl ChipMem {
@@ -239,13 +248,17 @@ impl ChipMem {
             // the DRAM, and they complete nothing), the cycles before the next request
             // change nothing the DRAM model does not catch up exactly in one step.
             let due = self.queue.first().is_some_and(|r| r.cycle <= self.clock);
-            if !due && self.reads_done() {
+            if !due && self.reads_done() && self.sentinel.is_idle() {
                 let next = self.queue.first().map_or(end, |r| r.cycle.min(end));
                 self.clock = self.clock.max(next - 1);
             }
             let c = self.clock;
             self.dram.advance_to(c, &mut self.dram_out);
             self.route_dram(tms);
+            if !self.sentinel.is_idle() {
+                self.sentinel.step(c, &mut self.dram, &mut self.dram_out);
+                self.route_dram(tms);
+            }
             let mut i = 0;
             while i < self.queue.len() && self.queue[i].cycle <= c {
                 let r = self.queue[i];
@@ -331,6 +344,10 @@ impl ChipMem {
     /// Routes DRAM read completions through the L2 MSHRs to the TMs' L1s.
     fn route_dram<T: AsMut<TmMem>>(&mut self, tms: &mut [T]) {
         for c in self.dram_out.drain(..) {
+            if is_dma(c.id) {
+                self.sentinel.arrived(&c);
+                continue;
+            }
             let g = (c.id >> 32) as usize;
             let line = c.id as u32;
             let l2 = &mut self.l2[g];
@@ -348,7 +365,17 @@ impl ChipMem {
     /// a later [`Self::serve_until`] serves the skipped cycles (DRAM writes, refresh) one by
     /// one before the new requests, exactly as if it had kept up.
     pub fn owes_nothing(&self) -> bool {
-        self.queue.is_empty() && self.reads_done()
+        self.queue.is_empty() && self.reads_done() && self.sentinel.is_idle()
+    }
+
+    /// Starts a block transfer of the ray stream memory (see [`super::sentinel`]).
+    pub fn dma_start(&mut self, job: DmaJob) {
+        self.sentinel.start(job);
+    }
+
+    /// The transfers' progress since the last call.
+    pub fn dma_events(&mut self) -> Vec<DmaEvent> {
+        self.sentinel.take_events()
     }
 
     /// Whether no L2 miss waits for the DRAM.
@@ -359,7 +386,7 @@ impl ChipMem {
     /// Lower bound on the next cycle with news: `None` if nothing is outstanding below the
     /// L1s.
     pub fn next_event(&self) -> Option<Cycle> {
-        if !self.queue.is_empty() {
+        if !self.queue.is_empty() || !self.sentinel.is_idle() {
             return Some(self.clock);
         }
         self.dram.next_event()
@@ -446,6 +473,7 @@ impl MemSystem {
                 dram_out: Vec::new(),
                 waiters_l2: Vec::new(),
                 dram_queue_full: 0,
+                sentinel: Sentinel::new(cfg.l2.line_bytes),
             },
             l1_cost: cacti::resolve(
                 cfg.l1.capacity_bytes,
@@ -519,6 +547,62 @@ impl MemSystem {
         self.chip.next_event()
     }
 
+    /// Functional warming (sampled simulation): the load (`write` false) or store of TM
+    /// `tm` at `addr` changes the cache tags and DRAM row buffers as its timed access
+    /// would, at once and without statistics: a load looks up the L1, on a miss the L2
+    /// (both install the line), on a miss the DRAM opens the line's row; a store goes
+    /// around both caches (write-around, no allocation) and opens its row. Call it only
+    /// while nothing is in flight ([`Self::is_drained`]).
+    /// Returns where a load was served: 0 the L1, 1 the L2, 2 the DRAM (a store: 0).
+    pub fn warm(&mut self, tm: usize, addr: u32, write: bool) -> u8 {
+        if write {
+            self.chip.dram.warm(addr);
+            return 0;
+        }
+        let l1 = &mut self.tm[tm].l1;
+        if l1.warm(l1.line_of(addr)) {
+            return 0;
+        }
+        let chip = &mut self.chip;
+        if chip.l2[tm / chip.tms_per_l2].warm(addr >> chip.l1_line_shift) {
+            return 1;
+        }
+        self.chip.dram.warm(addr);
+        2
+    }
+
+    /// Whether nothing is in flight anywhere: no request waits between an L1 and its L2,
+    /// no L1 or L2 miss is outstanding, no DRAM request is queued.
+    pub fn is_drained(&self) -> bool {
+        self.tm.iter().all(|t| !t.busy() && t.l1.mshrs_busy() == 0)
+            && self.chip.owes_nothing()
+            && self.chip.dram.is_idle()
+    }
+
+    /// Serves everything in flight (requests, fills, DRAM reads and writes) from core cycle
+    /// `from` on, the TMs issuing nothing; returns the first cycle at which nothing is left
+    /// ([`Self::is_drained`]). Load completions are dropped: their threads are not waiting
+    /// for them any more. Gives up after `limit` cycles (`None`: the memory system does not
+    /// come to rest).
+    pub fn drain(&mut self, from: Cycle, limit: Cycle) -> Option<Cycle> {
+        let mut now = from;
+        let mut dropped = Vec::new();
+        while !self.is_drained() {
+            if now - from > limit {
+                return None;
+            }
+            now += 1;
+            self.advance_to(now, &mut dropped);
+            dropped.clear();
+        }
+        Some(now)
+    }
+
+    /// The L1 of TM `tm` and the L2s (for comparing cache states).
+    pub fn caches(&self, tm: usize) -> (&Cache, &[Cache]) {
+        (&self.tm[tm].l1, &self.chip.l2)
+    }
+
     /// Statistics so far.
     pub fn stats(&self) -> MemStats {
         self.stats_with(&self.tm)
@@ -540,6 +624,9 @@ impl MemSystem {
             l1_area_mm2: self.l1_cost.area_mm2 * n as f64,
             l2_area_mm2: self.l2_cost.area_mm2 * self.chip.l2.len() as f64,
             dram_queue_full: self.chip.dram_queue_full,
+            dma: self.chip.sentinel.stats,
+            dma_columns: self.chip.dram.dma_row_hits().0,
+            dma_row_hits: self.chip.dram.dma_row_hits().1,
             l1,
             l2,
             dram: self.chip.dram.stats(),

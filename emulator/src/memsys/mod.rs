@@ -43,6 +43,7 @@ pub mod dram;
 pub mod dram_config;
 pub mod dram_detailed;
 pub mod hierarchy;
+pub mod sentinel;
 pub mod timespec;
 
 pub use cache::{Cache, CacheStats};

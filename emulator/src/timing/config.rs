@@ -1,6 +1,7 @@
 //! The chip configuration of the timing model: TOML with serde, named presets.
 //!
-//! A file may start with `preset = "NAME"` (`tiny`, `baseline`, `strata`): the preset is the
+//! A file may start with `preset = "NAME"` (`tiny`, `baseline`, `strata`, `baseline-ch5`,
+//! `strata-plus`): the preset is the
 //! base and the file's keys override it, table by table (`[memory.dram]` may name a DRAM
 //! preset of its own, see [`crate::memsys::DramConfig::preset`]). Every struct rejects unknown
 //! fields, so a misspelt key is named in the error.
@@ -16,7 +17,7 @@ use trax_runtime::isa::UnitClass;
 use crate::memsys::{self, DramConfig, MemSysConfig};
 
 /// Names of the chip presets, for help texts.
-pub const CHIP_PRESETS: &[&str] = &["tiny", "baseline", "strata"];
+pub const CHIP_PRESETS: &[&str] = &["tiny", "baseline", "strata", "baseline-ch5", "strata-plus"];
 
 /// The chip every command uses unless told otherwise (`trax run`, and `trax native`'s
 /// thread shape), so the README's commands give the same image.
@@ -220,6 +221,64 @@ pub struct StreamMemoryConfig {
     /// Cycles a scheduling decision takes before the TM's threads resume. Default 1 (an
     /// assumption: one pass over the buffers' counters, as a priority encoder would).
     pub schedule_cycles: u32,
+    /// What a ray written to a full memory does: `"fault"` (default; the thesis's STRaTA,
+    /// §3.2.1: rays are generated and consumed one for one) or `"spill"` (beyond the thesis,
+    /// §7.1.1's proposal: a hardware sentinel moves blocks of rays to a DRAM spill area and
+    /// back, see `spill`).
+    pub overflow: Overflow,
+    /// The spill sentinel (used when `overflow = "spill"`).
+    pub spill: SpillConfig,
+}
+
+/// What a ray written to a full stream memory does (`stream_memory.overflow`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Overflow {
+    /// A fault naming the stream and the capacity.
+    #[default]
+    Fault,
+    /// Blocks of rays are spilled to DRAM and refilled (`stream_memory.spill`).
+    Spill,
+}
+
+/// The ray-buffer sentinel of thesis §7.1.1 (`stream_memory.spill`): when a ray written
+/// leaves more than `high_watermark` of the SRAM's rays stored, it moves a block of rays of
+/// the buffer with the most rays in SRAM to a DRAM spill area by DMA (contiguous lines, so
+/// whole rows); when the stored rays fall below `low_watermark`, or a TM reads a buffer
+/// whose rays are all in DRAM, it reads a block back. One transfer at a time, one ray per
+/// core cycle through the list controller (§7.1.1: 48 GB/s for 48-byte rays at 1 GHz), one
+/// line request per cycle to the DRAM; a thread writing to a memory whose slots are all
+/// taken (or reading rays still in transit) waits for the sentinel. Kernels see the same
+/// streams in both modes (functional runs move blocks at once).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SpillConfig {
+    /// Fraction of the SRAM's ray capacity above which a block is spilled. Default 0.75
+    /// (an assumption: room for writes while a block drains).
+    pub high_watermark: f64,
+    /// Fraction below which a block is refilled. Default 0.25 (an assumption).
+    pub low_watermark: f64,
+    /// Bytes of one block in DRAM, a multiple of the line size; it holds
+    /// `block_bytes / ray_bytes` rays packed. Default 65536: one 8 KB row on each of the 8
+    /// channels of the thesis GDDR5 (§7.1.1: "likely a multiple of the row buffer size").
+    /// The watermarks must leave a block between them and between the high one and the
+    /// capacity.
+    pub block_bytes: u32,
+    /// Bytes of the DRAM spill area, a multiple of `block_bytes`, at most 2 GiB (it lies at
+    /// DRAM addresses from 0x8000_0000 up, where no program data is). Writing a block when
+    /// it is full is a fault. Default 268435456 (256 MiB: 5.6 M rays of 48 bytes).
+    pub area_bytes: u32,
+}
+
+impl Default for SpillConfig {
+    fn default() -> Self {
+        SpillConfig {
+            high_watermark: 0.75,
+            low_watermark: 0.25,
+            block_bytes: 64 << 10,
+            area_bytes: 256 << 20,
+        }
+    }
 }
 
 impl Default for StreamMemoryConfig {
@@ -233,6 +292,8 @@ impl Default for StreamMemoryConfig {
             latency: 3,
             energy_nj: None,
             area_mm2: None,
+            overflow: Overflow::Fault,
+            spill: SpillConfig::default(),
             schedule: crate::streams::SchedulePolicy::Fullest,
             schedule_cycles: 1,
         }
@@ -242,12 +303,70 @@ impl Default for StreamMemoryConfig {
 impl StreamMemoryConfig {
     /// The functional shape.
     pub fn geometry(&self) -> crate::streams::StreamGeometry {
-        crate::streams::StreamGeometry {
+        let mut g = crate::streams::StreamGeometry {
             capacity_bytes: self.capacity_bytes,
             ray_bytes: self.ray_bytes,
             buffers: self.buffers,
             banks: self.banks,
+            spill: None,
+        };
+        if self.overflow == Overflow::Spill {
+            let cap = f64::from(g.capacity_rays());
+            let sp = &self.spill;
+            g.spill = Some(crate::streams::SpillGeometry {
+                high_rays: (sp.high_watermark * cap).floor() as u32,
+                low_rays: (sp.low_watermark * cap).floor() as u32,
+                block_rays: sp.block_bytes / self.ray_bytes.max(1),
+                block_bytes: sp.block_bytes,
+                area_blocks: sp.area_bytes / sp.block_bytes.max(1),
+            });
         }
+        g
+    }
+
+    /// Checks the spill fields (when `overflow = "spill"`); `line_bytes` is the DRAM's.
+    fn validate_spill(&self, line_bytes: u32) -> Result<(), ConfigError> {
+        if self.overflow != Overflow::Spill || self.capacity_bytes == 0 {
+            return Ok(());
+        }
+        let bad = |m: String| Err(ConfigError::Invalid(m));
+        let sp = &self.spill;
+        if !(0.0..=1.0).contains(&sp.low_watermark) || !(0.0..=1.0).contains(&sp.high_watermark) {
+            return bad(format!(
+                "stream_memory.spill.low_watermark = {} and high_watermark = {} must be \
+                 fractions of the capacity, 0 to 1",
+                sp.low_watermark, sp.high_watermark
+            ));
+        }
+        if sp.block_bytes < self.ray_bytes || !sp.block_bytes.is_multiple_of(line_bytes) {
+            return bad(format!(
+                "stream_memory.spill.block_bytes = {} must hold a ray ({} bytes) and be a \
+                 multiple of the DRAM line ({line_bytes} bytes)",
+                sp.block_bytes, self.ray_bytes
+            ));
+        }
+        if sp.area_bytes < sp.block_bytes
+            || !sp.area_bytes.is_multiple_of(sp.block_bytes)
+            || sp.area_bytes > 1 << 31
+        {
+            return bad(format!(
+                "stream_memory.spill.area_bytes = {} must be a non-zero multiple of \
+                 block_bytes ({}) up to 2 GiB",
+                sp.area_bytes, sp.block_bytes
+            ));
+        }
+        let g = self.geometry();
+        let s = g.spill.expect("overflow = spill");
+        let cap = g.capacity_rays();
+        if s.low_rays + s.block_rays > s.high_rays || s.high_rays + s.block_rays > cap {
+            return bad(format!(
+                "stream_memory.spill: a block of {} rays (block_bytes / ray_bytes) must fit \
+                 between low_watermark ({} rays) and high_watermark ({} rays), and between \
+                 high_watermark and the capacity ({cap} rays)",
+                s.block_rays, s.low_rays, s.high_rays
+            ));
+        }
+        Ok(())
     }
 
     /// Energy per access, nJ (configured, or from Table 3.3).
@@ -315,6 +434,93 @@ pub fn stream_energy_nj(capacity: u32) -> f64 {
     let (lo, hi) = (t[k - 1], t[k]);
     let f = (c.log2() - f64::from(lo.0).log2()) / (f64::from(hi.0).log2() - f64::from(lo.0).log2());
     lo.1 + (hi.1 - lo.1) * f
+}
+
+/// When the image builder forms treelets (`[treelets] form`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum TreeletForm {
+    /// Only for a kernel that reads `treelet_ids` (a treelet-streaming kernel); other kernels
+    /// see the BVH in build order.
+    #[default]
+    WhenRead,
+    /// For every kernel that reads the BVH (an ordinary traversal on the treelet layout).
+    Always,
+}
+
+/// Where treelets start (`[treelets] align`): `"none"`, `"dram-row"` or a number of bytes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum TreeletAlign {
+    /// Packed back to back.
+    #[default]
+    None,
+    /// On the configured DRAM's row span: the bytes of consecutive addresses its address
+    /// mapping keeps in one row (`DetailedDramConfig::row_span_bytes`; 8 KiB on
+    /// `gddr5-thesis`).
+    DramRow,
+    /// On a multiple of this many bytes (a power of two from 64 to the treelet size).
+    Bytes(u32),
+}
+
+impl Serialize for TreeletAlign {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match self {
+            TreeletAlign::None => s.serialize_str("none"),
+            TreeletAlign::DramRow => s.serialize_str("dram-row"),
+            TreeletAlign::Bytes(b) => s.serialize_u32(*b),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for TreeletAlign {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl serde::de::Visitor<'_> for V {
+            type Value = TreeletAlign;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str(r#""none", "dram-row" or a number of bytes"#)
+            }
+            fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<TreeletAlign, E> {
+                match v {
+                    "none" => Ok(TreeletAlign::None),
+                    "dram-row" => Ok(TreeletAlign::DramRow),
+                    _ => Err(E::invalid_value(serde::de::Unexpected::Str(v), &self)),
+                }
+            }
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<TreeletAlign, E> {
+                u32::try_from(v)
+                    .map(TreeletAlign::Bytes)
+                    .map_err(|_| E::invalid_value(serde::de::Unexpected::Signed(v), &self))
+            }
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<TreeletAlign, E> {
+                u32::try_from(v)
+                    .map(TreeletAlign::Bytes)
+                    .map_err(|_| E::invalid_value(serde::de::Unexpected::Unsigned(v), &self))
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+/// The treelet layout of the BVH in the memory image (thesis §3.1.1, §3.2.1, chapter 5):
+/// which kernels get it, the treelet size and where treelets start. `trax run`, `trax
+/// native`, `trax converge`, `trax sweep` and `trax scene info --config` lay out from this
+/// table (`trax::pipeline::image_options`).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct TreeletConfig {
+    /// `"when-read"` (default): treelets only for kernels that read `treelet_ids`;
+    /// `"always"`: for every kernel that reads the BVH.
+    pub form: TreeletForm,
+    /// Largest treelet, bytes (node and triangle treelets alike); 0 (default) = the L1's
+    /// capacity, `memory.l1.capacity_bytes` (§3.2.1: "we assign treelets to be exactly the
+    /// size of an L1 cache"; 16 KB in the STRaTA presets). Otherwise at least 256.
+    pub bytes: u32,
+    /// Where each treelet starts, from its array's start: `"none"` (default, packed),
+    /// `"dram-row"` (the DRAM's row span, chapter 5's STRaTA+; needs the detailed DRAM), or
+    /// a number of bytes (a power of two from 64 to the treelet size). Triangle treelets
+    /// start in the first 36-byte slot of their aligned block.
+    pub align: TreeletAlign,
 }
 
 /// One fused intersection pipeline (thesis §3.2.3): built from the TM's shared FP
@@ -431,6 +637,8 @@ pub struct ChipConfig {
     pub stream_memory: StreamMemoryConfig,
     /// The fused intersection pipelines.
     pub pipelines: PipelinesConfig,
+    /// The BVH's treelet layout in the memory image.
+    pub treelets: TreeletConfig,
 }
 
 /// Execution-unit classes that can be configured, with their config key.
@@ -527,6 +735,7 @@ impl Default for ChipConfig {
                 ..StreamMemoryConfig::default()
             },
             pipelines: PipelinesConfig::default(),
+            treelets: TreeletConfig::default(),
         }
     }
 }
@@ -537,7 +746,12 @@ impl ChipConfig {
     /// 16 banks, 32 KB / 4-bank L1s, 2 int-mul, 8 fp-mul, 8 fp-add, 1 fp-invsqrt per TM,
     /// 2 I-caches of 16 banks, thesis GDDR5), `strata` (chapter 3/5: 128 TMs x 32 threads,
     /// 16 KB L1s, 4 L2s of 512 KB, a 4 MB ray stream memory, the box and triangle
-    /// pipelines, thesis GDDR5; sources at each value).
+    /// pipelines, thesis GDDR5; sources at each value), `baseline-ch5` (chapter 5's baseline:
+    /// §3.2.4's 128-TM, 4 MB-L2 TRaX on §5.1's GDDR5, BVH in build order) and `strata-plus`
+    /// (chapter 5's STRaTA+: §3.2.4's STRaTA, 512 KB of L2, with 16 KB treelets aligned to
+    /// the 8 KB DRAM rows, on the same GDDR5). `baseline` and `strata` are not §3.2.4's
+    /// chips: `baseline` is Table 2.5's 80-TM, 1 MB-L2 chip and `strata` has 2 MB of L2
+    /// (4 x 512 KB); both run on §5.1's 512 GB/s GDDR5, not §3.2.4's 256 GB/s.
     pub fn preset(name: &str) -> Option<ChipConfig> {
         let mut c = ChipConfig {
             name: name.to_string(),
@@ -586,6 +800,64 @@ impl ChipConfig {
                 c.memory.dram = DramConfig::gddr5_thesis();
                 // Area as for `baseline` (Tables 2.2/2.4/2.5); the stream memory's line
                 // is its own (`StreamMemoryConfig`), the pipelines' MUXes and latches none.
+                thesis_area_lines(&mut c);
+            }
+            "baseline-ch5" => {
+                // Chapter 5's baseline (§5.1: "the baseline TRaX system discussed in Section
+                // 3.2.4 ... with 128 TMs"). TM: Table 2.5's (2 int-mul, 8 FP-mul, 8 FP-add,
+                // 1 FP-invsqrt, 2 16-banked I-caches), 32 threads (§3.2.4 "each TM
+                // consists of 32 thread processors").
+                c.tms = 128;
+                // L1: Table 2.5's top row, 32 KB in 4 banks (§3.2.4's baseline is that TRaX
+                // TM; Figure 3.7's 93-94% baseline L1 hit rates match Table 2.5's 93%).
+                c.memory.l1.capacity_bytes = 32 * 1024;
+                c.memory.l1.banks = 4;
+                // L2: §3.2.4 "a near-future L2 cache capacity of 4MB shared among the TMs",
+                // as §2.2.2.3's four L2s (16 banks, Figure 2.6) of 1 MB, 32 TMs each (the
+                // split into four is an assumption: the thesis gives only the total).
+                c.tms_per_l2 = 32;
+                c.memory.l2.capacity_bytes = 1024 * 1024;
+                c.memory.l2.banks = 16;
+                // DRAM: §5.1 "GDDR5 with eight 64-bit channels, running at 2GHz (8GHz
+                // effective), for a total of 512GB/s" (USIMM; `gddr5-thesis`).
+                c.memory.dram = DramConfig::gddr5_thesis();
+                // No stream memory, no pipelines in use; the BVH in build order unless a
+                // kernel reads `treelet_ids` (`TreeletConfig::default()`).
+                thesis_area_lines(&mut c);
+            }
+            "strata-plus" => {
+                // Chapter 5's STRaTA+ (§5: "We call this new modified version STRaTA+"):
+                // §3.2.4's STRaTA chip, 128 TMs of 32 threads with Table 2.5's TM.
+                c.tms = 128;
+                // L1: 16 KB (§5: the treelet size is "as close to the capacity of the L1
+                // cache as possible ... which is 16KB"), Table 2.5's 4 banks.
+                c.memory.l1.capacity_bytes = 16 * 1024;
+                c.memory.l1.banks = 4;
+                // L2: §3.2.4 "a small 512KB L2 cache in addition to the stream memory"
+                // (Figure 3.7: "a fixed small ... 512KB L2"), as four L2s of 128 KB, 16 banks,
+                // 32 TMs each (the split is an assumption, as for `baseline-ch5`).
+                c.tms_per_l2 = 32;
+                c.memory.l2.capacity_bytes = 128 * 1024;
+                c.memory.l2.banks = 16;
+                // Stream memory: §3.2.4 "the size of the L2 cache (baseline) and stream
+                // memory (STRaTA) are the same": 4 MB; 48-byte rays (§3.2.1), Table 3.3
+                // energy (`StreamMemoryConfig::default()`).
+                c.stream_memory = StreamMemoryConfig::default();
+                // §3.2.3: the box and triangle pipelines.
+                c.pipelines = PipelinesConfig::default();
+                // §5.1: "the same" GDDR5 for baseline and STRaTA+ (`gddr5-thesis`: 8 KB rows,
+                // mapping row:rank:bank:channel:column, which "places consecutive cache lines
+                // (columns) in the same row, and strides consecutive rows across the memory
+                // channels", §5).
+                c.memory.dram = DramConfig::gddr5_thesis();
+                // Treelets (§5, Figure 5.1): L1-sized (bytes 0 = 16 KB = two 8 KB rows, "the
+                // large DRAM burst to load a treelet maps directly to just two rows"), each
+                // starting on a row; formed for kernels that read `treelet_ids`.
+                c.treelets = TreeletConfig {
+                    form: TreeletForm::WhenRead,
+                    bytes: 0,
+                    align: TreeletAlign::DramRow,
+                };
                 thesis_area_lines(&mut c);
             }
             _ => return None,
@@ -797,6 +1069,7 @@ impl ChipConfig {
         if !(sm.energy_nj.is_none_or(|e| e >= 0.0) && sm.area_mm2.is_none_or(|a| a >= 0.0)) {
             return bad("stream_memory.energy_nj and area_mm2 must be >= 0".into());
         }
+        sm.validate_spill(self.memory.l2.line_bytes)?;
         for (name, p) in [
             ("box", &self.pipelines.box_pipe),
             ("tri", &self.pipelines.tri),
@@ -807,12 +1080,58 @@ impl ChipConfig {
                 ));
             }
         }
+        let tb = self.treelets.bytes;
+        if tb != 0 && !(256..=64 << 20).contains(&tb) {
+            return bad(format!(
+                "treelets.bytes = {tb} must be 0 (the L1's capacity) or from 256 to 64 MiB"
+            ));
+        }
+        self.treelet_align_bytes()?;
         if self.global_registers.latency == 0 || self.global_registers.ops_per_cycle == 0 {
             return bad("global_registers.latency and ops_per_cycle must be >= 1".into());
         }
         self.memory
             .validate()
             .map_err(|e: memsys::MemSysError| ConfigError::Invalid(e.to_string()))
+    }
+
+    /// The treelet size in bytes: `treelets.bytes`, or the L1's capacity when it is 0.
+    pub fn treelet_bytes(&self) -> u32 {
+        match self.treelets.bytes {
+            0 => self.memory.l1.capacity_bytes,
+            b => b,
+        }
+    }
+
+    /// The treelet alignment in bytes (0 = packed); an error names the field when
+    /// `"dram-row"` has no rows to follow or the alignment does not fit the treelet size.
+    pub fn treelet_align_bytes(&self) -> Result<u32, ConfigError> {
+        let bytes = self.treelet_bytes();
+        let align = match self.treelets.align {
+            TreeletAlign::None => return Ok(0),
+            TreeletAlign::Bytes(b) => b,
+            TreeletAlign::DramRow => {
+                if self.memory.dram.model != memsys::DramModel::Detailed {
+                    return Err(ConfigError::Invalid(
+                        "treelets.align = \"dram-row\" needs the detailed DRAM model \
+                         (memory.dram.model = \"simple\" has no rows)"
+                            .into(),
+                    ));
+                }
+                self.memory.dram.detailed.row_span_bytes()
+            }
+        };
+        if !align.is_power_of_two() || align < 64 || align > bytes {
+            let what = match self.treelets.align {
+                TreeletAlign::DramRow => format!("\"dram-row\" ({align} bytes)"),
+                _ => align.to_string(),
+            };
+            return Err(ConfigError::Invalid(format!(
+                "treelets.align = {what} must be a power of two from 64 to the treelet size \
+                 ({bytes} bytes, treelets.bytes or memory.l1.capacity_bytes)"
+            )));
+        }
+        Ok(align)
     }
 
     /// Core clock in MHz (rounded).

@@ -37,7 +37,8 @@ use super::workers::{rebalance, Batch, Crew, RoundCell, Rounds};
 use crate::chip::Effects;
 use crate::exec::Stop;
 use crate::machine::{drain, Crash, Machine, Outcome};
-use crate::memsys::{CacheStats, MemSystem};
+use crate::memsys::sentinel::DmaJob;
+use crate::memsys::{CacheStats, MemStats, MemSystem};
 use crate::profile::Profiler;
 use crate::run::{Limits, Progress};
 use crate::thread::{Shared, Thread};
@@ -104,6 +105,9 @@ pub struct Counters {
     pub stream_conflict_cycles: u64,
     /// Stream memory: rays in flight integrated over cycles (for the mean).
     pub stream_ray_cycles: u64,
+    /// Thread-cycles a stream write or read waited for the spill sentinel (from its first
+    /// attempt to the one that went through).
+    pub stream_spill_stall_cycles: u64,
 }
 
 /// Receives a [`Progress`] report every few host milliseconds.
@@ -234,8 +238,17 @@ pub struct Engine<'c> {
     /// Cycles per statistics interval (`--stats-interval`; a multiple of the quantum,
     /// see [`Self::quantum`]): the counters are sampled at every multiple.
     pub interval: Option<u64>,
-    /// The samples taken at interval ends (after [`Self::run`]; the run's end is not one).
+    /// The samples taken at interval ends and at [`Self::snap_at`] (after [`Self::run`];
+    /// the run's end is not one).
     pub samples: Vec<Snapshot>,
+    /// Also sample the counters at this cycle (a quantum end), for sampled simulation.
+    pub snap_at: Option<u64>,
+    /// Stop (with [`Outcome::CycleLimit`], setting [`Self::paused`]) at the first quantum
+    /// end at which global register `.0` holds at least `.1` (sampled simulation: the
+    /// pixel counter reached a window's end).
+    pub pause_at: Option<(u32, u32)>,
+    /// Whether the last [`Self::run`] stopped at [`Self::pause_at`].
+    pub paused: bool,
 }
 
 impl<'c> Engine<'c> {
@@ -302,7 +315,27 @@ impl<'c> Engine<'c> {
             progress: None,
             interval: None,
             samples: Vec::new(),
+            snap_at: None,
+            pause_at: None,
+            paused: false,
         })
+    }
+
+    /// Replaces the run limits (a later [`Self::run`] continues under these).
+    pub fn set_limits(&mut self, limits: Limits) {
+        self.limits = limits;
+    }
+
+    /// The cumulative counters now, between runs (every counter of earlier
+    /// [`Self::run`]s, the memory system's, the stream memory's accesses of `m`).
+    pub fn snapshot(&self, m: &Machine) -> Snapshot {
+        let streams = m.shared.streams.sram_accesses();
+        snapshot_of(self.cfg, &self.c, &self.mem.stats(), streams, self.now)
+    }
+
+    /// The memory system, for functional warming between runs (sampled simulation).
+    pub fn mem_mut(&mut self) -> &mut MemSystem {
+        &mut self.mem
     }
 
     /// Cycles per quantum: the L1 plus L2 hit latency (an L2 reply is never due sooner).
@@ -316,8 +349,11 @@ impl<'c> Engine<'c> {
         &self.mem
     }
 
-    /// Runs `machine` to the end; print output goes to `out`.
+    /// Runs `machine` to the end (or a limit); print output goes to `out`. A later call
+    /// continues from where this one stopped: the threads' timing state (scoreboards,
+    /// units) starts afresh, the memory system's is kept.
     pub fn run(&mut self, m: &mut Machine, out: &mut dyn Write) -> Outcome {
+        self.paused = false;
         let tms = self.cfg.tms as usize;
         let n = self.cfg.threads_per_tm as usize;
         let workers = if self.profiler.is_some() {
@@ -350,6 +386,9 @@ impl<'c> Engine<'c> {
         let mut profiler = self.profiler.take();
         let mut progress = self.progress.take();
         let mut halted_excess = 0u64;
+        let mut paused = false;
+        let mut base = Counters::default();
+        base.add_scalars(&self.c);
         let outcome = {
             let shared = RoundCell::new(&mut m.shared);
             let rounds = Rounds::new(tms, workers);
@@ -395,9 +434,14 @@ impl<'c> Engine<'c> {
                     fx: Effects::default(),
                     streams: StreamTiming::default(),
                     interval: self.interval,
-                    next_sample: self.interval.unwrap_or(u64::MAX),
+                    snap_at: self.snap_at,
+                    next_sample: u64::MAX,
                     samples: Vec::new(),
+                    pause_at: self.pause_at,
+                    paused: &mut paused,
+                    base,
                 };
+                d.next_sample = d.next_sample_after(*d.now);
                 let mut leader_job = |k: usize, window| job(0, k, window, profiler.as_mut());
                 let outcome = d.drive(&shared, &parts, &sims, &rounds, &crew, &mut leader_job, out);
                 (outcome, d.fx, d.streams, d.samples)
@@ -405,6 +449,7 @@ impl<'c> Engine<'c> {
         };
         let (outcome, mut fx, mut streams, samples) = outcome;
         self.samples = samples;
+        self.paused = paused;
         streams.finish(&mut self.c, self.now);
         m.shared.sched.finish(self.now);
         self.profiler = profiler;
@@ -442,6 +487,9 @@ struct StreamTiming {
     /// Rays in flight since cycle `last`.
     in_flight: u64,
     last: u64,
+    /// Per thread (TM x threads + thread): the cycle its stream op first waited for the
+    /// spill sentinel, until it goes through.
+    spill_wait: Vec<Option<u64>>,
 }
 
 impl StreamTiming {
@@ -468,6 +516,32 @@ impl StreamTiming {
         self.in_flight = u64::from(now_in_flight);
     }
 
+    /// Thread `gid`'s stream op at `cycle` waited for the sentinel (`waited`) or went
+    /// through.
+    fn spill_wait(
+        &mut self,
+        c: &mut Counters,
+        threads: usize,
+        gid: usize,
+        cycle: u64,
+        waited: bool,
+    ) {
+        if self.spill_wait.is_empty() {
+            if !waited {
+                return;
+            }
+            self.spill_wait = vec![None; threads];
+        }
+        match (waited, self.spill_wait[gid]) {
+            (true, None) => self.spill_wait[gid] = Some(cycle),
+            (false, Some(s)) => {
+                c.stream_spill_stall_cycles += cycle.saturating_sub(s);
+                self.spill_wait[gid] = None;
+            }
+            _ => {}
+        }
+    }
+
     /// Closes the open intervals at the end of the run (`end`).
     fn finish(&mut self, c: &mut Counters, end: u64) {
         c.stream_ray_cycles += self.in_flight * end.saturating_sub(self.last);
@@ -490,10 +564,17 @@ struct Driver<'a, 'p> {
     streams: StreamTiming,
     /// Cycles per statistics interval.
     interval: Option<u64>,
-    /// The next interval end (`u64::MAX` without intervals).
+    /// A single extra sample's cycle.
+    snap_at: Option<u64>,
+    /// The next interval end or `snap_at` (`u64::MAX`: none).
     next_sample: u64,
     /// The counters at each interval end so far.
     samples: Vec<Snapshot>,
+    /// Stop when a global register reaches a value, and whether it did.
+    pause_at: Option<(u32, u32)>,
+    paused: &'a mut bool,
+    /// The counters of earlier runs of the engine (samples are cumulative).
+    base: Counters,
 }
 
 impl Driver<'_, '_> {
@@ -509,28 +590,25 @@ impl Driver<'_, '_> {
     #[inline(never)]
     fn sample(&mut self, sh: &Shared, sims: &[&mut TmSim], parts: &[Mutex<Part>], at: u64) {
         let mut c = Counters::default();
+        c.add_scalars(&self.base);
         for p in parts {
             c.add_scalars(&p.lock().unwrap_or_else(|e| e.into_inner()).c);
         }
         let mem = self.mem.stats_with(sims.iter().map(|t| &t.mem));
-        let mut l2 = CacheStats::default();
-        for x in &mem.l2 {
-            l2.add(x);
-        }
-        let streams = sh.streams.reads + sh.streams.writes;
-        self.samples.push(Snapshot {
-            cycle: at,
-            tc: c.tc.clone(),
-            l2,
-            dram_reads: mem.dram.reads,
-            dram_writes: mem.dram.writes,
-            dram_bytes: mem.dram.bytes,
-            ray_cycles: c.stream_ray_cycles
-                + self.streams.in_flight * at.saturating_sub(self.streams.last),
-            energy_j: super::stats::energy_of(self.cfg, &c, &mem, streams).total,
-            l1: mem.l1,
-        });
-        self.next_sample = at + self.interval.unwrap_or(u64::MAX - at);
+        let streams = sh.streams.sram_accesses();
+        let mut snap = snapshot_of(self.cfg, &c, &mem, streams, at);
+        snap.ray_cycles += self.streams.in_flight * at.saturating_sub(self.streams.last);
+        self.samples.push(snap);
+        self.next_sample = self.next_sample_after(at);
+    }
+
+    /// The first interval end or extra sample cycle after `at` (`u64::MAX`: none).
+    fn next_sample_after(&self, at: u64) -> u64 {
+        let interval = self
+            .interval
+            .map_or(u64::MAX, |n| (at / n).saturating_add(1).saturating_mul(n));
+        let snap = self.snap_at.filter(|&s| s > at).unwrap_or(u64::MAX);
+        interval.min(snap)
     }
 
     /// The quantum loop (on the leader thread).
@@ -565,6 +643,13 @@ impl Driver<'_, '_> {
             let max = self.limits.max_cycles.unwrap_or(u64::MAX);
             if from >= max {
                 return Outcome::CycleLimit;
+            }
+            if let Some((reg, value)) = self.pause_at {
+                // SAFETY: the leader between rounds.
+                if unsafe { shared.get() }.globals[reg as usize] >= value {
+                    *self.paused = true;
+                    return Outcome::CycleLimit;
+                }
             }
             let to = (from + q).min(max);
             // Phase 1: the TMs, in parallel. While the L2s and DRAM owe the L1s nothing
@@ -651,9 +736,16 @@ impl Driver<'_, '_> {
                             crash = Some((d.cycle, Box::new(Crash::capture(t, f))));
                             break;
                         }
-                        // A semaphore that is not available: retry next quantum.
+                        // A semaphore that is not available, or a stream op waiting
+                        // for the spill sentinel: retry next quantum.
                         Stop::Retry | Stop::Defer => {
                             c.tc.sync_wait += 1;
+                            if d.info.class == UnitClass::Stream {
+                                let gid = d.tm as usize * sim.threads.len() + tid;
+                                let n = tms as usize * sim.threads.len();
+                                self.streams.spill_wait(c, n, gid, d.cycle, true);
+                                dispatch_transfers(self.mem, sh, d.cycle);
+                            }
                             continue;
                         }
                         Stop::Halted => true,
@@ -673,6 +765,10 @@ impl Driver<'_, '_> {
                 let info = d.info;
                 let mut ready = d.ready_at;
                 if info.class == UnitClass::Stream {
+                    let gid = d.tm as usize * sim.threads.len() + tid;
+                    let n = tms as usize * sim.threads.len();
+                    self.streams.spill_wait(c, n, gid, d.cycle, false);
+                    dispatch_transfers(self.mem, sh, d.cycle);
                     // A ray pushed or popped: one access to its slot's bank.
                     if let Some(slot) = sh.streams.last_slot.take() {
                         ready = self.streams.access(self.cfg, c, slot, d.cycle);
@@ -707,6 +803,14 @@ impl Driver<'_, '_> {
                 }
             }
             chip.serve_until(to, &mut sims);
+            // The sentinel's transfers free slots and bring rays back (seen next quantum).
+            for e in chip.dma_events() {
+                if e.done {
+                    sh.streams.dma_done(e.id);
+                } else {
+                    sh.streams.dma_progress(e.id, e.rays);
+                }
+            }
             if rounds.threads() > 1 && crossed(REBALANCE_EVERY) {
                 let loads: Vec<u64> = sims
                     .iter()
@@ -787,6 +891,47 @@ impl Driver<'_, '_> {
     }
 }
 
+/// Hands the block transfers a stream op started at `cycle` to the sentinel's DMA engine.
+fn dispatch_transfers(mem: &mut MemSystem, sh: &mut Shared, cycle: u64) {
+    for t in sh.streams.take_transfers() {
+        mem.chip_mut().dma_start(DmaJob {
+            id: t.id,
+            write: t.write,
+            addr: t.addr,
+            rays: t.rays,
+            ray_bytes: t.ray_bytes,
+            start: cycle,
+        });
+    }
+}
+
+/// The cumulative [`Snapshot`] of counters `c` and memory statistics `mem` at `cycle`,
+/// with `streams` stream-memory accesses.
+fn snapshot_of(
+    cfg: &ChipConfig,
+    c: &Counters,
+    mem: &MemStats,
+    streams: u64,
+    cycle: u64,
+) -> Snapshot {
+    let mut l2 = CacheStats::default();
+    for x in &mem.l2 {
+        l2.add(x);
+    }
+    Snapshot {
+        cycle,
+        tc: c.tc.clone(),
+        debug_ops: c.debug_ops,
+        l1: mem.l1.clone(),
+        l2,
+        dram_reads: mem.dram.reads,
+        dram_writes: mem.dram.writes,
+        dram_bytes: mem.dram.bytes,
+        ray_cycles: c.stream_ray_cycles,
+        energy_j: super::stats::energy_of(cfg, c, mem, streams).total,
+    }
+}
+
 /// Instructions executed so far: issued plus zero-cost debug ops, over every host thread.
 fn executed(parts: &[Mutex<Part>]) -> u64 {
     parts
@@ -836,6 +981,7 @@ impl Counters {
         self.stream_bank_conflicts += o.stream_bank_conflicts;
         self.stream_conflict_cycles += o.stream_conflict_cycles;
         self.stream_ray_cycles += o.stream_ray_cycles;
+        self.stream_spill_stall_cycles += o.stream_spill_stall_cycles;
     }
 }
 

@@ -23,6 +23,8 @@ pub struct Snapshot {
     pub cycle: u64,
     /// Thread-cycle buckets so far.
     pub tc: ThreadCycles,
+    /// Zero-cost debug ops executed so far.
+    pub debug_ops: u64,
     /// L1 statistics (all TMs) and L2 statistics (all L2s) so far.
     pub l1: CacheStats,
     pub l2: CacheStats,
@@ -46,6 +48,7 @@ impl Snapshot {
         Snapshot {
             cycle: s.cycles,
             tc: s.thread_cycles.clone(),
+            debug_ops: s.debug_ops,
             l1: s.memory.l1.clone(),
             l2,
             dram_reads: s.memory.dram.reads,

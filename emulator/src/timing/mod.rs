@@ -17,6 +17,7 @@ mod config;
 pub(crate) mod engine;
 pub mod intervals;
 pub(crate) mod operands;
+pub mod sample;
 pub(crate) mod stats;
 mod stats_doc;
 mod tm;
@@ -24,12 +25,14 @@ mod workers;
 
 pub use config::{
     class_name, stream_energy_nj, ChipConfig, ConfigError, GlobalRegConfig, ICacheConfig,
-    LocalStoreConfig, PipeConfig, PipelinesConfig, RegisterFileConfig, StreamMemoryConfig,
-    UnitConfig, CHIP_PRESETS, DEFAULT_CHIP, STREAM_ENERGY_TABLE, UNIT_NAMES,
+    LocalStoreConfig, Overflow, PipeConfig, PipelinesConfig, RegisterFileConfig, SpillConfig,
+    StreamMemoryConfig, TreeletAlign, TreeletConfig, TreeletForm, UnitConfig, CHIP_PRESETS,
+    DEFAULT_CHIP, STREAM_ENERGY_TABLE, UNIT_NAMES,
 };
 pub use engine::ThreadCycles;
 pub use intervals::Interval;
+pub use sample::{Estimate, Estimates, SampleRequest, SampledStats};
 pub use stats::{
-    area_breakdown, pipe_op_energy_nj, AreaBreakdown, EnergyBreakdown, PipelineStats, StreamStats,
-    TimingStats,
+    area_breakdown, pipe_op_energy_nj, AreaBreakdown, EnergyBreakdown, PipelineStats, SpillStats,
+    StreamStats, TimingStats,
 };

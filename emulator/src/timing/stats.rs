@@ -89,6 +89,35 @@ pub struct StreamStats {
     pub idle_tm_cycles: u64,
     /// Energy per access, nJ.
     pub energy_per_access_nj: f64,
+    /// The spill sentinel (`stream_memory.overflow = "spill"`; zeros otherwise).
+    pub spill: SpillStats,
+}
+
+/// The ray-buffer sentinel's activity (thesis §7.1.1).
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct SpillStats {
+    /// Blocks written to the DRAM spill area.
+    pub spills: u64,
+    /// Blocks read back.
+    pub refills: u64,
+    /// Ray bytes spilled (rays x `ray_bytes`).
+    pub spilled_bytes: u64,
+    /// Ray bytes refilled.
+    pub refilled_bytes: u64,
+    /// Most blocks in the spill area at once.
+    pub max_blocks: u32,
+    /// Thread-cycles stream writes and reads waited for the sentinel.
+    pub stall_cycles: u64,
+    /// DRAM line writes and reads of its transfers.
+    pub dram_lines_written: u64,
+    /// See `dram_lines_written`.
+    pub dram_lines_read: u64,
+    /// Row-buffer hit rate of those DRAM accesses (0 with the simple DRAM model).
+    pub dram_row_hit_rate: f64,
+    /// Cycles a transfer was under way.
+    pub busy_cycles: u64,
+    /// Ray bytes moved per second while a transfer was under way, GB/s.
+    pub transfer_gbps: f64,
 }
 
 /// The fused pipelines' activity.
@@ -372,6 +401,23 @@ pub fn build(
         } else {
             0.0
         },
+        spill: {
+            let s = streams.spill_stats();
+            let moved = s.spilled_bytes + s.refilled_bytes;
+            SpillStats {
+                spills: s.spills,
+                refills: s.refills,
+                spilled_bytes: s.spilled_bytes,
+                refilled_bytes: s.refilled_bytes,
+                max_blocks: s.max_blocks,
+                stall_cycles: c.stream_spill_stall_cycles,
+                dram_lines_written: mem.dma.lines_written,
+                dram_lines_read: mem.dma.lines_read,
+                dram_row_hit_rate: ratio(mem.dma_row_hits as f64, mem.dma_columns as f64),
+                busy_cycles: mem.dma.busy_cycles,
+                transfer_gbps: ratio(moved as f64, mem.dma.busy_cycles as f64 / hz) / 1e9,
+            }
+        },
     };
     let pipelines = PipelineStats {
         box_ops: c.class_ops[UnitClass::BoxPipe as usize],
@@ -380,7 +426,7 @@ pub fn build(
         box_op_energy_nj: pipe_op_energy_nj(cfg, &cfg.pipelines.box_pipe),
         tri_op_energy_nj: pipe_op_energy_nj(cfg, &cfg.pipelines.tri),
     };
-    let energy = energy_of(cfg, c, &mem, stream.reads + stream.writes);
+    let energy = energy_of(cfg, c, &mem, streams.sram_accesses());
     let area = area_breakdown(cfg, mem.l1_area_mm2, mem.l2_area_mm2);
     TimingStats {
         chip: cfg.name.clone(),

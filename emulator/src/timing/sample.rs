@@ -1,0 +1,1458 @@
+//! Sampled timing simulation (`trax run --sample N`): the frame's cycles, frame rate, ray
+//! throughput, issue rate, cache hit rates, DRAM traffic and energy estimated from short
+//! detailed windows, each with a 95% confidence interval, in a fraction of a full timing
+//! run's host time.
+//!
+//! The work of a frame is laid out along a *counter*: the global register from which
+//! the kernel takes its pixels (`trax::scene::pixel_share`'s `PIXEL_COUNTER_REG`, or the
+//! register a kernel passes to `trax::atomic_inc`). The run is cut along it:
+//!
+//! - the *head* (until the counter reaches two items per hardware thread: the cold start)
+//!   and the *tail* (the last two items per hardware thread and everything after them:
+//!   the end-of-frame imbalance) are simulated in full detail;
+//! - the middle is split into `windows` equal strata of items; in each, at a seeded
+//!   uniformly random counter position, a *window* is simulated in detail: `warmup`
+//!   cycles (pipelines, queues and in-flight misses refill; not measured), then
+//!   `measure` cycles whose counters are kept. A window stops early at its stratum's end;
+//!   to make that rare, a window starts no later than the stratum's end minus the most
+//!   items an earlier window handed out (and no later than half-way).
+//! - Everything else is *fast-forwarded* functionally with *warming* (SMARTS): every load
+//!   and store updates the cache tags, LRU order and DRAM open rows as its timed access
+//!   would ([`MemSystem::warm`]), without timing, so each window starts with the caches
+//!   and row buffers a full run would have there. Threads advance in *virtual time*
+//!   (instructions plus a stall per load that misses the L1: the L2 latency, or that plus
+//!   the DRAM latency measured so far), not in instructions: with equal instruction
+//!   progress the threads of a window's start were in compute-bound, cache-friendly
+//!   phases more often than in a timed run (a pixel takes tens of thousands of cycles, far
+//!   longer than a window), and L1 hit rate, issue rate and DRAM traffic came out biased.
+//!   Every pixel is rendered: the image is the full run's. Before fast-forwarding, the
+//!   memory system finishes what is in flight ([`MemSystem::drain`]).
+//!
+//! Estimation: the instructions executed in each stratum (`E_h`) are counted exactly (in
+//! both modes); a quantity `X` (cycles, issued instructions, L1/L2 loads and hits, DRAM
+//! bytes, energy) of stratum `h` is `E_h · x_h / e_h`, its window's measured ratio to
+//! instructions executed (a separate ratio estimator per stratum), plus the head's and
+//! tail's exact counts. Variances come from differences of neighbouring strata's ratios
+//! (the collapsed-strata estimator of systematic sampling; conservative where the ratio
+//! trends), covariances likewise, so derived metrics (hit rates, issue rate, bandwidth)
+//! get delta-method intervals; the quantile is Student's t with `windows - 1` degrees of
+//! freedom. Each interval is then widened by the fast-forward's own error measured while
+//! developing ([`ALLOWANCE`]) on the middle's share of the total: the windows' thread mix
+//! is not quite the timed run's, a bias no window-to-window variance shows. A hit rate or
+//! DRAM traffic whose windows saw fewer than
+//! [`FEW_EVENTS`] of the rarer outcome also gets a Poisson bound on that count, and is
+//! flagged. Settings under which these assumptions fail are refused ([`SampleRequest::check`]).
+//!
+//! Determinism: the fast-forward runs on one host thread in the functional scheduler's
+//! fixed order; the windows are ordinary timing runs. Estimates do not depend on the host
+//! threads (wall times, reported beside them, do).
+
+use std::io::Write;
+use std::time::Instant;
+
+use serde::Serialize;
+
+use super::config::ChipConfig;
+use super::engine::Engine;
+use super::intervals::Snapshot;
+use crate::chip::Chip;
+use crate::exec::Stop;
+use crate::machine::{Machine, Outcome};
+use crate::memory::MemFault;
+use crate::memsys::MemSystem;
+use crate::run::{Limits, Progress};
+use crate::sched::{Driven, Executor, Scheduler};
+use crate::thread::{Shared, Thread, NUM_GLOBALS, NUM_STATS};
+use trax_runtime::rng::Rng;
+
+/// Fewest windows: the intervals come from differences of neighbouring windows, and
+/// Student's t with fewer degrees of freedom makes them uselessly wide.
+pub const MIN_WINDOWS: u32 = 10;
+
+/// Shortest warm-up, cycles: after a fast-forward the pipelines are empty and no miss is
+/// in flight; a loaded DRAM round trip is hundreds of cycles.
+pub const MIN_WARMUP_CYCLES: u64 = 1000;
+
+/// Virtual cycles per round of the fast-forward (each thread runs until its virtual time,
+/// instructions plus load stalls, reaches the round's): small, so the L1s see a TM's
+/// threads interleaved much as in timing; large enough to cost little.
+pub const FF_QUANTUM: u32 = 100;
+
+/// Fewer of the rarer outcome than this in the windows (cache hits or misses, DRAM
+/// transfers): the interval also takes a Poisson bound, and the metric is flagged.
+pub const FEW_EVENTS: u64 = 30;
+
+/// Cycles the head may run with the counter still at 0 before the kernel is taken not to
+/// use it.
+const COUNTER_GUARD_CYCLES: u64 = 2_000_000;
+
+/// Most cycles a drain may take.
+const DRAIN_LIMIT_CYCLES: u64 = 10_000_000;
+
+/// The confidence level of every interval.
+pub const CONFIDENCE: f64 = 0.95;
+
+/// What to sample and how.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SampleRequest {
+    /// Detailed windows, one per stratum (at least [`MIN_WINDOWS`]).
+    pub windows: u32,
+    /// Detailed cycles before each window's measurement (at least [`MIN_WARMUP_CYCLES`]).
+    pub warmup_cycles: u64,
+    /// Measured cycles per window (at least the warm-up).
+    pub measure_cycles: u64,
+    /// The global register the kernel takes its work items (pixels) from.
+    pub counter: u32,
+    /// Items the counter hands out in the run (the image's pixels).
+    pub items: u32,
+    /// Seed of the windows' positions.
+    pub seed: u32,
+}
+
+/// Where the run is cut, in counter values.
+#[derive(Clone, Debug, PartialEq, Eq)]
+struct Plan {
+    /// The head ends, and stratum 0 begins, when the counter reaches this.
+    head_end: u32,
+    /// Strata boundaries `a_0 = head_end .. a_K = tail_start`.
+    bounds: Vec<u32>,
+}
+
+impl SampleRequest {
+    /// Items simulated in full at the start and at the end, for `threads` hardware threads.
+    ///
+    /// Two per thread at each end: the head covers every thread's first pixel (cold
+    /// caches: a shorter head, one per thread, left DRAM traffic 2.5% low on the path
+    /// tracer in Sponza), the tail the end-of-frame imbalance.
+    pub fn head_tail(threads: u32) -> (u32, u32) {
+        (threads.saturating_mul(2), threads.saturating_mul(2))
+    }
+
+    /// Refuses settings under which the estimates would not mean what they say, for a
+    /// chip of `threads` hardware threads.
+    pub fn check(&self, threads: u32) -> Result<(), String> {
+        let (head, tail) = Self::head_tail(threads);
+        if self.windows < MIN_WINDOWS {
+            return Err(format!(
+                "--sample {}: too few windows for a confidence interval (at least {MIN_WINDOWS}: \
+                 the interval comes from differences between neighbouring windows)",
+                self.windows
+            ));
+        }
+        if self.warmup_cycles < MIN_WARMUP_CYCLES {
+            return Err(format!(
+                "--sample-warmup {}: a window's warm-up must be at least {MIN_WARMUP_CYCLES} \
+                 cycles (after a fast-forward the pipelines are empty and no miss is in flight; \
+                 a loaded DRAM round trip alone is hundreds of cycles)",
+                self.warmup_cycles
+            ));
+        }
+        if self.measure_cycles < self.warmup_cycles {
+            return Err(format!(
+                "--sample-window {}: the measured window is shorter than its warm-up ({} cycles); \
+                 its counts would mostly reflect the restart after the fast-forward",
+                self.measure_cycles, self.warmup_cycles
+            ));
+        }
+        if self.counter as usize >= NUM_GLOBALS {
+            return Err(format!(
+                "--sample-counter {}: there are {NUM_GLOBALS} global registers (0..{})",
+                self.counter,
+                NUM_GLOBALS - 1
+            ));
+        }
+        let need = u64::from(head) + u64::from(tail) + 4 * u64::from(self.windows);
+        if u64::from(self.items) < need {
+            return Err(format!(
+                "--sample {}: the image's {} pixels are too few to sample: the first {head} and \
+                 the last {tail} (two per hardware thread each) are simulated in full and each \
+                 window needs a stratum of at least 4; use fewer windows, a larger image, or a \
+                 full run",
+                self.windows, self.items
+            ));
+        }
+        Ok(())
+    }
+
+    fn plan(&self, threads: u32) -> Plan {
+        let (head, tail) = Self::head_tail(threads);
+        let tail_start = self.items - tail;
+        let k = u64::from(self.windows);
+        let span = u64::from(tail_start - head);
+        Plan {
+            head_end: head,
+            bounds: (0..=k).map(|h| head + (span * h / k) as u32).collect(),
+        }
+    }
+}
+
+/// One estimated metric: the estimate and its 95% confidence interval.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Estimate {
+    /// The estimate.
+    pub estimate: f64,
+    /// Lower end of the 95% confidence interval.
+    pub ci95_low: f64,
+    /// Upper end of the 95% confidence interval.
+    pub ci95_high: f64,
+    /// Half the interval's width relative to the estimate (0.01 = ±1%).
+    pub rel_half_width: f64,
+    /// Why the interval is less reliable than its width says (`null`: nothing known).
+    pub note: Option<String>,
+}
+
+impl Estimate {
+    fn new(estimate: f64, low: f64, high: f64) -> Estimate {
+        let low = low.min(estimate);
+        let high = high.max(estimate);
+        Estimate {
+            estimate,
+            ci95_low: low,
+            ci95_high: high,
+            rel_half_width: if estimate != 0.0 {
+                (high - low) / 2.0 / estimate.abs()
+            } else {
+                0.0
+            },
+            note: None,
+        }
+    }
+
+    /// Widens the interval by `lo` and `hi` times the estimate's magnitude.
+    fn widen(&mut self, lo: f64, hi: f64) {
+        let m = self.estimate.abs();
+        self.ci95_low -= lo * m;
+        self.ci95_high += hi * m;
+        self.rel_half_width = if self.estimate != 0.0 {
+            (self.ci95_high - self.ci95_low) / 2.0 / m
+        } else {
+            0.0
+        };
+    }
+
+    /// Whether `v` lies in the interval.
+    pub fn covers(&self, v: f64) -> bool {
+        self.ci95_low <= v && v <= self.ci95_high
+    }
+}
+
+/// The estimated headline metrics of a sampled run.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Estimates {
+    /// Core cycles until the last thread halted.
+    pub cycles: Estimate,
+    /// Simulated seconds.
+    pub seconds: Estimate,
+    /// Frames per second (one run = one frame).
+    pub fps: Estimate,
+    /// Million rays per second (the rays are counted exactly).
+    pub mrps: Estimate,
+    /// Thread-instructions issued (debug-class ops excluded).
+    pub instructions: Estimate,
+    /// Issued / (cycles x threads).
+    pub issue_rate: Estimate,
+    /// L1 load hit rate (strict: merged loads are misses).
+    pub l1_hit_rate: Estimate,
+    /// L2 load hit rate (strict).
+    pub l2_hit_rate: Estimate,
+    /// DRAM traffic, bytes read and written.
+    pub dram_bytes: Estimate,
+    /// DRAM bandwidth, GB/s.
+    pub dram_gbps: Estimate,
+    /// Energy of the frame, joules.
+    pub energy_j: Estimate,
+    /// Average power, watts.
+    pub power_w: Estimate,
+}
+
+impl Estimates {
+    /// `(name, estimate)` for every metric, in table order.
+    pub fn iter(&self) -> [(&'static str, &Estimate); 12] {
+        [
+            ("cycles", &self.cycles),
+            ("seconds", &self.seconds),
+            ("fps", &self.fps),
+            ("mrps", &self.mrps),
+            ("instructions", &self.instructions),
+            ("issue_rate", &self.issue_rate),
+            ("l1_hit_rate", &self.l1_hit_rate),
+            ("l2_hit_rate", &self.l2_hit_rate),
+            ("dram_bytes", &self.dram_bytes),
+            ("dram_gbps", &self.dram_gbps),
+            ("energy_j", &self.energy_j),
+            ("power_w", &self.power_w),
+        ]
+    }
+}
+
+/// A sampled run's parameters, costs and estimates (the `sampled` object of the
+/// statistics document).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SampledStats {
+    /// Windows asked for (one per stratum).
+    pub windows: u32,
+    /// Windows that measured something (a window that reached its stratum's end during
+    /// its warm-up measured nothing; its stratum joins a neighbour's).
+    pub windows_measured: u32,
+    /// Measured windows cut short at their stratum's end.
+    pub windows_cut: u32,
+    /// Warm-up cycles per window.
+    pub warmup_cycles: u64,
+    /// Measured cycles per window (asked for).
+    pub measure_cycles: u64,
+    /// The counter's global register.
+    pub counter_register: u32,
+    /// Items (pixels) the counter hands out.
+    pub items: u32,
+    /// Items simulated in full at the start and at the end.
+    pub head_items: u32,
+    pub tail_items: u32,
+    /// Seed of the windows' positions.
+    pub seed: u32,
+    /// Instructions per thread per turn of the fast-forward.
+    pub fast_forward_quantum: u32,
+    /// Confidence level of the intervals.
+    pub confidence: f64,
+    /// Instructions executed in the run (exact: issued plus debug ops, as functional mode
+    /// counts them).
+    pub executed_instructions: u64,
+    /// Of those, executed in detail (head, windows with their warm-ups, tail).
+    pub detailed_instructions: u64,
+    /// Cycles simulated in detail (including warm-ups and drains).
+    pub detailed_cycles: u64,
+    /// Rays (`trax.stat 0`; exact: every pixel is rendered).
+    pub rays: u64,
+    /// Host seconds: the whole sampled simulation, its detailed parts, its fast-forward.
+    pub wall_seconds: f64,
+    pub detailed_wall_seconds: f64,
+    pub fast_forward_wall_seconds: f64,
+    /// The estimates.
+    pub estimates: Estimates,
+    /// What the user should know about these estimates.
+    pub warnings: Vec<String>,
+}
+
+impl SampledStats {
+    /// The readable summary (`trax run --sample`).
+    pub fn summary(&self) -> String {
+        let mut s = format!(
+            "sampled: {} windows of {} + {} cycles (warm-up + measured; {} measured, {} cut at \
+             their stratum's end), seed {}; counter G[{}] over {} items, the first {} and last {} \
+             in full\n",
+            self.windows,
+            self.warmup_cycles,
+            self.measure_cycles,
+            self.windows_measured,
+            self.windows_cut,
+            self.seed,
+            self.counter_register,
+            self.items,
+            self.head_items,
+            self.tail_items
+        );
+        s += &format!(
+            "detailed: {:.2}% of {} instructions, {} cycles; host {:.3} s (detailed {:.3} s, \
+             fast-forward {:.3} s)\n",
+            100.0
+                * ratio(
+                    self.detailed_instructions as f64,
+                    self.executed_instructions as f64
+                ),
+            self.executed_instructions,
+            self.detailed_cycles,
+            self.wall_seconds,
+            self.detailed_wall_seconds,
+            self.fast_forward_wall_seconds
+        );
+        s += &format!(
+            "estimates ({:.0}% confidence interval):\n",
+            self.confidence * 100.0
+        );
+        for (name, e) in self.estimates.iter() {
+            let (v, lo, hi) = (e.estimate, e.ci95_low, e.ci95_high);
+            let text = match name {
+                "l1_hit_rate" | "l2_hit_rate" | "issue_rate" => format!(
+                    "{:>10.2}% ± {:.2} points  [{:.2}%, {:.2}%]",
+                    100.0 * v,
+                    50.0 * (hi - lo),
+                    100.0 * lo,
+                    100.0 * hi
+                ),
+                _ => format!(
+                    "{:>14} ± {:.2}%  [{}, {}]",
+                    num(v),
+                    100.0 * e.rel_half_width,
+                    num(lo),
+                    num(hi)
+                ),
+            };
+            s += &format!("  {name:<13}{text}");
+            if let Some(n) = &e.note {
+                s += &format!("  ({n})");
+            }
+            s.push('\n');
+        }
+        for w in &self.warnings {
+            s += &format!("warning: {w}\n");
+        }
+        s
+    }
+}
+
+/// A number with four significant digits, or a count as an integer.
+fn num(v: f64) -> String {
+    if v.abs() >= 1e4 && v.abs() < 1e15 {
+        format!("{:.0}", v)
+    } else if v == 0.0 {
+        "0".into()
+    } else {
+        let digits = (3 - v.abs().log10().floor() as i32).clamp(0, 12) as usize;
+        format!("{v:.digits$}")
+    }
+}
+
+fn ratio(a: f64, b: f64) -> f64 {
+    if b == 0.0 {
+        0.0
+    } else {
+        a / b
+    }
+}
+
+// ---- Tallies: the counted quantities ----
+
+/// Indices into a [`Tally`].
+const CYCLES: usize = 0;
+const EXECUTED: usize = 1;
+const ISSUED: usize = 2;
+const L1_LOADS: usize = 3;
+const L1_HITS: usize = 4;
+const L2_LOADS: usize = 5;
+const L2_HITS: usize = 6;
+const DRAM_BYTES: usize = 7;
+const DRAM_ACCESSES: usize = 8;
+const ENERGY: usize = 9;
+const N: usize = 10;
+
+/// Counted quantities (cumulative, or a difference of two cumulative tallies).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct Tally(pub [f64; N]);
+
+impl Tally {
+    fn of(s: &Snapshot) -> Tally {
+        let mut t = [0.0; N];
+        t[CYCLES] = s.cycle as f64;
+        t[EXECUTED] = (s.tc.issued + s.debug_ops) as f64;
+        t[ISSUED] = s.tc.issued as f64;
+        t[L1_LOADS] = (s.l1.hits + s.l1.misses) as f64;
+        t[L1_HITS] = s.l1.hits as f64;
+        t[L2_LOADS] = (s.l2.hits + s.l2.misses) as f64;
+        t[L2_HITS] = s.l2.hits as f64;
+        t[DRAM_BYTES] = s.dram_bytes as f64;
+        t[DRAM_ACCESSES] = (s.dram_reads + s.dram_writes) as f64;
+        t[ENERGY] = s.energy_j;
+        Tally(t)
+    }
+
+    fn minus(&self, o: &Tally) -> Tally {
+        Tally(std::array::from_fn(|i| self.0[i] - o.0[i]))
+    }
+
+    fn plus(&self, o: &Tally) -> Tally {
+        Tally(std::array::from_fn(|i| self.0[i] + o.0[i]))
+    }
+}
+
+/// One stratum: its executed instructions and its window's measured counts.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Stratum {
+    /// Instructions executed in the stratum (exact).
+    pub executed: f64,
+    /// The window's measured difference.
+    pub window: Tally,
+}
+
+/// Facts the derived metrics need.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Facts {
+    pub clock_hz: f64,
+    pub threads: f64,
+    pub rays: f64,
+}
+
+/// Student's t quantile for a two-sided 95% interval with `df` degrees of freedom.
+pub fn t95(df: u32) -> f64 {
+    const TABLE: [f64; 30] = [
+        12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228, 2.201, 2.179, 2.160,
+        2.145, 2.131, 2.120, 2.110, 2.101, 2.093, 2.086, 2.080, 2.074, 2.069, 2.064, 2.060, 2.056,
+        2.052, 2.048, 2.045, 2.042,
+    ];
+    match df {
+        0 => f64::INFINITY,
+        1..=30 => TABLE[df as usize - 1],
+        _ => {
+            // Cornish-Fisher expansion around the normal quantile.
+            let z: f64 = 1.959_963_985;
+            let v = f64::from(df);
+            z + (z.powi(3) + z) / (4.0 * v)
+                + (5.0 * z.powi(5) + 16.0 * z.powi(3) + 3.0 * z) / (96.0 * v * v)
+        }
+    }
+}
+
+/// A Poisson 95% interval for a count `n` (square-root transform).
+fn poisson95(n: f64) -> (f64, f64) {
+    let lo = if n > 0.0 {
+        (n.sqrt() - 0.98).max(0.0).powi(2)
+    } else {
+        0.0
+    };
+    ((lo), ((n + 1.0).sqrt() + 0.98).powi(2))
+}
+
+/// The estimates from the exact `head` and `tail` tallies and the `strata`.
+pub(crate) fn estimate(head: &Tally, tail: &Tally, strata: &[Stratum], f: Facts) -> Estimates {
+    let k = strata.len();
+    // Per stratum, each quantity's ratio to executed instructions.
+    let r: Vec<[f64; N]> = strata
+        .iter()
+        .map(|s| std::array::from_fn(|q| ratio(s.window.0[q], s.window.0[EXECUTED])))
+        .collect();
+    let exact = head.plus(tail);
+    let mut total = exact;
+    for (s, r) in strata.iter().zip(&r) {
+        for (t, rq) in total.0.iter_mut().zip(r) {
+            *t += s.executed * rq;
+        }
+    }
+    // Covariance of the totals: Σ E_h² · s_qp, s_qp from neighbouring differences.
+    let sum_e2: f64 = strata.iter().map(|s| s.executed * s.executed).sum();
+    let mut cov = [[0.0; N]; N];
+    if k >= 2 {
+        for pair in r.windows(2) {
+            for q in 0..N {
+                for p in 0..N {
+                    cov[q][p] += (pair[0][q] - pair[1][q]) * (pair[0][p] - pair[1][p]);
+                }
+            }
+        }
+        for row in &mut cov {
+            for c in row.iter_mut() {
+                *c *= sum_e2 / (2.0 * (k - 1) as f64);
+            }
+        }
+    }
+    let t = t95(k.saturating_sub(1) as u32);
+    let total_ci = |q: usize| {
+        let v = total.0[q];
+        let h = t * cov[q][q].max(0.0).sqrt();
+        Estimate::new(v, v - h, v + h)
+    };
+    // A ratio of two totals (times `scale`), delta method.
+    let ratio_ci = |a: usize, b: usize, scale: f64| {
+        let (x, y) = (total.0[a], total.0[b]);
+        let q = ratio(x, y);
+        let var =
+            (cov[a][a] - 2.0 * q * cov[a][b] + q * q * cov[b][b]) / (y * y).max(f64::MIN_POSITIVE);
+        let h = t * var.max(0.0).sqrt();
+        Estimate::new(q * scale, (q - h) * scale, (q + h) * scale)
+    };
+    // Windows' pooled counts, for the few-events check.
+    let mut pooled = Tally::default();
+    for s in strata {
+        pooled = pooled.plus(&s.window);
+    }
+    let middle_exec: f64 = strata.iter().map(|s| s.executed).sum();
+    let expand = ratio(middle_exec, pooled.0[EXECUTED]);
+
+    let cycles = total_ci(CYCLES);
+    let hz = f.clock_hz;
+    let seconds = Estimate::new(
+        cycles.estimate / hz,
+        cycles.ci95_low / hz,
+        cycles.ci95_high / hz,
+    );
+    let inv = |c: f64, num: f64| if c > 0.0 { num / c } else { f64::INFINITY };
+    let fps = Estimate::new(
+        inv(cycles.estimate, hz),
+        inv(cycles.ci95_high, hz),
+        inv(cycles.ci95_low, hz),
+    );
+    let rays_hz = f.rays * hz / 1e6;
+    let mrps = Estimate::new(
+        inv(cycles.estimate, rays_hz),
+        inv(cycles.ci95_high, rays_hz),
+        inv(cycles.ci95_low, rays_hz),
+    );
+    let issue_rate = ratio_ci(ISSUED, CYCLES, 1.0 / f.threads);
+    let hit_rate = |loads: usize, hits: usize, level: &str| {
+        let mut e = ratio_ci(hits, loads, 1.0);
+        e.ci95_low = e.ci95_low.max(0.0);
+        e.ci95_high = e.ci95_high.min(1.0);
+        let (h, l) = (pooled.0[hits], pooled.0[loads]);
+        let misses = l - h;
+        let rare = h.min(misses);
+        if l == 0.0 {
+            // The windows saw no load at this level: the middle may hold up to a Poisson
+            // bound's worth (scaled to the middle), hitting or missing.
+            let (_, hi_n) = poisson95(0.0);
+            let u = hi_n * expand;
+            let (eh, el) = (exact.0[hits], exact.0[loads]);
+            e.ci95_low = e.ci95_low.min(ratio(eh, el + u)).max(0.0);
+            e.ci95_high = e.ci95_high.max(ratio(eh + u, el + u)).min(1.0);
+            e.rel_half_width = ratio(e.ci95_high - e.ci95_low, 2.0 * e.estimate);
+            e.note = Some(format!(
+                "the windows saw no {level} loads: the interval includes a Poisson bound on \
+                 the loads they missed"
+            ));
+        } else if rare < FEW_EVENTS as f64 {
+            // Bound the middle's loads and its rarer outcome by Poisson intervals on the
+            // windows' counts, scaled to the middle, and take the extremes.
+            let mid_loads = total.0[loads] - exact.0[loads];
+            let (ll, lh) = poisson95(l);
+            let (rl, rh) = poisson95(rare);
+            let (eh, el) = (exact.0[hits], exact.0[loads]);
+            let (mut lo, mut hi) = (1.0f64, 0.0f64);
+            for m in [mid_loads * ll / l, mid_loads * lh / l] {
+                for r in [mid_loads * rl / l, mid_loads * rh / l] {
+                    let r = r.min(m);
+                    let mid_hits = if rare == misses { m - r } else { r };
+                    let rate = ratio(eh + mid_hits, el + m);
+                    lo = lo.min(rate);
+                    hi = hi.max(rate);
+                }
+            }
+            e.ci95_low = e.ci95_low.min(lo).max(0.0);
+            e.ci95_high = e.ci95_high.max(hi).min(1.0);
+            e.rel_half_width = ratio(e.ci95_high - e.ci95_low, 2.0 * e.estimate);
+            e.note = Some(format!(
+                "the windows saw {} {level} {}: fewer than {FEW_EVENTS}, the interval includes a \
+                 Poisson bound",
+                rare as u64,
+                if rare == misses { "misses" } else { "hits" }
+            ));
+        }
+        e
+    };
+    let l1_hit_rate = hit_rate(L1_LOADS, L1_HITS, "L1");
+    let l2_hit_rate = hit_rate(L2_LOADS, L2_HITS, "L2");
+    let mut dram_bytes = total_ci(DRAM_BYTES);
+    let mut dram_gbps = ratio_ci(DRAM_BYTES, CYCLES, hz / 1e9);
+    let n_dram = pooled.0[DRAM_ACCESSES];
+    if n_dram < FEW_EVENTS as f64 {
+        let per = ratio(pooled.0[DRAM_BYTES], n_dram).max(if n_dram == 0.0 {
+            // No transfer measured: size one by the head's and tail's.
+            ratio(exact.0[DRAM_BYTES], exact.0[DRAM_ACCESSES])
+        } else {
+            0.0
+        });
+        let (lo_n, hi_n) = poisson95(n_dram);
+        let lo = exact.0[DRAM_BYTES] + lo_n * per * expand;
+        let hi = exact.0[DRAM_BYTES] + hi_n * per * expand;
+        dram_bytes.ci95_low = dram_bytes.ci95_low.min(lo);
+        dram_bytes.ci95_high = dram_bytes.ci95_high.max(hi);
+        dram_bytes.rel_half_width = ratio(
+            dram_bytes.ci95_high - dram_bytes.ci95_low,
+            2.0 * dram_bytes.estimate,
+        );
+        let note = format!(
+            "the windows saw {} DRAM transfers: fewer than {FEW_EVENTS}, the interval includes a \
+             Poisson bound",
+            n_dram as u64
+        );
+        dram_bytes.note = Some(note.clone());
+        let s = |b: f64, c: f64| if c > 0.0 { b / (c / hz) / 1e9 } else { 0.0 };
+        dram_gbps.ci95_low = dram_gbps.ci95_low.min(s(lo, cycles.ci95_high));
+        dram_gbps.ci95_high = dram_gbps.ci95_high.max(s(hi, cycles.ci95_low));
+        dram_gbps.rel_half_width = ratio(
+            dram_gbps.ci95_high - dram_gbps.ci95_low,
+            2.0 * dram_gbps.estimate,
+        );
+        dram_gbps.note = Some(note);
+    }
+    let mut e = Estimates {
+        seconds,
+        fps,
+        mrps,
+        instructions: total_ci(ISSUED),
+        issue_rate,
+        l1_hit_rate,
+        l2_hit_rate,
+        dram_bytes,
+        dram_gbps,
+        energy_j: total_ci(ENERGY),
+        power_w: ratio_ci(ENERGY, CYCLES, hz),
+        cycles,
+    };
+    // The fast-forward's own error (see [`ALLOWANCE`]), on the middle's share of each
+    // total, added to the sampling error: relative `a` of the middle as a fraction `f`
+    // of the total widens the interval by `a * f` of the estimate.
+    let mid = |q: usize| ratio(total.0[q] - exact.0[q], total.0[q]).clamp(0.0, 1.0);
+    let a = ALLOWANCE;
+    let (c, en, d) = (
+        a.cycles * mid(CYCLES),
+        a.energy * mid(ENERGY),
+        a.dram * mid(DRAM_BYTES),
+    );
+    for x in [&mut e.cycles, &mut e.seconds] {
+        x.widen(c, c);
+    }
+    // Frame rates are inverse to cycles.
+    for x in [&mut e.fps, &mut e.mrps] {
+        x.widen(c / (1.0 + c), c / (1.0 - c).max(f64::MIN_POSITIVE));
+    }
+    e.issue_rate.widen(c, c);
+    e.energy_j.widen(en, en);
+    e.power_w.widen(en + c, en + c);
+    e.dram_bytes.widen(d, d);
+    e.dram_gbps.widen(d + c, d + c);
+    let points = |x: &mut Estimate, pts: f64, share: f64| {
+        let h = pts * share;
+        x.ci95_low = (x.ci95_low - h).max(0.0);
+        x.ci95_high = (x.ci95_high + h).min(1.0);
+        x.rel_half_width = ratio(x.ci95_high - x.ci95_low, 2.0 * x.estimate);
+    };
+    points(&mut e.l1_hit_rate, a.l1_hit_points, mid(L1_LOADS));
+    points(&mut e.l2_hit_rate, a.l2_hit_points, mid(L2_LOADS));
+    e
+}
+
+/// The error the fast-forward itself leaves in the windows' ratios, beyond sampling error:
+/// the threads' mix of phases at a window's start is the virtual-time fast-forward's, not
+/// the timed run's, and a pixel lasts far longer than a window. Measured while developing
+/// on the path tracer in Sponza (128x128, 8 baseline TMs, 30 windows, seeds and quanta
+/// varied): cycles -0.1%, energy -0.3 to -0.8%, DRAM traffic -1.4 to +0.3%, L1 hit rate
+/// +0.05 to +0.13 points, L2 +0.3 to +0.5 points. Each interval is widened by these bounds
+/// (with a margin) on the middle's share of its total; `experiments/sampling/` checks the
+/// resulting coverage on 24 other points.
+pub struct Allowance {
+    /// Relative, of cycles (and everything derived from them).
+    pub cycles: f64,
+    /// Relative, of energy.
+    pub energy: f64,
+    /// Relative, of DRAM traffic.
+    pub dram: f64,
+    /// Absolute, of the L1 and L2 hit rates (0.002 = 0.2 points).
+    pub l1_hit_points: f64,
+    pub l2_hit_points: f64,
+}
+
+/// The allowances in force (see [`Allowance`]).
+pub const ALLOWANCE: Allowance = Allowance {
+    cycles: 0.003,
+    energy: 0.01,
+    dram: 0.03,
+    l1_hit_points: 0.002,
+    l2_hit_points: 0.006,
+};
+
+// ---- The run ----
+
+/// Why a sampled run could not give estimates (after it started).
+pub type Refusal = String;
+
+/// A finished (or failed) sampled run.
+pub struct Sampled {
+    /// How it ended.
+    pub outcome: Outcome,
+    /// The estimates (when it finished).
+    pub stats: Option<SampledStats>,
+}
+
+/// Where the stratum boundaries were crossed: the instructions executed when the counter
+/// was first seen at or past each.
+struct Crossings {
+    bounds: Vec<u32>,
+    at: Vec<Option<u64>>,
+}
+
+impl Crossings {
+    /// Records every boundary the counter value `c` has reached, at `executed`.
+    fn note(&mut self, c: u32, executed: u64) {
+        for (b, at) in self.bounds.iter().zip(&mut self.at) {
+            if c >= *b && at.is_none() {
+                *at = Some(executed);
+            }
+        }
+    }
+}
+
+/// Instructions executed by every thread so far.
+fn executed(m: &Machine) -> u64 {
+    m.threads.iter().map(|t| t.retired).sum()
+}
+
+/// Runs `m` sampled (see the module documentation) with `engine`, already set up for
+/// it; print output goes to `out`.
+pub(crate) fn run(
+    engine: &mut Engine<'_>,
+    m: &mut Machine,
+    chip: &ChipConfig,
+    spec: &SampleRequest,
+    out: &mut dyn Write,
+) -> Result<Sampled, Refusal> {
+    let start = Instant::now();
+    let threads = m.threads.len() as u32;
+    spec.check(threads)?;
+    if chip.stream_memory.capacity_bytes > 0
+        && chip.stream_memory.overflow == super::config::Overflow::Spill
+    {
+        return Err(
+            "sampling does not support stream_memory.overflow = \"spill\": the \
+                    spill sentinel's block transfers in flight at a fast-forward are not \
+                    modelled; run in full"
+                .into(),
+        );
+    }
+    let plan = spec.plan(threads);
+    let reg = spec.counter as usize;
+    let k = spec.windows as usize;
+    let mut detailed_wall = 0.0;
+    let mut ff_wall = 0.0;
+    let mut detailed_instructions = 0u64;
+    let mut detailed_cycles = 0u64;
+    let mut cross = Crossings {
+        bounds: plan.bounds.clone(),
+        at: vec![None; plan.bounds.len()],
+    };
+    let failed = |outcome| {
+        Ok(Sampled {
+            outcome,
+            stats: None,
+        })
+    };
+    // Detailed simulation from the current state; returns the outcome and notes costs.
+    macro_rules! detailed {
+        () => {{
+            let t = Instant::now();
+            let (x0, c0) = (executed(m), engine.now);
+            let o = engine.run(m, out);
+            detailed_wall += t.elapsed().as_secs_f64();
+            detailed_instructions += executed(m) - x0;
+            detailed_cycles += engine.now - c0;
+            cross.note(m.shared.globals[reg], executed(m));
+            o
+        }};
+    }
+    // The memory system finishes what is in flight (before a fast-forward).
+    macro_rules! drain {
+        () => {{
+            let now = engine.now;
+            match engine.mem_mut().drain(now, DRAIN_LIMIT_CYCLES) {
+                Some(end) => {
+                    detailed_cycles += end - now;
+                    engine.now = end;
+                }
+                None => {
+                    return Err(format!(
+                        "the memory system did not come to rest within {DRAIN_LIMIT_CYCLES} \
+                         cycles after cycle {now}; cannot fast-forward"
+                    ))
+                }
+            }
+        }};
+    }
+    let zero = Tally::of(&engine.snapshot(m));
+
+    // The head: in full until every thread has taken an item.
+    engine.pause_at = Some((spec.counter, plan.head_end));
+    loop {
+        engine.set_limits(Limits {
+            max_instructions: None,
+            max_cycles: Some(engine.now + COUNTER_GUARD_CYCLES),
+        });
+        match detailed!() {
+            Outcome::CycleLimit if engine.paused => break,
+            Outcome::CycleLimit if m.shared.globals[reg] == 0 => {
+                return Err(counter_idle(spec, engine.now))
+            }
+            Outcome::CycleLimit => {}
+            Outcome::Finished => return Err(ended_early(spec, m.shared.globals[reg])),
+            o => return failed(o),
+        }
+    }
+    let head = Tally::of(&engine.snapshot(m)).minus(&zero);
+    drain!();
+
+    // The windows.
+    let mut rng = Rng::new(spec.seed, 0x5a4d_504c);
+    let mut windows: Vec<Option<(Tally, bool)>> = Vec::with_capacity(k);
+    // Items the longest window so far handed out: later windows start at least that far
+    // before their stratum's end (at most half-way), so few are cut short.
+    let mut span = 0u32;
+    for h in 0..k {
+        let (a, b) = (plan.bounds[h], plan.bounds[h + 1]);
+        let room = (b - a) - span.min((b - a) / 2);
+        let at = a + ((u64::from(rng.next_u32()) * u64::from(room)) >> 32) as u32;
+        // Fast-forward to the window's start.
+        let t = Instant::now();
+        let ff = fast_forward(engine, m, chip, reg, at, &mut cross, out);
+        ff_wall += t.elapsed().as_secs_f64();
+        match ff {
+            Some(Outcome::Finished) => return Err(ended_early(spec, m.shared.globals[reg])),
+            Some(o) => return failed(o),
+            None => {}
+        }
+        // The window: warm-up, then measured, stopping at the stratum's end.
+        let begin = engine.now;
+        let first = m.shared.globals[reg];
+        engine.pause_at = Some((spec.counter, b));
+        engine.snap_at = Some(begin + spec.warmup_cycles);
+        engine.set_limits(Limits {
+            max_instructions: None,
+            max_cycles: Some(begin + spec.warmup_cycles + spec.measure_cycles),
+        });
+        match detailed!() {
+            Outcome::CycleLimit => {}
+            Outcome::Finished => return Err(ended_early(spec, m.shared.globals[reg])),
+            o => return failed(o),
+        }
+        engine.snap_at = None;
+        if !engine.paused {
+            span = span.max(m.shared.globals[reg].saturating_sub(first));
+        }
+        let measured = engine.samples.first().map(|s0| {
+            let d = Tally::of(&engine.snapshot(m)).minus(&Tally::of(s0));
+            (d, engine.paused)
+        });
+        windows.push(measured.filter(|(d, _)| d.0[EXECUTED] > 0.0 && d.0[CYCLES] > 0.0));
+        drain!();
+    }
+    // Fast-forward to the tail, then the tail in full.
+    let tail_start = *plan.bounds.last().expect("K+1 bounds");
+    let t = Instant::now();
+    let ff = fast_forward(engine, m, chip, reg, tail_start, &mut cross, out);
+    ff_wall += t.elapsed().as_secs_f64();
+    match ff {
+        Some(Outcome::Finished) => return Err(ended_early(spec, m.shared.globals[reg])),
+        Some(o) => return failed(o),
+        None => {}
+    }
+    let tail0 = Tally::of(&engine.snapshot(m));
+    engine.pause_at = None;
+    engine.set_limits(Limits::default());
+    match detailed!() {
+        Outcome::Finished => {}
+        o => return failed(o),
+    }
+    let tail = Tally::of(&engine.snapshot(m)).minus(&tail0);
+
+    // Strata: executed instructions between crossings; an unmeasured window's stratum
+    // joins the next measured one (the last ones join the previous).
+    let mut strata: Vec<Stratum> = Vec::new();
+    let mut carry = 0.0;
+    let mut cut = 0;
+    for (h, window) in windows.iter().enumerate() {
+        let (Some(x0), Some(x1)) = (cross.at[h], cross.at[h + 1]) else {
+            return Err(format!(
+                "internal: stratum {h} was not crossed (counter boundaries {:?})",
+                cross.bounds
+            ));
+        };
+        let e = (x1 - x0) as f64 + carry;
+        match *window {
+            Some((w, was_cut)) => {
+                strata.push(Stratum {
+                    executed: e,
+                    window: w,
+                });
+                cut += u32::from(was_cut);
+                carry = 0.0;
+            }
+            None => carry = e,
+        }
+    }
+    if let Some(last) = strata.last_mut() {
+        last.executed += carry;
+    }
+    let measured = strata.len() as u32;
+    if measured < MIN_WINDOWS || measured * 3 < spec.windows * 2 {
+        return Err(format!(
+            "only {measured} of {} windows measured anything: the others reached the end of \
+             their stratum ({} pixels) during their {}-cycle warm-up. Windows are too long for \
+             the strata: use fewer windows (--sample), a shorter warm-up (--sample-warmup) or a \
+             larger image",
+            spec.windows,
+            plan.bounds[1] - plan.bounds[0],
+            spec.warmup_cycles
+        ));
+    }
+    let rays = m.shared.stats.first().copied().unwrap_or(0);
+    let estimates = estimate(
+        &head,
+        &tail,
+        &strata,
+        Facts {
+            clock_hz: chip.clock_ghz * 1e9,
+            threads: f64::from(threads),
+            rays: rays as f64,
+        },
+    );
+    let mut warnings = Vec::new();
+    if measured < spec.windows {
+        warnings.push(format!(
+            "{} of {} windows reached their stratum's end during the warm-up and measured \
+             nothing; their strata joined a neighbour's (fewer or shorter windows avoid it)",
+            spec.windows - measured,
+            spec.windows
+        ));
+    }
+    if cut * 4 > measured {
+        warnings.push(format!(
+            "{cut} of {measured} windows were cut short at the end of their stratum: the windows \
+             are long for the strata (fewer windows or shorter ones measure more evenly)"
+        ));
+    }
+    for (name, e) in estimates.iter() {
+        if e.note.is_some() {
+            warnings.push(format!("{name}: {}", e.note.as_deref().unwrap_or_default()));
+        }
+    }
+    let (head_items, tail_items) = SampleRequest::head_tail(threads);
+    Ok(Sampled {
+        outcome: Outcome::Finished,
+        stats: Some(SampledStats {
+            windows: spec.windows,
+            windows_measured: measured,
+            windows_cut: cut,
+            warmup_cycles: spec.warmup_cycles,
+            measure_cycles: spec.measure_cycles,
+            counter_register: spec.counter,
+            items: spec.items,
+            head_items,
+            tail_items,
+            seed: spec.seed,
+            fast_forward_quantum: FF_QUANTUM,
+            confidence: CONFIDENCE,
+            executed_instructions: executed(m),
+            detailed_instructions,
+            detailed_cycles,
+            rays,
+            wall_seconds: start.elapsed().as_secs_f64(),
+            detailed_wall_seconds: detailed_wall,
+            fast_forward_wall_seconds: ff_wall,
+            estimates,
+            warnings,
+        }),
+    })
+}
+
+fn counter_idle(spec: &SampleRequest, cycles: u64) -> Refusal {
+    format!(
+        "global register {} (the sampling counter) is still 0 after {cycles} cycles: the kernel \
+         does not take its pixels from it. Kernels using trax::scene::pixel_share count in \
+         register 255 (the default); name the register a kernel passes to trax::atomic_inc \
+         with --sample-counter (examples/raycast.rs: 0)",
+        spec.counter
+    )
+}
+
+fn ended_early(spec: &SampleRequest, at: u32) -> Refusal {
+    format!(
+        "the program ended with global register {} (the sampling counter) at {at}, before the \
+         {} items it was to hand out: the kernel does not take one item per pixel from it; name \
+         the right register with --sample-counter, or run it in full",
+        spec.counter, spec.items
+    )
+}
+
+/// Fast-forwards `m` with functional warming until the counter (global register `reg`)
+/// reaches `until`, noting boundary crossings. Returns the outcome if the program ended
+/// (or failed) first.
+fn fast_forward(
+    engine: &mut Engine<'_>,
+    m: &mut Machine,
+    chip: &ChipConfig,
+    reg: usize,
+    until: u32,
+    cross: &mut Crossings,
+    out: &mut dyn Write,
+) -> Option<Outcome> {
+    let x0 = executed(m);
+    cross.note(m.shared.globals[reg], x0);
+    if m.shared.globals[reg] >= until {
+        return None;
+    }
+    let q = FF_QUANTUM;
+    m.config.quantum = q;
+    let cycles = engine.now;
+    let lat = stall_costs(engine, chip);
+    let mut progress = engine.progress.take();
+    let global_end = m.shared.mem.global_end();
+    let mut ff = FastForward {
+        mem: engine.mem_mut(),
+        global_end,
+        reg,
+        until,
+        cross,
+        executed: x0,
+        paused: false,
+        progress: progress.as_deref_mut(),
+        cycles,
+        turns: 0,
+        last: Instant::now(),
+        vt: vec![0; m.threads.len()],
+        now_v: 0,
+        last_idx: usize::MAX,
+        q: u64::from(q),
+        lat,
+    };
+    let mut sched = Scheduler::new(m);
+    let driven = sched.run(m, out, &mut ff);
+    let x = ff.executed;
+    drop(ff);
+    engine.progress = progress;
+    cross.note(m.shared.globals[reg], x);
+    match driven {
+        Driven::Paused { .. } => None,
+        Driven::Done(o) => Some(o),
+    }
+}
+
+/// The fast-forward's executor: each thread's turn runs through a [`Warming`] view; the
+/// chip pauses at the first turn that finds the counter at its target.
+struct FastForward<'a, 'p> {
+    mem: &'a mut MemSystem,
+    global_end: u32,
+    reg: usize,
+    until: u32,
+    cross: &'a mut Crossings,
+    /// Instructions executed by all threads so far.
+    executed: u64,
+    paused: bool,
+    progress: Option<&'a mut (dyn FnMut(&Progress) + 'p)>,
+    cycles: u64,
+    turns: u32,
+    last: Instant,
+    /// Per thread: its virtual time, cycles (instructions plus load stalls).
+    vt: Vec<u64>,
+    /// The round's virtual time: each thread runs until its own reaches it.
+    now_v: u64,
+    /// The thread of the last turn (a lower one starts a new round).
+    last_idx: usize,
+    /// Virtual cycles per round.
+    q: u64,
+    /// Stall cycles of a load served by the L1, the L2, the DRAM.
+    lat: [u64; 3],
+}
+
+/// The stall cycles the fast-forward charges a load served by the L1, an L2 or the DRAM:
+/// the L2's hit latency past the L1's, and the DRAM's average read latency so far
+/// (measured in the detailed parts) past that.
+fn stall_costs(engine: &Engine<'_>, chip: &ChipConfig) -> [u64; 3] {
+    let m = &chip.memory;
+    let l2 = u64::from(m.l1.hit_latency + m.l2.hit_latency);
+    let dram = engine.mem().stats().dram.avg_read_latency_cycles.round() as u64;
+    [0, l2, l2 + dram]
+}
+
+impl Executor for FastForward<'_, '_> {
+    fn exec(&mut self, idx: usize, t: &mut Thread, sh: &mut Shared, budget: u64) -> Stop {
+        let c = sh.globals[self.reg];
+        self.cross.note(c, self.executed);
+        if c >= self.until {
+            // A short turn with `pause` set pauses the chip.
+            self.paused = true;
+            return Stop::Budget;
+        }
+        // Threads advance in virtual time, not in instructions: one that waits for
+        // memory falls behind as it would in the timing model, so the threads' mix of
+        // memory-bound and compute-bound phases at a window's start is the timed one.
+        if idx <= self.last_idx {
+            self.now_v += self.q;
+        }
+        self.last_idx = idx;
+        let vt = &mut self.vt[idx];
+        // A thread back from a barrier (or paused) starts at most a round behind.
+        *vt = (*vt).max(self.now_v.saturating_sub(self.q));
+        // At least one instruction: a round always makes progress.
+        let allowance = self.now_v.saturating_sub(*vt).clamp(1, budget.max(1));
+        let before = t.retired;
+        let tm = t.tm as usize;
+        let mut stall = 0;
+        let stop = t.run(
+            &mut Warming {
+                sh,
+                mem: self.mem,
+                tm,
+                global_end: self.global_end,
+                stall: &mut stall,
+                lat: self.lat,
+            },
+            allowance,
+        );
+        let ran = t.retired - before;
+        self.vt[idx] += ran + stall;
+        self.executed += ran;
+        self.turns += 1;
+        if self.turns >= 256 {
+            self.turns = 0;
+            if let Some(report) = self.progress.as_deref_mut() {
+                if self.last.elapsed().as_millis() >= 100 {
+                    self.last = Instant::now();
+                    report(&Progress {
+                        cycles: Some(self.cycles),
+                        instructions: self.executed,
+                        rays: sh.stats[0],
+                        live_threads: sh.live_threads,
+                    });
+                }
+            }
+        }
+        stop
+    }
+
+    fn pause(&self) -> bool {
+        self.paused
+    }
+}
+
+/// The chip as a fast-forwarded thread sees it: exclusive, like [`Shared`], with every
+/// global-memory load and store also warming the memory system.
+struct Warming<'a> {
+    sh: &'a mut Shared,
+    mem: &'a mut MemSystem,
+    tm: usize,
+    global_end: u32,
+    /// Stall cycles of the loads so far, by where each was served (`lat`).
+    stall: &'a mut u64,
+    lat: [u64; 3],
+}
+
+impl Chip for Warming<'_> {
+    #[inline(always)]
+    fn shared(&self) -> &Shared {
+        self.sh
+    }
+    #[inline(always)]
+    fn store<const M: usize>(
+        &mut self,
+        local: &mut [u8],
+        addr: u32,
+        v: [u8; M],
+    ) -> Result<bool, MemFault> {
+        self.sh.mem.write(local, addr, v)?;
+        if addr < self.global_end {
+            self.mem.warm(self.tm, addr, true);
+        }
+        Ok(true)
+    }
+    #[inline(always)]
+    fn writes_global(&self) -> bool {
+        true
+    }
+    #[inline(always)]
+    fn exclusive(&mut self) -> Option<&mut Shared> {
+        Some(self.sh)
+    }
+    fn output(&mut self) -> &mut Vec<u8> {
+        &mut self.sh.output
+    }
+    fn stats(&mut self) -> &mut [u64; NUM_STATS] {
+        &mut self.sh.stats
+    }
+    fn profile(&mut self) -> &mut [u64; 32] {
+        &mut self.sh.profile
+    }
+    #[inline(always)]
+    fn note_load(&mut self, addr: u32) {
+        if addr < self.global_end {
+            *self.stall += self.lat[self.mem.warm(self.tm, addr, false) as usize];
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn t_quantiles_match_tables_and_join_smoothly() {
+        assert_eq!(t95(1), 12.706);
+        assert_eq!(t95(9), 2.262);
+        // The expansion continues the table (t(30) = 2.042, t(40) = 2.021, t(120) = 1.980).
+        assert!((t95(31) - 2.040).abs() < 0.002, "{}", t95(31));
+        assert!((t95(40) - 2.021).abs() < 0.001, "{}", t95(40));
+        assert!((t95(120) - 1.980).abs() < 0.001, "{}", t95(120));
+        assert!(t95(0).is_infinite());
+    }
+
+    fn stratum(e: f64, cpi: f64, noise: f64) -> Stratum {
+        let mut w = Tally::default();
+        w.0[EXECUTED] = 1000.0;
+        w.0[ISSUED] = 1000.0;
+        w.0[CYCLES] = 1000.0 * (cpi + noise);
+        w.0[L1_LOADS] = 300.0;
+        w.0[L1_HITS] = 270.0;
+        w.0[L2_LOADS] = 30.0;
+        w.0[L2_HITS] = 10.0;
+        w.0[DRAM_ACCESSES] = 20.0;
+        w.0[DRAM_BYTES] = 1280.0;
+        w.0[ENERGY] = 1e-6;
+        Stratum {
+            executed: e,
+            window: w,
+        }
+    }
+
+    fn facts() -> Facts {
+        Facts {
+            clock_hz: 1e9,
+            threads: 32.0,
+            rays: 1e4,
+        }
+    }
+
+    /// Strata with a constant ratio give the exact total with a zero-width interval for
+    /// it; a varying ratio widens it; the head and tail add exactly.
+    #[test]
+    fn constant_ratios_are_exact_and_head_and_tail_add() {
+        let strata: Vec<Stratum> = (0..10).map(|_| stratum(1e6, 0.5, 0.0)).collect();
+        let mut head = Tally::default();
+        head.0[CYCLES] = 777.0;
+        head.0[EXECUTED] = 100.0;
+        let e = estimate(&head, &Tally::default(), &strata, facts());
+        assert_eq!(e.cycles.estimate, 777.0 + 10.0 * 1e6 * 0.5);
+        // No sampling error: the interval is the fast-forward's allowance on the middle.
+        let mid = 5e6 / (5e6 + 777.0);
+        let h = e.cycles.estimate - e.cycles.ci95_low;
+        assert!((h / e.cycles.estimate - ALLOWANCE.cycles * mid).abs() < 1e-12);
+        // Hit rates are ratios of estimated totals.
+        assert!((e.l1_hit_rate.estimate - 0.9).abs() < 1e-12);
+        assert!((e.fps.estimate - 1e9 / e.cycles.estimate).abs() < 1e-6);
+        let noisy: Vec<Stratum> = (0..10)
+            .map(|h| stratum(1e6, 0.5, if h % 2 == 0 { 0.05 } else { -0.05 }))
+            .collect();
+        let e = estimate(&head, &Tally::default(), &noisy, facts());
+        assert!(e.cycles.rel_half_width > 0.01, "{:?}", e.cycles);
+        assert!(e.cycles.covers(777.0 + 5e6));
+        assert!(e.fps.covers(1e9 / (777.0 + 5e6)));
+    }
+
+    /// With the same spread of ratios, more strata give a narrower interval (about as
+    /// 1/sqrt(K)).
+    #[test]
+    fn interval_shrinks_with_more_windows() {
+        let width = |k: usize| {
+            let strata: Vec<Stratum> = (0..k)
+                .map(|h| {
+                    let mut r = Rng::new(7, h as u32);
+                    let noise = (r.next_f32() as f64 - 0.5) * 0.2;
+                    stratum(1e8 / k as f64, 0.5, noise)
+                })
+                .collect();
+            // The sampling error alone (without the constant allowance).
+            estimate(&Tally::default(), &Tally::default(), &strata, facts())
+                .cycles
+                .rel_half_width
+                - ALLOWANCE.cycles
+        };
+        let (w10, w40, w160) = (width(10), width(40), width(160));
+        assert!(w40 < w10 && w160 < w40, "{w10} {w40} {w160}");
+        assert!(w160 < w10 / 2.5, "{w10} {w160}");
+    }
+
+    /// Few misses in the windows: the hit rate is flagged and its interval widened by a
+    /// Poisson bound even though every window agrees.
+    #[test]
+    fn few_events_are_flagged_and_bounded() {
+        let strata: Vec<Stratum> = (0..10)
+            .map(|_| {
+                let mut s = stratum(1e6, 0.5, 0.0);
+                s.window.0[L2_HITS] = 30.0; // no L2 misses
+                s.window.0[DRAM_ACCESSES] = 0.0;
+                s.window.0[DRAM_BYTES] = 0.0;
+                s
+            })
+            .collect();
+        let e = estimate(&Tally::default(), &Tally::default(), &strata, facts());
+        assert_eq!(e.l2_hit_rate.estimate, 1.0);
+        assert!(e.l2_hit_rate.ci95_low < 0.999, "{:?}", e.l2_hit_rate);
+        assert!(e
+            .l2_hit_rate
+            .note
+            .as_deref()
+            .unwrap()
+            .contains("0 L2 misses"));
+        assert!(e.l1_hit_rate.note.is_none());
+        assert!(e.dram_bytes.note.is_some());
+        // No L2 load at all in the windows (a scene that fits in the L1s): the head's
+        // rate is the estimate, and the interval allows the loads the windows missed.
+        let strata: Vec<Stratum> = (0..10)
+            .map(|_| {
+                let mut s = stratum(1e6, 0.5, 0.0);
+                s.window.0[L2_LOADS] = 0.0;
+                s.window.0[L2_HITS] = 0.0;
+                s
+            })
+            .collect();
+        let mut head = Tally::default();
+        head.0[L2_LOADS] = 100.0;
+        head.0[L2_HITS] = 30.0;
+        let e = estimate(&head, &Tally::default(), &strata, facts());
+        assert!((e.l2_hit_rate.estimate - 0.3).abs() < 1e-12);
+        assert!(e.l2_hit_rate.ci95_low < 0.3 && e.l2_hit_rate.ci95_high > 0.3);
+        assert!(e
+            .l2_hit_rate
+            .note
+            .as_deref()
+            .unwrap()
+            .contains("no L2 loads"));
+    }
+
+    #[test]
+    fn refusals_name_the_setting() {
+        let ok = SampleRequest {
+            windows: 20,
+            warmup_cycles: 2000,
+            measure_cycles: 8000,
+            counter: 255,
+            items: 16384,
+            seed: 1,
+        };
+        assert_eq!(ok.check(256), Ok(()));
+        let bad = |r: SampleRequest, needle: &str| {
+            let e = r.check(256).unwrap_err();
+            assert!(e.contains(needle), "{e}");
+        };
+        bad(
+            SampleRequest {
+                windows: 5,
+                ..ok.clone()
+            },
+            "too few windows",
+        );
+        bad(
+            SampleRequest {
+                warmup_cycles: 10,
+                ..ok.clone()
+            },
+            "--sample-warmup 10",
+        );
+        bad(
+            SampleRequest {
+                measure_cycles: 1000,
+                ..ok.clone()
+            },
+            "shorter than its warm-up",
+        );
+        bad(
+            SampleRequest {
+                counter: 300,
+                ..ok.clone()
+            },
+            "--sample-counter 300",
+        );
+        bad(
+            SampleRequest {
+                items: 800,
+                ..ok.clone()
+            },
+            "too few to sample",
+        );
+        let p = ok.plan(256);
+        assert_eq!(p.head_end, 512);
+        assert_eq!(p.bounds.len(), 21);
+        assert_eq!(*p.bounds.last().unwrap(), 16384 - 512);
+    }
+}

@@ -1,0 +1,508 @@
+//! `trax ladder KERNEL [run flags] [--rates 10,30] [-o DIR]`: the fidelity ladder. The same
+//! frame runs in each simulation mode — functional, timing with the simple DRAM model,
+//! sampled timing (`--sample N` for each rate) and full timing with the detailed DRAM
+//! model, the reference — in this process, one after the other; a table gives each mode's
+//! host time and its error in cycles, MRPS and energy against the reference (for sampled
+//! rungs also the 95% interval and whether it covers the reference), and whether its image
+//! is the reference's. `DIR` gets `ladder.csv`, `ladder.json` and `ladder.png` (error
+//! against host time), so a user picks a mode knowing what it costs and what it gets wrong.
+//!
+//! The kernel, scene and chip flags are `trax run`'s ([`ProgramArgs`]); sampled rungs take
+//! `trax run`'s `--sample-*` flags ([`SampleArgs`]). Each rung is the run `trax run` makes
+//! with the matching flags: `--functional`, `--set memory.dram.model=simple`, `--sample N`,
+//! `--set memory.dram.model=detailed` (`tests/ladder.rs` checks them against `trax run`).
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+
+use clap::Args;
+use plotters::prelude::*;
+use serde::Serialize;
+use trax::pipeline::{prepare, Prepared};
+use trax_emulator::memsys::DramModel;
+use trax_emulator::timing::{ChipConfig, Estimate, SampleRequest};
+use trax_emulator::{Mode, RunReport};
+
+use super::common::SampleArgs;
+use super::run::{fail, ProgramArgs};
+
+/// Arguments of `trax ladder`.
+#[derive(Args, Debug)]
+pub struct LadderArgs {
+    /// The kernel, scene and chip (as `trax run`).
+    #[command(flatten)]
+    pub program: ProgramArgs,
+    /// Sampling rates of the sampled rungs, as window counts (`trax run --sample N`),
+    /// comma-separated.
+    #[arg(long, value_delimiter = ',', default_values_t = [10u32, 30])]
+    pub rates: Vec<u32>,
+    /// How the sampled rungs sample (as `trax run`).
+    #[command(flatten)]
+    pub sampling: SampleArgs,
+    /// Directory for ladder.csv, ladder.json and ladder.png (created if missing).
+    #[arg(short = 'o', long, default_value = "ladder")]
+    pub out: PathBuf,
+}
+
+/// One mode's run.
+#[derive(Clone, Debug, Serialize)]
+pub struct Rung {
+    /// What ran (`functional`, `timing, simple DRAM`, `sampled, N windows`, ...).
+    pub name: String,
+    /// `functional`, `timing` or `sampled`.
+    pub mode: &'static str,
+    /// `simple` or `detailed` (`null` for functional).
+    pub dram: Option<&'static str>,
+    /// Windows of a sampled rung.
+    pub windows: Option<u32>,
+    /// Host seconds of the simulation (building and laying out excluded).
+    pub wall_seconds: f64,
+    /// The reference's host seconds / this rung's.
+    pub speedup: f64,
+    /// Instructions executed (functional and sampled) or issued (timing).
+    pub instructions: u64,
+    /// Cycles (timing), their estimate (sampled), `null` (functional).
+    pub cycles: Option<f64>,
+    /// Million rays per second, likewise.
+    pub mrps: Option<f64>,
+    /// Energy, joules, likewise.
+    pub energy_j: Option<f64>,
+    /// Relative errors against the reference (0.01 = 1%).
+    pub cycles_error: Option<f64>,
+    pub mrps_error: Option<f64>,
+    pub energy_error: Option<f64>,
+    /// Sampled rungs: the 95% intervals.
+    pub cycles_ci: Option<[f64; 2]>,
+    pub mrps_ci: Option<[f64; 2]>,
+    pub energy_ci: Option<[f64; 2]>,
+    /// Sampled rungs: whether each interval covers the reference's value.
+    pub covers: Option<[bool; 3]>,
+    /// Sampled rungs: the fraction of instructions simulated in detail.
+    pub detailed_fraction: Option<f64>,
+    /// Whether the framebuffer is bit for bit the reference's.
+    pub same_image: bool,
+}
+
+/// The document `ladder.json`.
+#[derive(Debug, Serialize)]
+struct LadderDoc<'a> {
+    kernel: String,
+    scene: &'a str,
+    width: u32,
+    height: u32,
+    spp: u32,
+    depth: u32,
+    chip: &'a ChipConfig,
+    rungs: &'a [Rung],
+}
+
+/// Runs `trax ladder`.
+pub fn run(a: LadderArgs) -> ExitCode {
+    match ladder(&a) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => fail(e),
+    }
+}
+
+/// One rung before comparison.
+struct Ran {
+    name: String,
+    mode: Mode,
+    dram: Option<&'static str>,
+    windows: Option<u32>,
+    wall: f64,
+    report: RunReport,
+    framebuffer: Vec<u8>,
+}
+
+fn ladder(a: &LadderArgs) -> Result<(), String> {
+    let p = &a.program;
+    if p.host_threads == Some(0) {
+        return Err("--host-threads must be at least 1".into());
+    }
+    if a.rates.is_empty() {
+        return Err("--rates: give one or more window counts".into());
+    }
+    let chip = p.chip_config()?;
+    let with_dram = |model| {
+        let mut c = chip.clone();
+        c.memory.dram.model = model;
+        c
+    };
+    let (simple, detailed) = (with_dram(DramModel::Simple), with_dram(DramModel::Detailed));
+    let samples: Vec<SampleRequest> = a
+        .rates
+        .iter()
+        .map(|&n| a.sampling.request(n, p.pixels(), &detailed))
+        .collect::<Result<_, _>>()?;
+    std::fs::create_dir_all(&a.out).map_err(|e| format!("{}: {e}", a.out.display()))?;
+    let request = p.request(&detailed);
+    let prepared = prepare(&request).map_err(|e| {
+        eprint!("{}", e.render());
+        format!("{}: could not be prepared", p.kernel.display())
+    })?;
+    for w in &prepared.warnings {
+        eprintln!("warning: {w}");
+    }
+    let mut runs = vec![rung(
+        &prepared,
+        p,
+        &chip,
+        Mode::Functional,
+        None,
+        "functional",
+    )?];
+    runs.push(rung(
+        &prepared,
+        p,
+        &simple,
+        Mode::Timing,
+        None,
+        "timing, simple DRAM",
+    )?);
+    for s in samples {
+        let name = format!("sampled, {} windows", s.windows);
+        runs.push(rung(&prepared, p, &detailed, Mode::Timing, Some(s), &name)?);
+    }
+    runs.push(rung(
+        &prepared,
+        p,
+        &detailed,
+        Mode::Timing,
+        None,
+        "timing, detailed DRAM",
+    )?);
+    let rungs = compare(&runs);
+    print!("{}", table(&rungs));
+    let csv = a.out.join("ladder.csv");
+    std::fs::write(&csv, csv_text(&rungs)).map_err(|e| format!("{}: {e}", csv.display()))?;
+    let doc = LadderDoc {
+        kernel: p.kernel.display().to_string(),
+        scene: &p.render.scene,
+        width: p.render.width,
+        height: p.render.height,
+        spp: p.render.spp,
+        depth: p.render.depth,
+        chip: &detailed,
+        rungs: &rungs,
+    };
+    let json = a.out.join("ladder.json");
+    let text = serde_json::to_string_pretty(&doc).map_err(|e| e.to_string())?;
+    std::fs::write(&json, text + "\n").map_err(|e| format!("{}: {e}", json.display()))?;
+    let png = a.out.join("ladder.png");
+    let title = p.kernel.file_name().map_or_else(
+        || p.kernel.display().to_string(),
+        |f| f.to_string_lossy().into_owned(),
+    );
+    plot(&png, &rungs, &format!("{title} on {}", p.render.scene))?;
+    eprintln!(
+        "wrote {}, {} and {}",
+        csv.display(),
+        json.display(),
+        png.display()
+    );
+    Ok(())
+}
+
+/// Runs one rung (the simulation timed alone).
+fn rung(
+    prepared: &Prepared,
+    p: &ProgramArgs,
+    chip: &ChipConfig,
+    mode: Mode,
+    sample: Option<SampleRequest>,
+    name: &str,
+) -> Result<Ran, String> {
+    let windows = sample.as_ref().map(|s| s.windows);
+    let mut req = prepared.run_request(chip, mode);
+    req.host_threads = p.host_threads;
+    req.sample = sample;
+    let start = Instant::now();
+    let report = trax_emulator::run(req, &mut std::io::sink())
+        .map_err(|e| format!("{} ({name}): {e}", prepared.name))?;
+    let wall = start.elapsed().as_secs_f64();
+    if let Some(f) = &report.failure {
+        return Err(format!("{} ({name}) did not finish:\n{f}", prepared.name));
+    }
+    eprintln!("{name}: {wall:.3} s");
+    Ok(Ran {
+        name: name.to_string(),
+        mode,
+        dram: (mode == Mode::Timing).then_some(match chip.memory.dram.model {
+            DramModel::Simple => "simple",
+            DramModel::Detailed => "detailed",
+        }),
+        windows,
+        wall,
+        framebuffer: prepared.framebuffer(&report).unwrap_or_default(),
+        report,
+    })
+}
+
+/// (cycles, MRPS, energy) of a run, with the intervals of a sampled one.
+fn values(r: &RunReport) -> Option<([f64; 3], Option<[&Estimate; 3]>)> {
+    if let Some(s) = &r.sampled {
+        let e = &s.estimates;
+        return Some((
+            [e.cycles.estimate, e.mrps.estimate, e.energy_j.estimate],
+            Some([&e.cycles, &e.mrps, &e.energy_j]),
+        ));
+    }
+    r.timing
+        .as_ref()
+        .map(|t| ([t.cycles as f64, t.mrps, t.energy.total], None))
+}
+
+/// The rungs with their errors against the last one (the reference).
+fn compare(runs: &[Ran]) -> Vec<Rung> {
+    let reference = runs.last().expect("the reference rung");
+    let (refv, _) = values(&reference.report).expect("the reference is a timing run");
+    runs.iter()
+        .map(|r| {
+            let v = values(&r.report);
+            let get = |i: usize| v.as_ref().map(|(x, _)| x[i]);
+            let err = |i: usize| get(i).map(|x| (x - refv[i]) / refv[i]);
+            let ci = |i: usize| {
+                v.as_ref()
+                    .and_then(|(_, e)| e.map(|e| [e[i].ci95_low, e[i].ci95_high]))
+            };
+            let covers = v
+                .as_ref()
+                .and_then(|(_, e)| e.map(|e| std::array::from_fn(|i| e[i].covers(refv[i]))));
+            Rung {
+                name: r.name.clone(),
+                mode: match (r.mode, r.windows) {
+                    (Mode::Functional, _) => "functional",
+                    (_, Some(_)) => "sampled",
+                    _ => "timing",
+                },
+                dram: r.dram,
+                windows: r.windows,
+                wall_seconds: r.wall,
+                speedup: reference.wall / r.wall.max(1e-9),
+                instructions: r.report.instructions,
+                cycles: get(0),
+                mrps: get(1),
+                energy_j: get(2),
+                cycles_error: err(0),
+                mrps_error: err(1),
+                energy_error: err(2),
+                cycles_ci: ci(0),
+                mrps_ci: ci(1),
+                energy_ci: ci(2),
+                covers,
+                detailed_fraction: r.report.sampled.as_ref().map(|s| {
+                    s.detailed_instructions as f64 / s.executed_instructions.max(1) as f64
+                }),
+                same_image: r.framebuffer == reference.framebuffer,
+            }
+        })
+        .collect()
+}
+
+/// A relative error as a signed percentage, with the interval's half-width for sampled
+/// rungs and a `*` where the interval misses the reference.
+fn err_cell(e: Option<f64>, ci: Option<[f64; 2]>, v: Option<f64>, covers: Option<bool>) -> String {
+    match (e, ci, v) {
+        (None, ..) => "-".into(),
+        (Some(e), Some([lo, hi]), Some(v)) if v != 0.0 => format!(
+            "{:+.2}% ±{:.2}%{}",
+            100.0 * e,
+            50.0 * (hi - lo) / v.abs(),
+            if covers == Some(false) { " *" } else { "" }
+        ),
+        (Some(e), ..) => format!("{:+.2}%", 100.0 * e),
+    }
+}
+
+/// The readable table.
+pub fn table(rungs: &[Rung]) -> String {
+    let mut s = format!(
+        "{:<24} {:>9} {:>8} {:>14} {:>20} {:>20} {:>20} {:>6}\n",
+        "mode",
+        "host s",
+        "speed-up",
+        "cycles",
+        "cycles error",
+        "MRPS error",
+        "energy error",
+        "image"
+    );
+    for r in rungs {
+        let cov = |i: usize| r.covers.map(|c| c[i]);
+        s += &format!(
+            "{:<24} {:>9.3} {:>7.1}x {:>14} {:>20} {:>20} {:>20} {:>6}\n",
+            r.name,
+            r.wall_seconds,
+            r.speedup,
+            r.cycles.map_or("-".into(), |c| format!("{c:.0}")),
+            err_cell(r.cycles_error, r.cycles_ci, r.cycles, cov(0)),
+            err_cell(r.mrps_error, r.mrps_ci, r.mrps, cov(1)),
+            err_cell(r.energy_error, r.energy_ci, r.energy_j, cov(2)),
+            if r.same_image { "same" } else { "DIFFERS" }
+        );
+    }
+    s += "errors against the last row (the reference); sampled: estimate's error ± its 95% \
+          interval's half-width, * where the interval misses the reference\n";
+    s
+}
+
+fn csv_text(rungs: &[Rung]) -> String {
+    let mut s = String::from(
+        "mode,kind,dram,windows,wall_seconds,speedup,instructions,cycles,mrps,energy_j,\
+         cycles_error,mrps_error,energy_error,cycles_ci_low,cycles_ci_high,mrps_ci_low,\
+         mrps_ci_high,energy_ci_low,energy_ci_high,covers_cycles,covers_mrps,covers_energy,\
+         detailed_fraction,same_image\n",
+    );
+    let o = |v: Option<f64>| v.map_or(String::new(), |x| x.to_string());
+    for r in rungs {
+        let ci = |c: Option<[f64; 2]>, i: usize| o(c.map(|c| c[i]));
+        let cov = |i: usize| r.covers.map_or(String::new(), |c| c[i].to_string());
+        s += &format!(
+            "\"{}\",{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
+            r.name,
+            r.mode,
+            r.dram.unwrap_or(""),
+            r.windows.map_or(String::new(), |w| w.to_string()),
+            r.wall_seconds,
+            r.speedup,
+            r.instructions,
+            o(r.cycles),
+            o(r.mrps),
+            o(r.energy_j),
+            o(r.cycles_error),
+            o(r.mrps_error),
+            o(r.energy_error),
+            ci(r.cycles_ci, 0),
+            ci(r.cycles_ci, 1),
+            ci(r.mrps_ci, 0),
+            ci(r.mrps_ci, 1),
+            ci(r.energy_ci, 0),
+            ci(r.energy_ci, 1),
+            cov(0),
+            cov(1),
+            cov(2),
+            o(r.detailed_fraction),
+            r.same_image
+        );
+    }
+    s
+}
+
+/// Reads one error of a rung.
+type ErrorOf = fn(&Rung) -> Option<f64>;
+
+/// Absolute error (%) against host seconds, log-log: one colour per metric, one point per
+/// rung (labelled); the reference (no error) and functional mode (no timing) as vertical
+/// lines at their host times. Errors below 0.001% are drawn at 0.001%.
+fn plot(path: &Path, rungs: &[Rung], name: &str) -> Result<(), String> {
+    super::plot::register_font();
+    const FLOOR: f64 = 1e-3;
+    let metrics: [(&str, ErrorOf); 3] = [
+        ("cycles", |r| r.cycles_error),
+        ("MRPS", |r| r.mrps_error),
+        ("energy", |r| r.energy_error),
+    ];
+    let last = rungs.len() - 1;
+    let pts = |f: ErrorOf| -> Vec<(f64, f64, usize)> {
+        rungs[..last]
+            .iter()
+            .enumerate()
+            .filter_map(|(i, r)| f(r).map(|e| (r.wall_seconds, (100.0 * e.abs()).max(FLOOR), i)))
+            .collect()
+    };
+    let all: Vec<(f64, f64, usize)> = metrics.iter().flat_map(|(_, f)| pts(*f)).collect();
+    let walls: Vec<f64> = rungs.iter().map(|r| r.wall_seconds.max(1e-3)).collect();
+    let (xlo, xhi) = walls
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(lo, hi), &w| (lo.min(w), hi.max(w)));
+    let yhi = all.iter().map(|p| p.1).fold(1.0, f64::max);
+    let size = super::plot::SIZE;
+    let mut rgb = vec![0u8; (size.0 * size.1 * 3) as usize];
+    let e = |e: &dyn std::fmt::Display| format!("{}: {e}", path.display());
+    {
+        let root = BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area();
+        root.fill(&WHITE).map_err(|x| e(&x))?;
+        let mut chart = ChartBuilder::on(&root)
+            .caption(
+                format!("{name}: error against host time"),
+                ("sans-serif", 22),
+            )
+            .margin(20)
+            .x_label_area_size(50)
+            .y_label_area_size(80)
+            .build_cartesian_2d(
+                (xlo / 1.5..xhi * 1.5).log_scale(),
+                (FLOOR / 2.0..yhi * 3.0).log_scale(),
+            )
+            .map_err(|x| e(&x))?;
+        chart
+            .configure_mesh()
+            .x_desc("host seconds")
+            .y_desc("|error| vs full detailed timing, %")
+            .label_style(("sans-serif", 15))
+            .x_label_formatter(&|v| super::plot::tick(*v))
+            .y_label_formatter(&|v| super::plot::tick(*v))
+            .light_line_style(WHITE)
+            .draw()
+            .map_err(|x| e(&x))?;
+        // Cycles and MRPS errors are often equal (the rays are exact): a ring, a dot and
+        // a cross keep every metric visible.
+        for (k, (label, f)) in metrics.iter().enumerate() {
+            let c = super::plot::colour(k);
+            let p = pts(*f);
+            let marker = move |(x, y): (i32, i32)| -> DynElement<BitMapBackend, (i32, i32)> {
+                match k {
+                    0 => Circle::new((x, y), 7, c.stroke_width(2)).into_dyn(),
+                    1 => Circle::new((x, y), 3, c.filled()).into_dyn(),
+                    _ => Cross::new((x, y), 5, c.stroke_width(2)).into_dyn(),
+                }
+            };
+            chart
+                .draw_series(
+                    p.iter()
+                        .map(|&(x, y, _)| EmptyElement::at((x, y)) + marker((0, 0))),
+                )
+                .map_err(|x| e(&x))?
+                .label(*label)
+                .legend(move |(x, y)| marker((x + 10, y)));
+        }
+        // Rung names beside their cycles point (or at the top for rungs without one).
+        for (i, r) in rungs.iter().enumerate() {
+            let y = r
+                .cycles_error
+                .map_or(yhi * 2.0, |e| (100.0 * e.abs()).max(FLOOR));
+            let text = if i == last {
+                format!("{} (reference)", r.name)
+            } else {
+                r.name.clone()
+            };
+            chart
+                .draw_series(std::iter::once(Text::new(
+                    text,
+                    (r.wall_seconds.max(1e-3), y),
+                    ("sans-serif", 13),
+                )))
+                .map_err(|x| e(&x))?;
+            if r.cycles_error.is_none() || i == last {
+                let x = r.wall_seconds.max(1e-3);
+                chart
+                    .draw_series(LineSeries::new(
+                        [(x, FLOOR / 2.0), (x, yhi * 3.0)],
+                        BLACK.mix(0.3).stroke_width(1),
+                    ))
+                    .map_err(|x| e(&x))?;
+            }
+        }
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .label_font(("sans-serif", 15))
+            .draw()
+            .map_err(|x| e(&x))?;
+        root.present().map_err(|x| e(&x))?;
+    }
+    super::native::write_png(path, size.0, size.1, &rgb).map_err(|x| x.to_string())
+}

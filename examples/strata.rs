@@ -481,11 +481,12 @@ fn range_of(f: &Frame, b: u32) -> (u32, u32) {
     }
 }
 
-/// Works on `r` while its next step reads buffer `b`'s treelet; then writes it to the
+/// Works on `r` while its next step reads buffer `b`'s treelet (index range `range`, see
+/// [`range_of`]); then writes it to the
 /// buffer it needs, or, once its traversal is over, shades it and goes on with the ray
 /// that replaces it.
-fn process(f: &Frame, mut r: StreamRay, b: u32, mode: u32) {
-    let (first, end) = range_of(f, b);
+fn process(f: &Frame, mut r: StreamRay, b: u32, mode: u32, range: (u32, u32)) {
+    let (first, end) = range;
     let tri_buffer = b >= f.half;
     loop {
         let x = PipeTests::new(&r.ray, mode);
@@ -574,6 +575,7 @@ fn trax_main() {
     while let Some(b) = trax::stream::schedule() {
         visit += 1;
         let mode = mode_of(&f, b);
+        let range = range_of(&f, b);
         if mode == 1 {
             trax::pipe::use_box_pipeline();
         } else if mode == 2 {
@@ -584,7 +586,7 @@ fn trax_main() {
                 unsafe { VISIT_OVER[tm] = visit };
                 break;
             }
-            process(&f, StreamRay::unpack(&rec), b, mode);
+            process(&f, StreamRay::unpack(&rec), b, mode, range);
         }
     }
     // Every path is done: each pixel is the mean of its samples, added in sample and

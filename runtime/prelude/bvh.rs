@@ -291,15 +291,16 @@ impl RayTests for SoftTests {
     }
 }
 
-/// Tests the triangles of leaf `node` in order, keeping the closest hit in `hit`
-/// (`hit.tri` = the triangle's index); with `any`, stops at the first hit. True if a
-/// triangle was hit. The leaf loop of every traversal here.
+/// Tests the triangles of leaf `node` (in the array at `tris`, [`scene::triangles_base`])
+/// in order, keeping the closest hit in `hit` (`hit.tri` = the triangle's index); with
+/// `any`, stops at the first hit. True if a triangle was hit. The leaf loop of every
+/// traversal here.
 #[inline(always)]
-pub fn leaf_hits<X: RayTests>(x: &X, node: &BvhNode, hit: &mut Hit, any: bool) -> bool {
+pub fn leaf_hits<X: RayTests>(x: &X, tris: u32, node: &BvhNode, hit: &mut Hit, any: bool) -> bool {
     let mut found = false;
     let mut i = node.a;
     while i < node.a + node.b {
-        if x.tri_hit(&scene::triangle(i), hit) {
+        if x.tri_hit(&scene::triangle_at(tris, i), hit) {
             hit.tri = i;
             found = true;
             if any {
@@ -320,7 +321,7 @@ fn all_triangles_hit(ray: &Ray, t_min: f32, hit: &mut Hit, any: bool) -> bool {
         a: 0,
         b: scene::triangle_count(),
     };
-    leaf_hits(&x, &all, hit, any)
+    leaf_hits(&x, scene::triangles_base(), &all, hit, any)
 }
 
 /// Closest hit along `ray` with `t_min < t < t_max` over the whole scene (BVH if the
@@ -345,9 +346,10 @@ pub fn intersect(ray: &Ray, t_min: f32, t_max: f32) -> Hit {
         tr: TriRay::new(ray, node_bound(&node)),
         t_min,
     };
+    let tris = scene::triangles_base();
     loop {
         if node.is_leaf() {
-            leaf_hits(&x, &node, &mut hit, false);
+            leaf_hits(&x, tris, &node, &mut hit, false);
         } else {
             let left = scene::bvh_node_at(base, node.a);
             let right = scene::bvh_node_at(base, node.a + 1);
@@ -400,6 +402,7 @@ pub fn occluded(ray: &Ray, t_min: f32, t_max: f32) -> bool {
         return all_triangles_hit(ray, t_min, &mut hit, true);
     }
     let x = SoftTests::new(ray, t_min, node_bound(&scene::bvh_node_at(base, 0)));
+    let tris = scene::triangles_base();
     let mut stack: [u32; 64] = [0; 64];
     let mut sp: usize = 1;
     stack[0] = 0;
@@ -410,7 +413,7 @@ pub fn occluded(ray: &Ray, t_min: f32, t_max: f32) -> bool {
             continue;
         }
         if node.is_leaf() {
-            if leaf_hits(&x, &node, &mut hit, true) {
+            if leaf_hits(&x, tris, &node, &mut hit, true) {
                 return true;
             }
         } else {
@@ -470,12 +473,14 @@ impl BitStack {
 }
 
 /// Where a [`Traversal`]'s arrays are, read once from the scene header: the BVH nodes,
-/// their parent pointers (`bvh_parents`) and the leaf of each triangle slot
-/// (`tri_leaf_ids`).
+/// their parent pointers (`bvh_parents`), the triangles and the leaf of each triangle
+/// slot (`tri_leaf_ids`). A traversal step reads no header field.
 #[derive(Clone, Copy)]
 pub struct BvhArrays {
     /// Address of node 0 ([`scene::bvh_base`]).
     pub nodes: u32,
+    /// Address of triangle 0 ([`scene::triangles_base`]).
+    pub tris: u32,
     /// Address of the parent pointers ([`scene::bvh_parents_base`]).
     pub parents: u32,
     /// Address of the slots' leaves ([`scene::tri_leaf_ids_base`]).
@@ -489,6 +494,7 @@ impl BvhArrays {
     pub fn load() -> BvhArrays {
         BvhArrays {
             nodes: scene::bvh_base(),
+            tris: scene::triangles_base(),
             parents: scene::bvh_parents_base(),
             leaves: scene::tri_leaf_ids_base(),
             slots: scene::triangle_count(),
@@ -694,7 +700,7 @@ impl Traversal {
                 a: node,
                 b: end - node,
             };
-            if leaf_hits(x, &tris, hit, any) && any {
+            if leaf_hits(x, b.tris, &tris, hit, any) && any {
                 self.word = DONE;
             } else {
                 self.word = (STEP_UP << 30) | leaf;

@@ -228,10 +228,20 @@ pub fn triangle_count() -> u32 {
     hw::load_u32(hw::hdr_triangles() + layout::COMPONENT_COUNT)
 }
 
+/// Address of triangle 0.
+pub fn triangles_base() -> u32 {
+    hw::load_u32(hw::hdr_triangles() + layout::COMPONENT_ADDR)
+}
+
 /// Triangle `i`.
 pub fn triangle(i: u32) -> Triangle {
-    let a =
-        hw::load_u32(hw::hdr_triangles() + layout::COMPONENT_ADDR) + i * layout::TRIANGLES_STRIDE;
+    triangle_at(triangles_base(), i)
+}
+
+/// Triangle `i` of the array at `base` (see [`triangles_base`]): in a loop, the header is
+/// read once.
+pub fn triangle_at(base: u32, i: u32) -> Triangle {
+    let a = base + i * layout::TRIANGLES_STRIDE;
     Triangle {
         v0: load_vec3(a),
         v1: load_vec3(a + layout::TRI_V1),

@@ -6,6 +6,7 @@
 //! boundaries and continues later on another TM.
 
 use super::hw;
+use super::layout;
 use super::math::Vec3;
 use super::ray::{Hit, Ray};
 use super::scene;
@@ -249,13 +250,16 @@ impl BoxRay {
 /// The box and triangle tests a traversal runs: the prelude's robust slab and watertight
 /// triangle tests ([`SoftTests`]), or the fused pipelines' semantics
 /// ([`super::pipe::PipeTests`]).
+///
+/// Both take the element's address in simulated memory, so a test loads what it needs
+/// in the form it needs (a pipeline: the words, straight into its input registers).
 pub trait RayTests {
-    /// Entry distance of the ray into node `n`'s box when it enters before `t_max`,
-    /// otherwise `INFINITY`.
-    fn box_entry(&self, n: &BvhNode, t_max: f32) -> f32;
-    /// Tests `tri`: on a hit closer than `hit.t` updates `hit.t`, `hit.u` and `hit.v` (not
-    /// `hit.tri`) and returns true.
-    fn tri_hit(&self, tri: &Triangle, hit: &mut Hit) -> bool;
+    /// Entry distance of the ray into the box of the BVH node stored at `node` when it
+    /// enters before `t_max`, otherwise `INFINITY`.
+    fn box_entry(&self, node: u32, t_max: f32) -> f32;
+    /// Tests the triangle stored at `tri`: on a hit closer than `hit.t` updates `hit.t`,
+    /// `hit.u` and `hit.v` (not `hit.tri`) and returns true.
+    fn tri_hit(&self, tri: u32, hit: &mut Hit) -> bool;
 }
 
 /// The prelude's own tests for one ray: [`BoxRay`] and [`TriRay`], hits with
@@ -281,13 +285,16 @@ impl SoftTests {
 
 impl RayTests for SoftTests {
     #[inline(always)]
-    fn box_entry(&self, n: &BvhNode, t_max: f32) -> f32 {
-        self.br.node_entry(n, self.t_min, t_max)
+    fn box_entry(&self, node: u32, t_max: f32) -> f32 {
+        let lo = scene::load_vec3(node + layout::BVH_MIN);
+        let hi = scene::load_vec3(node + layout::BVH_MAX);
+        self.br.entry(lo, hi, self.t_min, t_max)
     }
 
     #[inline(always)]
-    fn tri_hit(&self, tri: &Triangle, hit: &mut Hit) -> bool {
-        self.tr.intersect(tri, self.t_min, hit)
+    fn tri_hit(&self, tri: u32, hit: &mut Hit) -> bool {
+        self.tr
+            .intersect(&scene::triangle_stored(tri), self.t_min, hit)
     }
 }
 
@@ -300,7 +307,7 @@ pub fn leaf_hits<X: RayTests>(x: &X, tris: u32, node: &BvhNode, hit: &mut Hit, a
     let mut found = false;
     let mut i = node.a;
     while i < node.a + node.b {
-        if x.tri_hit(&scene::triangle_at(tris, i), hit) {
+        if x.tri_hit(tris + i * layout::TRIANGLES_STRIDE, hit) {
             hit.tri = i;
             found = true;
             if any {
@@ -610,12 +617,16 @@ impl Traversal {
         }
     }
 
-    /// Descends into node `n`, whose box was hit: its children's boxes next, or a leaf's
-    /// triangles (the node word then names the leaf's first triangle slot).
+    /// Descends into the node stored at `n`, whose box was hit: its children's boxes next,
+    /// or a leaf's triangles (the node word then names the leaf's first triangle slot).
     #[inline(always)]
-    fn descend(&mut self, n: &BvhNode) {
-        let step = if n.is_leaf() { STEP_LEAF } else { STEP_PAIR };
-        self.word = (step << 30) | n.a;
+    fn descend(&mut self, n: u32) {
+        let step = if hw::load_u32(n + layout::BVH_B) != 0 {
+            STEP_LEAF
+        } else {
+            STEP_PAIR
+        };
+        self.word = (step << 30) | hw::load_u32(n + layout::BVH_A);
     }
 
     /// Runs steps while the traversal is not done and `stay` accepts the next one (a
@@ -653,23 +664,23 @@ impl Traversal {
         let kind = self.word >> 30;
         let node = self.word & NODE_MASK;
         if kind == STEP_PAIR {
-            let left = scene::bvh_node_at(b.nodes, node);
-            let right = scene::bvh_node_at(b.nodes, node + 1);
-            let tl = x.box_entry(&left, hit.t);
-            let tr = x.box_entry(&right, hit.t);
+            let left = b.nodes + node * layout::BVH_NODES_STRIDE;
+            let right = left + layout::BVH_NODES_STRIDE;
+            let tl = x.box_entry(left, hit.t);
+            let tr = x.box_entry(right, hit.t);
             let hit_l = tl != super::INFINITY;
             let hit_r = tr != super::INFINITY;
             if hit_l && hit_r {
                 let left_first = tl <= tr;
                 self.stack.push(left_first);
-                self.descend(if left_first { &left } else { &right });
+                self.descend(if left_first { left } else { right });
             } else if hit_l {
                 // Pushed as the second child: nothing to come back for.
                 self.stack.push(false);
-                self.descend(&left);
+                self.descend(left);
             } else if hit_r {
                 self.stack.push(true);
-                self.descend(&right);
+                self.descend(right);
             } else {
                 self.word = (STEP_UP << 30) | scene::bvh_parent_at(b.parents, node);
             }
@@ -679,9 +690,10 @@ impl Traversal {
             let right = scene::bvh_parent_at(b.parents, node - 1) == parent;
             if right != self.stack.left_first() {
                 // `node` went first: the other child, if still ahead of the closest hit.
-                let n = scene::bvh_node_at(b.nodes, if right { node - 1 } else { node + 1 });
-                if x.box_entry(&n, hit.t) != super::INFINITY {
-                    self.descend(&n);
+                let other = if right { node - 1 } else { node + 1 };
+                let n = b.nodes + other * layout::BVH_NODES_STRIDE;
+                if x.box_entry(n, hit.t) != super::INFINITY {
+                    self.descend(n);
                     return;
                 }
             }
@@ -706,11 +718,10 @@ impl Traversal {
                 self.word = (STEP_UP << 30) | leaf;
             }
         } else {
-            let root = scene::bvh_node_at(b.nodes, 0);
-            if x.box_entry(&root, hit.t) == super::INFINITY {
+            if x.box_entry(b.nodes, hit.t) == super::INFINITY {
                 self.word = DONE;
             } else {
-                self.descend(&root);
+                self.descend(b.nodes);
             }
         }
     }

@@ -7,9 +7,10 @@
 
 use super::bvh::RayTests;
 use super::hw;
+use super::layout;
 use super::math::Vec3;
 use super::ray::{Hit, Ray};
-use super::scene::{BvhNode, Triangle};
+use super::scene::Triangle;
 
 /// Bit of the box pipeline (`trax.setpipe 1`) in [`super::scene::pipe_modes`].
 pub const MODE_BOX: u32 = 1 << 1;
@@ -143,11 +144,15 @@ impl PipeTests {
 
 impl RayTests for PipeTests {
     #[inline(always)]
-    fn box_entry(&self, n: &BvhNode, t_max: f32) -> f32 {
+    fn box_entry(&self, node: u32, t_max: f32) -> f32 {
         let e = if self.mode == 1 {
-            hw::pipe_box(n.min.x, n.min.y, n.min.z, n.max.x, n.max.y, n.max.z)
+            // The box's words go from memory straight to the pipeline's registers.
+            let w = |k: u32| f32::from_bits(hw::load_u32(node + 4 * k));
+            hw::pipe_box(w(0), w(1), w(2), w(3), w(4), w(5))
         } else {
-            box_test_soft(self.ray.origin, self.inv_dir, n.min, n.max)
+            let lo = super::scene::load_vec3(node + layout::BVH_MIN);
+            let hi = super::scene::load_vec3(node + layout::BVH_MAX);
+            box_test_soft(self.ray.origin, self.inv_dir, lo, hi)
         };
         if e <= t_max {
             e
@@ -157,8 +162,18 @@ impl RayTests for PipeTests {
     }
 
     #[inline(always)]
-    fn tri_hit(&self, tri: &Triangle, hit: &mut Hit) -> bool {
-        let h = self.tri(tri);
+    fn tri_hit(&self, tri: u32, hit: &mut Hit) -> bool {
+        let h = if self.mode == 2 {
+            let w = |k: u32| f32::from_bits(hw::load_u32(tri + 4 * k));
+            let t = hw::pipe_tri([w(0), w(1), w(2)], [w(3), w(4), w(5)], [w(6), w(7), w(8)]);
+            PipeHit {
+                t,
+                u: hw::pipe_tri_u(),
+                v: hw::pipe_tri_v(),
+            }
+        } else {
+            tri_test_soft(&self.ray, &super::scene::triangle_stored(tri))
+        };
         if h.t < hit.t {
             hit.t = h.t;
             hit.u = h.u;

@@ -241,7 +241,11 @@ pub fn triangle(i: u32) -> Triangle {
 /// Triangle `i` of the array at `base` (see [`triangles_base`]): in a loop, the header is
 /// read once.
 pub fn triangle_at(base: u32, i: u32) -> Triangle {
-    let a = base + i * layout::TRIANGLES_STRIDE;
+    triangle_stored(base + i * layout::TRIANGLES_STRIDE)
+}
+
+/// The triangle stored at address `a`.
+pub fn triangle_stored(a: u32) -> Triangle {
     Triangle {
         v0: load_vec3(a),
         v1: load_vec3(a + layout::TRI_V1),

@@ -583,7 +583,11 @@ fn trax_main() {
         }
         while unsafe { VISIT_OVER[tm] } != visit {
             if !trax::stream::read(&mut rec) {
-                unsafe { VISIT_OVER[tm] = visit };
+                // One flag store per visit, not one per thread: a store goes through to
+                // DRAM, so a thread that sees the flag set by another leaves it alone.
+                if unsafe { VISIT_OVER[tm] } != visit {
+                    unsafe { VISIT_OVER[tm] = visit };
+                }
                 break;
             }
             process(&f, StreamRay::unpack(&rec), b, mode, range);

@@ -364,6 +364,8 @@ struct Traffic {
     l1_merged: f64,
     l2_accesses: u64,
     dram_reads: u64,
+    dram_writes: u64,
+    schedules: u64,
 }
 
 fn traffic(t: &TimingStats) -> Traffic {
@@ -372,6 +374,8 @@ fn traffic(t: &TimingStats) -> Traffic {
         l1_merged: t.l1_hit_rate_merged_as_hits,
         l2_accesses: t.memory.l2.iter().map(|c| c.accesses).sum(),
         dram_reads: t.memory.dram.reads,
+        dram_writes: t.memory.dram.writes,
+        schedules: t.stream.schedules,
     }
 }
 
@@ -425,6 +429,25 @@ fn streaming_treelets_raise_the_l1_hit_rate_and_cut_l2_and_dram_traffic() {
         "strata: {}\npathtracer: {}",
         show(&s),
         show(&p)
+    );
+    // Stores go through to DRAM (16.3 nJ each on the chapter 3 chips), so the kernel's own
+    // bookkeeping must stay small beside the image's: at most the radiance slots (one per
+    // path vertex and the camera ray's emission), the framebuffer (3 words a pixel) and a
+    // few "visit over" flags per buffer visit (threads of a TM that race past the check).
+    // Every thread storing the flag (before the check) was 10 per visit here: 54 959
+    // writes, 25 360 since.
+    let paths = (f.width * f.height * f.spp) as u64;
+    let image = paths * (f.depth as u64 + 1) + 3 * (f.width * f.height) as u64;
+    let flags = s.dram_writes.saturating_sub(image);
+    eprintln!(
+        "strata.rs: {} DRAM writes ({flags} beyond the image's {image}), {} buffer visits",
+        s.dram_writes, s.schedules
+    );
+    assert!(
+        flags <= 4 * s.schedules,
+        "strata.rs: {} DRAM writes, {flags} beyond the image's {image}, over {} buffer visits",
+        s.dram_writes,
+        s.schedules
     );
     let big = run_on(&strata_rs(), &sets(&[("treelets.bytes", 131072.into())]));
     eprintln!("strata, 128 KB treelets: {}", show(&big));

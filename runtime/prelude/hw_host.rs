@@ -452,16 +452,17 @@ fn set_pipe(mode: u32) {
     with_machine(|m| m.pipe_modes[ids().tmid as usize].store(mode, Ordering::SeqCst));
 }
 
+/// `trax.boxtest`: loads the ray `(o, inv)` (kept, as the machine's cop2 0..5 keep it)
+/// and tests it against the box `[lo, hi]`.
 pub fn pipe_box_test(o: [f32; 3], inv: [f32; 3], lo: [f32; 3], hi: [f32; 3]) -> f32 {
-    need_pipe_mode(1, "trax.boxtest");
-    pipes::box_test(o, inv, lo, hi)
+    pipe_load_ray(o, inv);
+    pipe_box(lo[0], lo[1], lo[2], hi[0], hi[1], hi[2])
 }
 
+/// `trax.tritest`: loads the ray `(o, d)` (kept) and tests it against `(a, b, c)`.
 pub fn pipe_tri_test(o: [f32; 3], d: [f32; 3], a: [f32; 3], b: [f32; 3], c: [f32; 3]) -> f32 {
-    need_pipe_mode(2, "trax.tritest");
-    let (t, u, v) = pipes::tri_test(o, d, a, b, c);
-    TRI_UV.with(|uv| uv.set([u, v]));
-    t
+    pipe_load_ray(o, d);
+    pipe_tri(a, b, c)
 }
 
 /// The ray in the pipelines' input registers (cop2 0..5), per thread as on the machine.
@@ -470,13 +471,17 @@ pub fn pipe_load_ray(o: [f32; 3], v: [f32; 3]) {
 }
 
 pub fn pipe_box(lx: f32, ly: f32, lz: f32, hx: f32, hy: f32, hz: f32) -> f32 {
+    need_pipe_mode(1, "trax.boxtest");
     let [o, inv] = PIPE_RAY.with(|r| r.get());
-    pipe_box_test(o, inv, [lx, ly, lz], [hx, hy, hz])
+    pipes::box_test(o, inv, [lx, ly, lz], [hx, hy, hz])
 }
 
 pub fn pipe_tri(a: [f32; 3], b: [f32; 3], c: [f32; 3]) -> f32 {
+    need_pipe_mode(2, "trax.tritest");
     let [o, d] = PIPE_RAY.with(|r| r.get());
-    pipe_tri_test(o, d, a, b, c)
+    let (t, u, v) = pipes::tri_test(o, d, a, b, c);
+    TRI_UV.with(|uv| uv.set([u, v]));
+    t
 }
 
 pub fn pipe_tri_u() -> f32 {

@@ -286,39 +286,16 @@ pub fn stream_capacity() -> u32 {
 
 // ---- Fused pipelines (inputs in cop2 registers, see the runtime's COP2_REGS) ----
 
+/// `trax.boxtest` of the ray `(o, inv)` against the box `[lo, hi]` (loads the ray too).
 pub fn pipe_box_test(o: [f32; 3], inv: [f32; 3], lo: [f32; 3], hi: [f32; 3]) -> f32 {
-    __trax_mtc2!(0, o[0]);
-    __trax_mtc2!(1, o[1]);
-    __trax_mtc2!(2, o[2]);
-    __trax_mtc2!(3, inv[0]);
-    __trax_mtc2!(4, inv[1]);
-    __trax_mtc2!(5, inv[2]);
-    __trax_mtc2!(6, lo[0]);
-    __trax_mtc2!(7, lo[1]);
-    __trax_mtc2!(8, lo[2]);
-    __trax_mtc2!(9, hi[0]);
-    __trax_mtc2!(10, hi[1]);
-    __trax_mtc2!(11, hi[2]);
-    __trax_op!("trax.boxtest")
+    pipe_load_ray(o, inv);
+    pipe_box(lo[0], lo[1], lo[2], hi[0], hi[1], hi[2])
 }
 
+/// `trax.tritest` of the ray `(o, d)` against the triangle `(a, b, c)` (loads the ray too).
 pub fn pipe_tri_test(o: [f32; 3], d: [f32; 3], a: [f32; 3], b: [f32; 3], c: [f32; 3]) -> f32 {
-    __trax_mtc2!(0, o[0]);
-    __trax_mtc2!(1, o[1]);
-    __trax_mtc2!(2, o[2]);
-    __trax_mtc2!(3, d[0]);
-    __trax_mtc2!(4, d[1]);
-    __trax_mtc2!(5, d[2]);
-    __trax_mtc2!(12, a[0]);
-    __trax_mtc2!(13, a[1]);
-    __trax_mtc2!(14, a[2]);
-    __trax_mtc2!(15, b[0]);
-    __trax_mtc2!(16, b[1]);
-    __trax_mtc2!(17, b[2]);
-    __trax_mtc2!(18, c[0]);
-    __trax_mtc2!(19, c[1]);
-    __trax_mtc2!(20, c[2]);
-    __trax_op!("trax.tritest")
+    pipe_load_ray(o, d);
+    pipe_tri(a, b, c)
 }
 
 /// Loads a ray into the pipelines' input registers (cop2 0..5: origin, then the inverse

@@ -100,7 +100,8 @@ pub fn use_triangle_pipeline() {
 ///
 /// In a pipeline mode, making the tests loads the ray into the pipeline's input
 /// registers once (§3.2.3: the program loads a ray, then a box or triangle per test); they
-/// serve this value's tests until the thread makes another.
+/// serve this value's tests until the thread loads another ray: by making another
+/// `PipeTests` or by a one-off [`box_test`] or [`tri_test`], which load their own.
 #[derive(Clone, Copy)]
 pub struct PipeTests {
     pub ray: Ray,

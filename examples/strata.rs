@@ -583,7 +583,12 @@ fn trax_main() {
         }
         while unsafe { VISIT_OVER[tm] } != visit {
             if !trax::stream::read(&mut rec) {
-                unsafe { VISIT_OVER[tm] = visit };
+                // Only the first of the TM's threads to find the buffer empty stores the
+                // flag (the others see it by now): a global store goes to DRAM, and one
+                // from every thread cost up to 32 DRAM writes a visit.
+                if unsafe { VISIT_OVER[tm] } != visit {
+                    unsafe { VISIT_OVER[tm] = visit };
+                }
                 break;
             }
             process(&f, StreamRay::unpack(&rec), b, mode, range);

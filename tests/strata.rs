@@ -435,3 +435,26 @@ fn streaming_treelets_raise_the_l1_hit_rate_and_cut_l2_and_dram_traffic() {
         show(&p)
     );
 }
+
+/// Global stores go through to DRAM, so the kernel makes only the stores the frame needs:
+/// one radiance word per path vertex (at most `depth + 1` per path), three framebuffer
+/// words per pixel, and per buffer visit the flag that ends it for the TM's threads —
+/// once, not once per thread that finds the buffer empty (that cost up to 32 DRAM writes a
+/// visit: 19 per visit here, 28 on Sponza on 16 TMs). The bound allows 2 flag stores a
+/// visit for threads that race to it.
+#[test]
+fn strata_stores_little_beyond_its_radiance_and_pixels() {
+    let f = Frame::cornell(32, 1);
+    let c = chip("strata", &[], 16, None);
+    let t = machine(&strata_rs(), &f, &c, Mode::Timing).2.unwrap();
+    let pixels = u64::from(f.width * f.height);
+    let needed = pixels * u64::from(f.spp) * u64::from(f.depth + 1) + 3 * pixels;
+    let stores = t.memory.l1.stores;
+    let visits = t.stream.schedules;
+    eprintln!("{stores} stores, {visits} visits, {needed} radiance and pixel words");
+    assert!(visits > 100, "only {visits} visits: the test needs many");
+    assert!(
+        stores <= needed + 2 * visits,
+        "{stores} global stores for {needed} radiance and pixel words and {visits} visits"
+    );
+}

@@ -16,6 +16,8 @@
 //! alike. On a shared machine compare the printed CPU seconds with the wall seconds: other
 //! load slows the wall clock.
 
+mod common;
+
 use std::path::Path;
 use std::time::Instant;
 
@@ -23,6 +25,8 @@ use trax::pipeline::{prepare, Prepared, Request};
 use trax_emulator::memsys::DramModel;
 use trax_emulator::timing::{ChipConfig, TimingStats};
 use trax_emulator::{run, Limits, Mode};
+
+use common::{env_u64, process_cpu_seconds, selected};
 
 /// Original simtrax, one simulation thread, raycast on the Cornell box, 4 TMs x 32 threads,
 /// USIMM GDDR5 (anchors.md): 1.09 M instructions per host second. (Its instruction counts
@@ -32,29 +36,6 @@ const SIMTRAX_MIPS: f64 = 1.09;
 const TARGET_PER_CORE: f64 = 20e6;
 /// Target: speedup with 2 host threads.
 const TARGET_SCALING: f64 = 1.8;
-
-fn env_u64(name: &str, default: u64) -> u64 {
-    match std::env::var(name) {
-        Ok(v) => v
-            .parse()
-            .unwrap_or_else(|_| panic!("{name}={v:?} is not a number")),
-        Err(_) => default,
-    }
-}
-
-/// CPU seconds this process has used so far (all its threads, live or finished), from
-/// `/proc/self/stat` (Linux; `None` elsewhere). Fields 14 and 15 count user and system
-/// time in USER_HZ ticks, which Linux fixes at 100 per second for user space.
-fn process_cpu_seconds() -> Option<f64> {
-    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
-    // The command name (field 2) is parenthesised and may hold spaces: split after it.
-    let rest = &stat[stat.rfind(')')? + 1..];
-    let fields: Vec<&str> = rest.split_whitespace().collect();
-    // `rest` starts at field 3, so field n is fields[n - 3].
-    let utime: f64 = fields.get(11)?.parse().ok()?;
-    let stime: f64 = fields.get(12)?.parse().ok()?;
-    Some((utime + stime) / 100.0)
-}
 
 /// One measured run: statistics, host wall seconds and CPU seconds (if known).
 fn simulate(
@@ -85,11 +66,8 @@ fn simulate(
 }
 
 fn main() {
-    // `cargo bench` passes `--bench`; a filter argument that does not match skips the run.
-    if let Some(filter) = std::env::args().skip(1).find(|a| !a.starts_with('-')) {
-        if !"timing_pathtracer".contains(&filter) {
-            return;
-        }
+    if !selected("timing_pathtracer") {
+        return;
     }
     let size = env_u64("TRAX_BENCH_SIZE", 128).clamp(1, 4096) as u32;
     let max_cycles = env_u64("TRAX_BENCH_MAX_CYCLES", 50_000_000);

@@ -583,8 +583,9 @@ fn trax_main() {
         }
         while unsafe { VISIT_OVER[tm] } != visit {
             if !trax::stream::read(&mut rec) {
-                // One flag store per visit, not one per thread: a store goes through to
-                // DRAM, so a thread that sees the flag set by another leaves it alone.
+                // Only the first of the TM's threads to find the buffer empty stores the
+                // flag (the others see it by now): a global store goes to DRAM, and one
+                // from every thread cost up to 32 DRAM writes a visit.
                 if unsafe { VISIT_OVER[tm] } != visit {
                     unsafe { VISIT_OVER[tm] = visit };
                 }

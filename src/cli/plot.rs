@@ -257,6 +257,33 @@ fn ordered(values: impl Iterator<Item = String>) -> Vec<String> {
     seen
 }
 
+/// Display labels for parameter values: in each value, every `:`-separated part that is a
+/// path (holds a `/`) shortened to its file name, so `box:../../scenes/dragon/dragon.obj`
+/// reads `box:dragon.obj` under a bar or in a legend. The values as given when two would
+/// read the same.
+pub(crate) fn short_labels(values: &[String]) -> Vec<String> {
+    let short: Vec<String> = values
+        .iter()
+        .map(|v| {
+            v.split(':')
+                .map(|part| match part.trim_end_matches('/').rsplit_once('/') {
+                    Some((_, name)) => name,
+                    None => part,
+                })
+                .collect::<Vec<_>>()
+                .join(":")
+        })
+        .collect();
+    let mut sorted = short.clone();
+    sorted.sort();
+    sorted.dedup();
+    if sorted.len() == short.len() {
+        short
+    } else {
+        values.to_vec()
+    }
+}
+
 /// The data of a chart: categories (x values), series (by values), and for each metric
 /// column a value per (series, category).
 struct Data {
@@ -380,6 +407,8 @@ pub fn draw(t: &Table, spec: &PlotSpec, out: &Path) -> Result<(PathBuf, PathBuf)
         _ => vec![spec.y.as_str()],
     };
     let mut data = gather(t, spec, &ycols)?;
+    data.xs = short_labels(&data.xs);
+    data.series = short_labels(&data.series);
     let mut xlabel = param_label(&spec.x);
     if let (PlotKind::Energy, Some(b)) = (spec.kind, &spec.by) {
         // One stacked bar per (x, by) pair, labelled with both.
@@ -691,4 +720,40 @@ pub fn draw_plan_plots(dir: &Path, plots: &[PlotSpec]) -> (Vec<PathBuf>, Vec<Str
         }
     }
     (files, errors)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::short_labels;
+
+    fn owned(v: &[&str]) -> Vec<String> {
+        v.iter().map(|s| s.to_string()).collect()
+    }
+
+    #[test]
+    fn paths_read_as_file_names() {
+        let v = owned(&[
+            "../../shared/scenes/sponza/sponza.obj",
+            "box:../../shared/scenes/dragon/dragon-100k.obj",
+            "hairball:300000",
+            "cornell",
+            "../examples/strata.rs",
+        ]);
+        assert_eq!(
+            short_labels(&v),
+            owned(&[
+                "sponza.obj",
+                "box:dragon-100k.obj",
+                "hairball:300000",
+                "cornell",
+                "strata.rs"
+            ])
+        );
+    }
+
+    #[test]
+    fn values_that_would_read_the_same_keep_their_paths() {
+        let v = owned(&["a/scene.obj", "b/scene.obj"]);
+        assert_eq!(short_labels(&v), v);
+    }
 }

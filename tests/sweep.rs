@@ -1016,3 +1016,65 @@ fn wrapped_scene_files_resolve_relative_to_the_sweep_file() {
         "{err}"
     );
 }
+
+/// `label.NAME` parameters are recorded (id, `results.csv`, plots) but are not config
+/// fields: cases that vary different fields share one x axis through a label.
+#[test]
+fn labels_are_columns_not_config_fields() {
+    let dir = scratch("labels");
+    let k = gradient();
+    let body = format!(
+        r#"kernel = {k:?}
+width = 8
+height = 8
+mode = "functional"
+
+[axes]
+"label.size" = [1, 2]
+
+[[cases]]
+"label.chip" = "a"
+threads = 4
+
+[[cases]]
+"label.chip" = "b"
+tms = 3
+"#
+    );
+    let (out, out_dir, rows) = sweep_rows(&dir, &body);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let got: Vec<(&str, &str)> = rows
+        .iter()
+        .map(|r| (r["label.chip"].as_str(), r["label.size"].as_str()))
+        .collect();
+    assert_eq!(got, [("a", "1"), ("a", "2"), ("b", "1"), ("b", "2")]);
+    assert_ne!(rows[0]["id"], rows[1]["id"], "labels are part of the id");
+    for r in &rows {
+        assert_eq!(r["status"], "ok", "{r:?}");
+        let rec: serde_json::Value = serde_json::from_str(
+            &std::fs::read_to_string(out_dir.join(format!("points/{}.json", r["id"]))).unwrap(),
+        )
+        .unwrap();
+        let cmd = rec["command"].to_string();
+        assert!(!cmd.contains("label."), "a label reached trax run: {cmd}");
+    }
+    // One chart over the label, a line per case.
+    let out = trax(&[
+        "plot",
+        out_dir.to_str().unwrap(),
+        "--x",
+        "label.size",
+        "--y",
+        "instructions",
+        "--by",
+        "label.chip",
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    // A bare `label` is not a label: an unknown parameter, with its line.
+    let f = sweep_file(&dir, &format!("kernel = {k:?}\nlabel = 3\n"));
+    let out = trax(&["sweep", f.to_str().unwrap(), "--dry-run"]);
+    let err = text(&out.stderr);
+    assert!(!out.status.success());
+    assert!(err.contains(":2:") && err.contains("`label`"), "{err}");
+    assert!(err.contains("label.NAME"), "{err}");
+}

@@ -186,7 +186,7 @@ pub fn make_plan(spec: &SweepSpec, points: &[Point], build_dir: &Path) -> Result
         let mut sets = Vec::new();
         let mut chip = base;
         for (k, v) in &p.params {
-            if k == "rep" || KNOBS.iter().any(|kn| kn.name == k) {
+            if k == "rep" || spec::is_label(k) || KNOBS.iter().any(|kn| kn.name == k) {
                 continue;
             }
             chip = chip.with_field(k, v.to_toml()).map_err(|e| {
@@ -196,7 +196,7 @@ pub fn make_plan(spec: &SweepSpec, points: &[Point], build_dir: &Path) -> Result
                 if !k.contains('.') && msg.starts_with("unknown field") {
                     let knobs: Vec<&str> = KNOBS.iter().map(|k| k.name).collect();
                     msg = format!(
-                        "unknown parameter: not a run knob ({}) nor a chip config field ({msg})",
+                        "unknown parameter: not a run knob ({}), a label (`label.NAME`) nor a chip config field ({msg})",
                         knobs.join(", ")
                     );
                 }

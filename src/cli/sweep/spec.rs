@@ -17,6 +17,7 @@
 //! [[cases]]
 //! config = "strata"
 //! memory.dram.preset = "hbm2"
+//! label.chip = "STRaTA"               # a label: a column of results.csv, not a config field
 //!
 //! [slurm]                              # defaults for --slurm
 //! partition = "short"
@@ -26,8 +27,9 @@
 //! y = "fps"
 //! ```
 //!
-//! A parameter is a run knob (see [`KNOBS`]) or, for any other name, a field of the chip
-//! config set as `trax run --set PATH=VALUE` does. Every point's config is built while the
+//! A parameter is a run knob (see [`KNOBS`]), a label (`label.NAME`, see [`LABEL_PREFIX`]:
+//! recorded, not run) or, for any other name, a field of the chip config set as `trax run
+//! --set PATH=VALUE` does. Every point's config is built while the
 //! file is checked, so an unknown field, a value of the wrong type or out of range is an error
 //! naming the field and its line before anything runs.
 //!
@@ -224,6 +226,17 @@ const RESERVED: &[&str] = &[
     "plot",
     "rep",
 ];
+
+/// Prefix of label parameters (`label.NAME = VALUE`): recorded with the point (its id,
+/// `results.csv`, plots) but not passed to `trax run`, e.g. a common x axis for cases that
+/// vary different config fields (an L2 size here, a stream-memory size there).
+pub const LABEL_PREFIX: &str = "label.";
+
+/// Whether `name` is a label parameter ([`LABEL_PREFIX`]).
+pub fn is_label(name: &str) -> bool {
+    name.strip_prefix(LABEL_PREFIX)
+        .is_some_and(|n| !n.is_empty())
+}
 
 /// The knob called `name`.
 pub fn knob_named(name: &str) -> Option<&'static Knob> {

@@ -328,6 +328,18 @@ pub fn build_executable_of(files: &[PathBuf], opt_level: u8) -> Result<Vec<u8>, 
                     bytes,
                 });
             }
+            Err(trax_assembler::link::LinkError::UndefinedSymbol { symbol, .. })
+                if symbol == "trax_main"
+                    && files
+                        .iter()
+                        .all(|f| matches!(KernelFile::of(f), KernelFile::C(_))) =>
+            {
+                // C and C++ sources without an entry point: say what to write.
+                let cpp = inputs
+                    .iter()
+                    .any(|i| clang::entry_point(&i.bytes) == clang::EntryPoint::CppLinkage);
+                return Err(PrepareError::Flag(clang::no_entry_message(&name, cpp)));
+            }
             Err(source) => {
                 return Err(PrepareError::Link {
                     path: name,
@@ -386,7 +398,7 @@ pub fn lay_out(
 pub fn scene_image(req: &Request) -> Result<(SceneImage, Vec<String>), PrepareError> {
     let scene = load_scene(&req.scene, &req.load)?;
     let mut warnings = scene.warnings.clone();
-    let referenced = match build_executable(&req.kernel, DEFAULT_OPT_LEVEL)
+    let referenced = match build_executable_of(&req.files(), DEFAULT_OPT_LEVEL)
         .map_err(|e| e.to_string())
         .and_then(|elf| Executable::parse("program ELF", &elf).map_err(|e| e.to_string()))
     {

@@ -197,9 +197,10 @@ fn rust_and_c_objects_link_together() {
     assert_eq!(out, "from C: 42\n");
 }
 
-/// The C++ layer: primary rays through the Cornell box's camera (`trax::primary_ray`),
-/// shaded by direction, against the same arithmetic on the host (the camera from the
-/// scene loader, `1/sqrt` from the runtime's `fops::invsqrt`, the machine's semantics).
+/// The C++ layer: primary rays through the Cornell box's camera (`trax::primary_ray`, the
+/// prelude's `Camera::pixel_ray`), shaded by direction, against the same arithmetic on the
+/// host (the camera from the scene loader, `1/sqrt` from the runtime's `fops::invsqrt`,
+/// the machine's semantics).
 #[test]
 fn cpp_kernel_with_trax_hpp_matches_the_host() {
     let dir = scratch("cpp");
@@ -224,8 +225,9 @@ void trax_main() {
     let (iw, ih) = (1.0f32 / w as f32, 1.0f32 / h as f32);
     for y in 0..h {
         for x in 0..w {
-            let s = c.left + (c.right - c.left) * (x as f32 + 0.5) * iw;
-            let t = c.bottom + (c.top - c.bottom) * (y as f32 + 0.5) * ih;
+            // The prelude's `Camera::pixel_ray`: row 0 at the top.
+            let s = c.left + (c.right - c.left) * ((x as f32 + 0.5) * iw);
+            let t = c.top - (c.top - c.bottom) * ((y as f32 + 0.5) * ih);
             let d: Vec<f32> = (0..3)
                 .map(|k| c.w[k] * c.distance + c.u[k] * s + c.v[k] * t)
                 .collect();

@@ -387,8 +387,15 @@ fn libm_object() -> Result<Vec<u8>, ClangError> {
     };
     trax_compiler::compile_source("trax_libm", &trax_runtime::cheader::libm_c_exports(), &opts)
         .map(|o| o.bytes)
-        .map_err(|e| ClangError::Diagnostics {
-            diagnostics: format!("building the prelude's libm for C (trax_sinf, ...) failed:\n{e}"),
+        .map_err(|e| {
+            // The first diagnostic says why; the others repeat it for every function.
+            let all = e.to_string();
+            let first = all.split("\n\n").next().unwrap_or_default();
+            ClangError::Diagnostics {
+                diagnostics: format!(
+                    "error: the kernel calls the prelude's libm (trax_sinf, ...), which the trax compiler builds from `extern \"C\"` exports of trax::libm, and that failed:\n{first}\n"
+                ),
+            }
         })
 }
 
@@ -740,7 +747,7 @@ pub fn move_constructors(obj: &mut [u8]) -> Result<usize, String> {
             u64::from_le_bytes(flags)
         } else {
             u64::from_be_bytes(flags)
-        } | u64::from(object::elf::SHF_GNU_RETAIN.0);
+        } | object::elf::SHF_GNU_RETAIN.0;
         let (t, f) = if little {
             (ty.to_le_bytes(), flags.to_le_bytes())
         } else {

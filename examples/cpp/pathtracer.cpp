@@ -46,7 +46,11 @@ class Material {
     virtual Vec3 emitted() const { return Vec3::zero(); }
     // Light leaving the surface point towards the previous vertex: emission (first
     // vertex only) plus direct light from the sources.
-    virtual Vec3 shade(const Path &path, const SurfacePoint &sp, unsigned int depth) const;
+    virtual Vec3 shade(const Path &path, const SurfacePoint &sp, unsigned int depth) const = 0;
+
+  protected:
+    // Light from every source reflected at `sp` (Lambertian BRDF albedo / pi).
+    Vec3 direct_light(const Path &path, const SurfacePoint &sp) const;
 };
 
 // A Lambertian reflector.
@@ -54,6 +58,7 @@ class Lambertian : public Material {
   public:
     explicit Lambertian(Vec3 albedo) : albedo_(albedo) {}
     Vec3 albedo() const override { return albedo_; }
+    Vec3 shade(const Path &path, const SurfacePoint &sp, unsigned int depth) const override;
 
   private:
     Vec3 albedo_;
@@ -211,15 +216,19 @@ class Path {
     unsigned int max_depth_;
 };
 
-Vec3 Material::shade(const Path &path, const SurfacePoint &sp, unsigned int) const {
+Vec3 Material::direct_light(const Path &path, const SurfacePoint &sp) const {
     Vec3 brdf = albedo() * INV_PI;
     return path.direct(AreaLights(), sp, brdf) + path.direct(PointLights(), sp, brdf);
+}
+
+Vec3 Lambertian::shade(const Path &path, const SurfacePoint &sp, unsigned int) const {
+    return direct_light(path, sp);
 }
 
 Vec3 Emissive::shade(const Path &path, const SurfacePoint &sp, unsigned int depth) const {
     // Emission reaches the image directly (camera rays) or through light sampling, never
     // through a continuation ray, so no light is counted twice.
-    Vec3 direct = Material::shade(path, sp, depth);
+    Vec3 direct = direct_light(path, sp);
     return depth == 0 ? emitted() + direct : direct;
 }
 

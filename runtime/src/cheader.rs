@@ -354,7 +354,8 @@ TRAX_INLINE float trax_max(float a, float b) { return trax_fmax(a, b); }
 TRAX_INLINE float trax_sqrt(float x) { return __builtin_sqrtf(x); }
 TRAX_INLINE void trax_count_ray(void) { trax_stat(0); }
 
-/* ---- Printing (one instruction per value; the machine buffers lines per thread) ---- */
+/* ---- Printing: one instruction per value, printed as it runs (a line printed piece by
+ * piece by several threads at once interleaves; trax native buffers lines per thread) ---- */
 TRAX_INLINE void trax_print_int(int v) { trax_printi((unsigned int)v); }
 TRAX_INLINE void trax_print_uint(unsigned int v) { trax_printu(v); }
 TRAX_INLINE void trax_print_float(float v) { trax_printf(v); }

@@ -772,18 +772,11 @@ pub enum EntryPoint {
 
 /// Whether the object `obj` (any ELF) defines `trax_main`.
 pub fn entry_point(obj: &[u8]) -> EntryPoint {
-    use object::{Object, ObjectSymbol};
-    let Ok(file) = object::File::parse(obj) else {
-        return EntryPoint::Missing;
-    };
     let mut found = EntryPoint::Missing;
-    for sym in file.symbols() {
-        if sym.is_undefined() || !sym.is_global() {
-            continue;
-        }
-        match sym.name() {
-            Ok("trax_main") => return EntryPoint::Defined,
-            Ok("_Z9trax_mainv") => found = EntryPoint::CppLinkage,
+    for name in trax_runtime::exe::defined_global_symbols(obj) {
+        match name.as_str() {
+            "trax_main" => return EntryPoint::Defined,
+            "_Z9trax_mainv" => found = EntryPoint::CppLinkage,
             _ => {}
         }
     }

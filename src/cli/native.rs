@@ -12,7 +12,10 @@
 //! Steps: (1) the prelude is written out from `trax_runtime::prelude::FILES` and built as
 //! an rlib named `trax`; (2) the kernel is compiled from stdin with the current directory
 //! set to the kernel's directory (so `mod x;` files resolve), with
-//! `fn main() { trax::host::host_main(trax_main) }` appended; (3) a memory image (format:
+//! `fn main() { trax::host::host_main(trax_main) }` appended — C and C++ sources are
+//! compiled by clang for the host (`trax::clang::compile_host`, constructors moved so they
+//! run on every kernel thread) and linked in, with `trax::clang::host_shim()` (and, for a
+//! C/C++ kernel alone, `HOST_MAIN_C` as the whole program); (3) a memory image (format:
 //! `trax_runtime::image`, segments with permissions) is written, the program runs over it and writes the framebuffer
 //! back; (4) the framebuffer becomes a PNG. Builds are cached in `$TRAX_CACHE_DIR` (default
 //! `~/.cache/trax`) keyed by a hash of the sources and the rustc version. Diagnostics

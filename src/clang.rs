@@ -483,15 +483,15 @@ pub fn host_shim() -> String {
             Op::TriTest => "let r = cop2(); let t = trax::host::pipe_tri_test([r[0], r[1], r[2]], [r[3], r[4], r[5]], [r[12], r[13], r[14]], [r[15], r[16], r[17]], [r[18], r[19], r[20]]); set_cop2(21, trax::host::pipe_tri_u()); set_cop2(22, trax::host::pipe_tri_v()); t".into(),
             Op::PrintStr | Op::Abort | Op::PrintFmt => unsupported("takes a simulated address; use trax_print_str / trax_panic"),
             Op::Halt => unsupported("is not available natively (return from trax_main)"),
-            Op::StreamWriteStart
-            | Op::StreamWrite
-            | Op::StreamWriteEnd
-            | Op::StreamReadStart
-            | Op::StreamRead
-            | Op::StreamReadEnd
-            | Op::StreamSize
-            | Op::StreamSchedule
-            | Op::StreamCapacity => unsupported("(ray streams) is not available natively"),
+            Op::StreamWriteStart => "trax::host::stream_write_start(rs)".into(),
+            Op::StreamWrite => "trax::host::stream_write_word(rs)".into(),
+            Op::StreamWriteEnd => "trax::host::stream_write_end()".into(),
+            Op::StreamReadStart => "trax::host::stream_read_start()".into(),
+            Op::StreamRead => "trax::host::stream_read_word()".into(),
+            Op::StreamReadEnd => "trax::host::stream_read_end()".into(),
+            Op::StreamSize => "trax::host::stream_size(rs)".into(),
+            Op::StreamSchedule => "trax::host::stream_schedule()".into(),
+            Op::StreamCapacity => "trax::host::stream_capacity()".into(),
         };
         let allow = if body.starts_with("panic!") {
             "#[allow(unused_variables)]\n"

@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 use trax_assembler::bvh::{TreeletLayout, TreeletOptions};
 use trax_assembler::image::{
     build_image, build_image_from_symbols, on_demand_components, ImageError, RenderOptions,
-    SceneImage,
+    SceneImage, StreamShape,
 };
 use trax_assembler::link::{link, Input, LinkOptions};
 use trax_assembler::scene::{LoadOptions, Scene};
@@ -106,13 +106,25 @@ impl Request {
 }
 
 /// The image options for `render` on `chip`: the chip's local-store size as each thread's
-/// stack window and the chip's treelet layout (`[treelets]`: form, size, alignment). Every
+/// stack window, its ray stream memory's shape (scene header `stream_*`) and the chip's
+/// treelet layout (`[treelets]`: form, size, alignment). Every
 /// image that runs on a chip, or that `trax native` runs over, is laid out with these
 /// ([`lay_out`], [`scene_image`], [`lay_out_scene`]), so run and native lay out alike.
 pub fn image_options(render: &RenderOptions, chip: &ChipConfig) -> Result<RenderOptions, String> {
     let align_bytes = chip.treelet_align_bytes().map_err(|e| e.to_string())?;
+    let sm = &chip.stream_memory;
+    let stream = if sm.capacity_bytes > 0 {
+        StreamShape {
+            rays: sm.geometry().capacity_rays(),
+            ray_bytes: sm.ray_bytes,
+            buffers: sm.buffers,
+        }
+    } else {
+        StreamShape::default()
+    };
     Ok(RenderOptions {
         stack_size: chip.local_store.bytes,
+        stream,
         treelets: TreeletLayout {
             always: chip.treelets.form == TreeletForm::Always,
             options: TreeletOptions {

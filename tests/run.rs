@@ -489,7 +489,7 @@ fn messages_name_the_input_once_and_list_choices() {
     assert_eq!(out.status.code(), Some(1));
     let err = text(&out.stderr);
     assert!(
-        err.contains("`huge`") && err.contains("tiny, baseline, strata"),
+        err.contains("`huge`") && err.contains("tiny, baseline, baseline-ch3, strata"),
         "{err}"
     );
 

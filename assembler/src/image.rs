@@ -75,6 +75,20 @@ pub struct RenderOptions {
     /// `trax::pipeline::image_options`). Treelet-aligned components (`bvh_nodes`,
     /// `triangles`) start on the alignment of the treelets actually formed.
     pub treelets: TreeletLayout,
+    /// The shape of the chip's ray stream memory, written into the header for kernels.
+    pub stream: StreamShape,
+}
+
+/// The ray stream memory's shape as kernels see it (header fields `stream_rays`,
+/// `stream_ray_bytes`, `stream_buffers`); all zero when the chip has none.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct StreamShape {
+    /// Rays it holds.
+    pub rays: u32,
+    /// Bytes of one ray record.
+    pub ray_bytes: u32,
+    /// Ray buffers.
+    pub buffers: u32,
 }
 
 impl Default for RenderOptions {
@@ -90,6 +104,7 @@ impl Default for RenderOptions {
             stack_size: abi::DEFAULT_STACK_SIZE,
             bvh: BvhOptions::default(),
             treelets: TreeletLayout::default(),
+            stream: StreamShape::default(),
         }
     }
 }
@@ -312,6 +327,9 @@ pub fn build_image_from_symbols(
         epsilon: opts.epsilon.unwrap_or_else(|| default_epsilon(scene)),
         seed: opts.seed,
         background: opts.background,
+        stream_rays: opts.stream.rays,
+        stream_ray_bytes: opts.stream.ray_bytes,
+        stream_buffers: opts.stream.buffers,
         ..SceneHeader::new(opts.width, opts.height)
     };
     let ctx = Ctx {

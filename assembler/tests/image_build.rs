@@ -138,7 +138,8 @@ fn header_bytes_match_abi_offsets() {
     h.triangles.addr = 0xABCD;
     h.triangles.count = 0x1234;
     h.treelet_ids.count = 99;
-    h.reserved[7] = 77;
+    h.reserved[4] = 77;
+    h.stream_ray_bytes = 48;
     let b = h.to_bytes();
     assert_eq!(b.len(), abi::SCENE_HEADER_SIZE);
     let word = |name: &str, extra: usize| {
@@ -153,7 +154,8 @@ fn header_bytes_match_abi_offsets() {
     assert_eq!(word("triangles", 0), 0xABCD);
     assert_eq!(word("triangles", 4), 0x1234);
     assert_eq!(word("treelet_ids", 4), 99);
-    assert_eq!(word("reserved", 28), 77);
+    assert_eq!(word("reserved", 16), 77);
+    assert_eq!(word("stream_ray_bytes", 0), 48);
 }
 
 #[test]

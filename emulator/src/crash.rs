@@ -173,3 +173,104 @@ impl SourceFrame {
         caller.location()
     }
 }
+
+/// Formats the report of a deadlock: every live thread of `m`, grouped by TM and what it
+/// waits for (barrier, `trax.strsched`, semaphore), with the source line it waits at.
+pub fn deadlock_report(
+    m: &crate::machine::Machine,
+    cycle: Option<u64>,
+    exe: Option<&Executable>,
+    dbg: Option<&DebugInfo>,
+) -> String {
+    use crate::decode::Inst;
+    use crate::thread::RunState;
+    use trax_runtime::isa::TraxOp;
+    let sh = &m.shared;
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "error: deadlock{}: {} live thread(s) all wait for one another, and none can run:",
+        cycle.map_or(String::new(), |c| format!(" at cycle {c}")),
+        sh.live_threads
+    );
+    // The source frames at `pc` (inlined ones first), then the call sites of the shadow
+    // call stack, at most four in all.
+    let place = |t: &crate::thread::Thread, pc: u32| -> String {
+        let mut parts = Vec::new();
+        for p in std::iter::once(pc).chain(t.calls.iter().rev().map(|c| c.call_pc)) {
+            let frames = dbg.map(|d| d.frames(p));
+            match frames.as_deref().filter(|f| !f.is_empty()) {
+                Some(fs) => parts.extend(
+                    fs.iter()
+                        .map(|f| format!("{} ({})", fname(f), f.location())),
+                ),
+                None => parts.push(match exe.and_then(|e| e.symbol_at(p)) {
+                    Some((sym, off)) => format!("{}+{off:#x}", demangle(&sym.name)),
+                    None => format!("{p:#010x}"),
+                }),
+            }
+            if parts.len() >= 4 {
+                break;
+            }
+        }
+        parts.truncate(4);
+        format!("in {}", parts.join(" <- "))
+    };
+    // (TM, what, where) per live thread, in thread order.
+    let mut rows: Vec<(u32, u32, String)> = Vec::new();
+    for t in &m.threads {
+        let what = match t.state {
+            RunState::Halted => continue,
+            RunState::Barrier { reg, .. } => format!(
+                "trax.barrier G[{reg}] ({} of {} live threads arrived) {}",
+                sh.barrier_waiting[reg as usize],
+                sh.live_threads,
+                place(t, t.wait_pc)
+            ),
+            RunState::StreamWait { .. } => {
+                let ts = &sh.sched.tms[t.tm as usize];
+                let why = if ts.idle {
+                    "its TM drained and every ray buffer is empty: waiting for a ray".to_string()
+                } else {
+                    format!(
+                        "waiting for {} more live thread(s) of its TM",
+                        ts.live.saturating_sub(ts.waiting)
+                    )
+                };
+                format!("trax.strsched ({why}) {}", place(t, t.wait_pc))
+            }
+            RunState::Running => match sh.program.get(t.pc) {
+                Some(Inst::Trax {
+                    op: TraxOp::SemAcquire,
+                    rs,
+                    ..
+                }) => {
+                    let reg = t.regs.gpr[(*rs & 31) as usize];
+                    format!("trax.semacq G[{reg}] (0) {}", place(t, t.pc))
+                }
+                _ => format!("runnable {}", place(t, t.pc)),
+            },
+        };
+        rows.push((t.gid, t.tm, what));
+    }
+    let mut i = 0;
+    while i < rows.len() {
+        let (g0, tm, what) = &rows[i];
+        let mut j = i + 1;
+        while j < rows.len()
+            && rows[j].1 == *tm
+            && rows[j].2 == *what
+            && rows[j].0 == g0 + (j - i) as u32
+        {
+            j += 1;
+        }
+        let who = if j - i == 1 {
+            format!("thread {g0}")
+        } else {
+            format!("threads {g0}-{}", rows[j - 1].0)
+        };
+        let _ = writeln!(s, "  {who} (TM {tm}): {what}");
+        i = j;
+    }
+    s
+}

@@ -906,6 +906,7 @@ impl Thread {
                 Ok(TraxFlow::Defer) => return Err(StepExit::Defer),
                 Ok(flow) => {
                     // Halt/Block complete the instruction, then stop the thread.
+                    self.wait_pc = pc;
                     self.regs.gpr[0] = 0;
                     self.pc = npc;
                     self.npc = next;

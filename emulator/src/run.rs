@@ -287,7 +287,14 @@ fn load(req: &RunRequest<'_>, quantum: u32) -> Result<(Executable, Machine), Run
     };
     let mut machine = Machine::load(&exe, req.segments.as_deref(), config)?;
     // The stream memory and the pipelines the chip has (the same in both modes).
-    machine.shared.streams = crate::streams::StreamMemory::new(req.chip.stream_memory.geometry());
+    let sm = &req.chip.stream_memory;
+    machine.shared.streams = crate::streams::StreamMemory::new(sm.geometry());
+    machine.shared.sched = crate::streams::StreamScheduler::new(
+        req.chip.tms,
+        req.chip.threads_per_tm,
+        sm.schedule,
+        u64::from(sm.schedule_cycles),
+    );
     machine.shared.pipe_modes = req.chip.pipelines.modes_available(
         req.chip.unit(UnitClass::FpMul).count,
         req.chip.unit(UnitClass::FpAdd).count,
@@ -401,10 +408,8 @@ fn run_timing(mut req: RunRequest<'_>, out: &mut dyn Write) -> Result<RunReport,
         chip,
         &engine.c,
         cycles,
-        &machine.shared.program,
         engine.mem().stats(),
-        &machine.shared.stats,
-        &machine.shared.streams,
+        &machine.shared,
     );
     if let Some(n) = req.stats_interval {
         let mut samples = std::mem::take(&mut engine.samples);
@@ -457,7 +462,8 @@ fn finish(
     machine: Machine,
     exe: Executable,
 ) -> Result<RunReport, RunError> {
-    let needs_debug = e.profiler.is_some() || matches!(e.outcome, Outcome::Crashed(_));
+    let needs_debug =
+        e.profiler.is_some() || matches!(e.outcome, Outcome::Crashed(_) | Outcome::Deadlock { .. });
     let debug = needs_debug
         .then(|| DebugInfo::parse(req.elf_path, req.elf).ok())
         .flatten();
@@ -469,9 +475,11 @@ fn finish(
             Some(&exe),
             debug.as_ref(),
         )),
-        (Outcome::Deadlock { waiting }, cycles) => Some(format!(
-            "error: deadlock{}: {waiting} live thread(s) are all waiting at barriers or semaphores",
-            cycles.map_or(String::new(), |c| format!(" at cycle {c}"))
+        (Outcome::Deadlock { .. }, cycles) => Some(crash::deadlock_report(
+            &machine,
+            cycles,
+            Some(&exe),
+            debug.as_ref(),
         )),
         (Outcome::InstructionLimit, _) => Some(format!(
             "error: instruction limit reached after {} instructions",

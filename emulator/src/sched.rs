@@ -3,14 +3,14 @@
 //! [`Machine::run`] drives it with [`PlainExec`]; the profiler runs each thread's quantum
 //! in basic-block chunks and the debugger pauses the chip at a breakpoint and resumes it
 //! later. All share one interleaving (TM-major round robin, `quantum` instructions per
-//! turn, LL link cleared on a context switch, barrier release when a thread halts), so
-//! profiled and debugged runs equal ordinary ones.
+//! turn, LL link cleared on a context switch, barrier and stream-scheduler release when a
+//! thread halts), so profiled and debugged runs equal ordinary ones.
 
 use std::io::Write;
 
 use crate::exec::Stop;
-use crate::machine::{drain, release_barriers, Crash, Machine, Outcome};
-use crate::thread::{RunState, Shared, Thread};
+use crate::machine::{drain, Crash, Machine, Outcome};
+use crate::thread::{Shared, Thread};
 
 /// Runs one thread's turn (or part of it).
 pub trait Executor {
@@ -94,20 +94,9 @@ impl Scheduler {
             while self.next < m.threads.len() {
                 let i = self.next;
                 let t = &mut m.threads[i];
-                match t.state {
-                    RunState::Halted => {
-                        self.next += 1;
-                        continue;
-                    }
-                    RunState::Barrier { reg, generation } => {
-                        if m.shared.barrier_generation[reg as usize] > generation {
-                            t.state = RunState::Running;
-                        } else {
-                            self.next += 1;
-                            continue;
-                        }
-                    }
-                    RunState::Running => {}
+                if !t.wake(&m.shared, u64::MAX) {
+                    self.next += 1;
+                    continue;
                 }
                 let mut budget = self.left.take().unwrap_or(quantum);
                 if let Some(max) = m.config.max_instructions {
@@ -134,12 +123,7 @@ impl Scheduler {
             self.next = 0;
             drain(&mut m.shared.output, out);
             if !std::mem::take(&mut self.progressed) && m.shared.live_threads > 0 {
-                let releasable = m.threads.iter().any(|t| match t.state {
-                    RunState::Barrier { reg, generation } => {
-                        m.shared.barrier_generation[reg as usize] > generation
-                    }
-                    RunState::Running | RunState::Halted => false,
-                });
+                let releasable = m.threads.iter().any(|t| t.releasable(&m.shared));
                 if !releasable {
                     return Driven::Done(Outcome::Deadlock {
                         waiting: m.shared.live_threads,
@@ -162,12 +146,7 @@ impl Scheduler {
             return self.done.clone();
         }
         let t = &mut m.threads[idx];
-        if let RunState::Barrier { reg, generation } = t.state {
-            if m.shared.barrier_generation[reg as usize] > generation {
-                t.state = RunState::Running;
-            }
-        }
-        if t.state != RunState::Running {
+        if !t.wake(&m.shared, u64::MAX) {
             return None;
         }
         let before = t.retired;
@@ -189,8 +168,8 @@ fn account(m: &mut Machine, i: usize, stop: Stop) -> Option<Outcome> {
         // `Defer` does not happen with exclusive access.
         Stop::Budget | Stop::Blocked | Stop::Retry | Stop::Defer => None,
         Stop::Halted => {
-            m.shared.live_threads -= 1;
-            release_barriers(&mut m.shared);
+            let tm = m.threads[i].tm;
+            m.shared.thread_halted(tm);
             None
         }
         Stop::Fault(fault) => Some(Outcome::Crashed(Box::new(Crash::capture(

@@ -41,6 +41,14 @@ pub enum RunState {
         /// Release count of that barrier when the thread arrived.
         generation: u64,
     },
+    /// Waiting in `trax.strsched` for its TM's stream scheduler to pass `generation`
+    /// (see `crate::streams`); the buffer id it gets goes to GPR `rd`.
+    StreamWait {
+        /// Destination register of the `trax.strsched`.
+        rd: u8,
+        /// The TM scheduler's release count when the thread arrived.
+        generation: u64,
+    },
 }
 
 /// What stopped a thread (the crash report's "what went wrong").
@@ -285,8 +293,12 @@ pub struct Shared {
     pub profile: [u64; 32],
     /// The ray stream memory (STRaTA).
     pub streams: crate::streams::StreamMemory,
-    /// Stream each TM reads from (set by `trax.strsched`).
-    pub tm_stream: Vec<u32>,
+    /// Each TM's stream scheduler (`trax.strsched`; its current buffer is the one
+    /// `trax.strrstart` reads).
+    pub sched: crate::streams::StreamScheduler,
+    /// The cycle of the chip-wide operation being executed (timing mode's serial phase; 0
+    /// in functional mode): stream scheduling reads it for idle time and resume cycles.
+    pub clock: u64,
     /// Pipeline mode per TM (`trax.setpipe`).
     pub tm_pipe_mode: Vec<u8>,
     /// Bit `m` set when the chip's TMs have the units for `trax.setpipe m`.
@@ -308,10 +320,40 @@ impl Shared {
             stats: [0; NUM_STATS],
             profile: [0; 32],
             streams: crate::streams::StreamMemory::new(Default::default()),
-            tm_stream: vec![u32::MAX; shape.tms as usize],
+            sched: crate::streams::StreamScheduler::new(
+                shape.tms,
+                shape.threads_per_tm,
+                Default::default(),
+                1,
+            ),
+            clock: 0,
             tm_pipe_mode: vec![0; shape.tms as usize],
             pipe_modes: 0b111,
         }
+    }
+}
+
+impl Shared {
+    /// A thread of TM `tm` halted: one live thread less for barriers and the TM's stream
+    /// scheduler (whose peers may now have drained).
+    pub fn thread_halted(&mut self, tm: u32) {
+        self.live_threads -= 1;
+        crate::machine::release_barriers(self);
+        self.sched
+            .halted(tm as usize, &self.streams, self.live_threads, self.clock);
+    }
+
+    /// A thread of TM `tm` enters `trax.strsched`: the generation it waits to pass.
+    pub fn stream_arrive(&mut self, tm: u32) -> u64 {
+        self.sched
+            .arrive(tm as usize, &self.streams, self.live_threads, self.clock)
+    }
+
+    /// Threads blocked until another thread acts: waiting at a barrier that has not
+    /// released or in `trax.strsched` with their TM not yet scheduled. When this is every
+    /// live thread, nothing can ever run again (a deadlock).
+    pub fn blocked_threads(&self) -> u32 {
+        self.barrier_waiting.iter().sum::<u32>() + self.sched.waiting
     }
 }
 
@@ -357,6 +399,9 @@ pub struct Thread {
     pub profile_open: Vec<(u8, u64)>,
     /// The fault of the instruction being executed (set on the interpreter's cold path).
     pub pending_fault: Option<Fault>,
+    /// Address of the instruction the thread last blocked at (barrier, `trax.strsched`),
+    /// for deadlock reports.
+    pub wait_pc: u32,
 }
 
 impl Thread {
@@ -384,6 +429,51 @@ impl Thread {
             stream_read: None,
             profile_open: Vec::new(),
             pending_fault: None,
+            wait_pc: 0,
+        }
+    }
+
+    /// Makes a waiting thread runnable if what it waits for has happened by cycle `now`
+    /// (functional mode: `u64::MAX`): a barrier released, or its TM's stream scheduler
+    /// released it (its `trax.strsched` result is written then). Returns whether it can run.
+    #[inline]
+    pub fn wake(&mut self, sh: &Shared, now: u64) -> bool {
+        match self.state {
+            RunState::Running => true,
+            RunState::Halted => false,
+            RunState::Barrier { reg, generation } => {
+                if sh.barrier_generation[reg as usize] > generation {
+                    self.state = RunState::Running;
+                    true
+                } else {
+                    false
+                }
+            }
+            RunState::StreamWait { rd, generation } => {
+                let tm = self.tm as usize;
+                if sh.sched.released(tm, generation, now) {
+                    if rd & 31 != 0 {
+                        self.regs.gpr[(rd & 31) as usize] = sh.sched.tms[tm].current;
+                    }
+                    self.state = RunState::Running;
+                    true
+                } else {
+                    false
+                }
+            }
+        }
+    }
+
+    /// Whether [`Thread::wake`] would make this waiting thread runnable (ignoring cycles).
+    pub fn releasable(&self, sh: &Shared) -> bool {
+        match self.state {
+            RunState::Barrier { reg, generation } => {
+                sh.barrier_generation[reg as usize] > generation
+            }
+            RunState::StreamWait { generation, .. } => {
+                sh.sched.released(self.tm as usize, generation, u64::MAX)
+            }
+            RunState::Running | RunState::Halted => false,
         }
     }
 }

@@ -14,18 +14,31 @@
 //! - `trax.fmin/fmax/invsqrt`: `trax_runtime::fops`; `trax.boxtest/tritest`:
 //!   `trax_runtime::pipes` (both identical to `trax native`).
 //! - Streams: the ray stream memory of `crate::streams` (fixed capacity, LIFO buffers;
-//!   a write to a full memory and `trax.strw` past a ray record are faults);
-//!   `trax.strsched` picks the non-empty stream with the most rays (lowest id on ties)
-//!   and makes it the TM's current stream.
+//!   a write to a full memory and `trax.strw` past a ray record are faults).
+//!   `trax.strrstart` pops from the TM's current buffer. `trax.strsched` is a wait
+//!   (`RunState::StreamWait`): the thread resumes when its TM's stream scheduler has
+//!   drained the TM (every live thread of the TM in `trax.strsched`) and picked the next
+//!   buffer by `stream_memory.schedule`, with that buffer's id; when every buffer stays
+//!   empty until every live thread of the chip waits there, all resume with 0xFFFFFFFF.
+//!   A write wakes the idle TMs (drained, nothing to read), which then schedule.
 //! - `trax.setpipe`: modes 0 (general), 1 (box pipeline), 2 (triangle pipeline); another
 //!   value is a fault. `trax.boxtest` needs mode 1 and `trax.tritest` mode 2 (a fault
-//!   otherwise), on the host as on the machine.
+//!   otherwise), on the host as on the machine. A `trax.setpipe` to the mode the TM is in
+//!   does nothing (timing: an ordinary one-cycle instruction, no chip-wide ordering and no
+//!   reconfiguration); one that changes it is chip-wide state, executed in order with
+//!   the other TMs' chip-wide instructions. In timing mode the TM's units follow the new
+//!   mode from its next quantum: pipeline tests already issued keep their results and
+//!   latency, tests issued before then by other threads of the TM still see the old mode
+//!   (functional mode, which has no quanta, checks each test against the mode at that
+//!   point of the interleaving), and the FP units and the pipeline are unavailable for
+//!   `pipelines.reconfig_cycles` from the quantum's start.
 //! - Box pipeline: slab test with the ray's inverse direction; NaN slab distances (0 * inf)
 //!   are ignored; returns the entry distance `max(tmin, 0)` when `tmax >= max(tmin, 0)`,
 //!   else +inf. Triangle pipeline: the Plücker-coordinate test of `pipes::tri_test`
 //!   (hits with `t > 0`, edges inside); barycentrics go to cop2 21 and 22.
 
 use crate::chip::Chip;
+use crate::streams;
 use crate::thread::{Fault, RunState, Thread, NUM_GLOBALS, NUM_STATS};
 use std::fmt::Write as _;
 use trax_runtime::isa::{AbortKind, TraxOp};
@@ -38,7 +51,7 @@ pub enum TraxFlow {
     Next,
     /// The thread halted.
     Halt,
-    /// The thread waits at a barrier.
+    /// The thread waits (barrier, `trax.strsched`).
     Block,
     /// Not executed; try again later (pc unchanged).
     Retry,
@@ -271,7 +284,7 @@ pub fn exec_trax<C: Chip>(
             chip.stats()[i] += 1;
         }
         StreamWriteStart => {
-            chip.shared().streams.buffer(vs)?;
+            streams::buffer(&chip.shared().streams, vs)?;
             t.stream_write = Some((vs, Vec::new()));
         }
         StreamWrite => {
@@ -289,22 +302,23 @@ pub fn exec_trax<C: Chip>(
             if t.stream_write.is_some() {
                 let sh = exclusive!();
                 if let Some((id, words)) = t.stream_write.take() {
-                    let b = sh.streams.buffer(id)?;
-                    if sh.streams.push(b, &words)? == crate::streams::Flow::Wait {
+                    let b = streams::buffer(&sh.streams, id)?;
+                    if streams::push(&mut sh.streams, b, &words)? == streams::Flow::Wait {
                         // The spill sentinel is making room: retry (the record is kept).
                         t.stream_write = Some((id, words));
                         return Ok(TraxFlow::Retry);
                     }
+                    sh.sched.pushed(&sh.streams, sh.clock);
                 }
             }
         }
         StreamReadStart => {
             let sh = exclusive!();
-            let cur = sh.tm_stream[t.tm as usize];
+            let cur = sh.sched.tms[t.tm as usize].current;
             let ray = match sh.streams.buffer(cur).map(|b| sh.streams.pop(b)) {
-                Ok(crate::streams::Popped::Ray(r)) => Some(r),
+                Some(streams::Popped::Ray(r)) => Some(r),
                 // The buffer's rays are on their way back from DRAM: retry.
-                Ok(crate::streams::Popped::Wait) => return Ok(TraxFlow::Retry),
+                Some(streams::Popped::Wait) => return Ok(TraxFlow::Retry),
                 _ => None,
             };
             let got = ray.is_some();
@@ -329,10 +343,12 @@ pub fn exec_trax<C: Chip>(
             set(t, n);
         }
         StreamSchedule => {
-            let sh = exclusive!();
-            let best = sh.streams.fullest().unwrap_or(u32::MAX);
-            sh.tm_stream[t.tm as usize] = best;
-            set(t, best);
+            let generation = exclusive!().stream_arrive(t.tm);
+            t.state = RunState::StreamWait {
+                rd: rd as u8,
+                generation,
+            };
+            return Ok(TraxFlow::Block);
         }
         StreamCapacity => {
             let n = chip.shared().streams.capacity_rays();
@@ -351,7 +367,10 @@ pub fn exec_trax<C: Chip>(
                     index: sa as u32,
                 });
             }
-            exclusive!().tm_pipe_mode[t.tm as usize] = sa;
+            // Asking for the current mode is free (a TM asks on every schedule).
+            if chip.shared().tm_pipe_mode[t.tm as usize] != sa {
+                exclusive!().tm_pipe_mode[t.tm as usize] = sa;
+            }
         }
         BoxTest => {
             need_mode(chip.shared().tm_pipe_mode[t.tm as usize], 1, "trax.boxtest")?;

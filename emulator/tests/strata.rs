@@ -232,35 +232,62 @@ fn a_read_is_ready_after_the_configured_latency() {
     assert_eq!(dts[1] - dts[0], 30);
 }
 
-const STARVED: &str = r#"
+/// TM 1 schedules with every buffer empty and idles; TM 0 writes a ray after 50
+/// dependent adds and halts; TM 1 wakes with that buffer, reads the ray, and its next
+/// schedule ends the frame (every live thread waits, the memory is empty).
+const IDLE_WAKE: &str = r#"
 #include "trax.h"
 void trax_main(void) {
-    unsigned t0 = trax_clock();
+    if (trax_tmid() == 0) {
+        float a = 1.0f, b = 0.5f;
+        __asm__ volatile(".rept 50\n add.s %0, %0, %1\n .endr\n mov.s %0, %0" : "+f"(a) : "f"(b));
+        trax_strwstart(3);
+        trax_strw(7);
+        unsigned t = trax_clock();
+        trax_strwend();
+        trax_printu(t);
+        trax_printc(' ');
+        return;
+    }
+    unsigned t = trax_clock();
     unsigned s = trax_strsched();
-    float a = 1.0f, b = 0.5f;
-    __asm__ volatile(".rept 50\n add.s %0, %0, %1\n .endr\n mov.s %0, %0" : "+f"(a) : "f"(b));
-    trax_strwstart(3);
-    trax_strw(1);
-    trax_strwend();
-    unsigned t1 = trax_clock();
+    unsigned got = trax_strrstart(), w = trax_strr();
+    trax_strrend();
     unsigned s2 = trax_strsched();
-    trax_printu(t1 - t0);
+    trax_printu(t);
     trax_printc(' ');
     trax_printu(s);
+    trax_printc(' ');
+    trax_printu(got * w);
     trax_printc(' ');
     trax_printu(s2);
 }
 "#;
 
 #[test]
-fn starved_tm_cycles_run_from_an_empty_schedule_to_a_full_one() {
-    let elf = common::build_c("s_starved", STARVED, "-O1");
-    let chip = stream_chip(1, 4, 8, 4);
+fn an_idle_tm_wakes_when_another_tm_writes_a_ray() {
+    let elf = common::build_c("s_idle", IDLE_WAKE, "-O1");
+    let mut chip = stream_chip(1, 4, 8, 4);
+    chip.tms = 2;
+    chip.tms_per_l2 = 2;
+    let (_, f) = finished(&elf, &chip, Mode::Functional);
     let (t, out) = finished(&elf, &chip, Mode::Timing);
     let v = numbers(&out);
-    assert_eq!((v[1], v[2]), (u64::from(u32::MAX), 3), "{out}");
-    // Each strsched issues in the cycle the clock before it reads.
-    assert_eq!(t.unwrap().stream.starved_tm_cycles, v[0], "{out}");
+    assert_eq!(&v[2..], [3, 7, u64::from(u32::MAX)], "{out}");
+    assert_eq!(&numbers(&f)[2..], &v[2..], "functional: {f}");
+    // TM 1's strsched issues in the cycle its clock read (v[1]), TM 0's strwend in the
+    // cycle of its own (v[0]): TM 1 idles from the one to the other.
+    let t = t.unwrap();
+    let idle = v[0] - v[1];
+    assert!(idle > 50, "{out}");
+    assert_eq!(t.stream.idle_tm_cycles, idle, "{out}");
+    // Its thread waits from the end of its strsched's quantum (until then: global_sync)
+    // to the end of the push's quantum, so by less than a quantum either way.
+    let q = u64::from(chip.memory.l1.hit_latency + chip.memory.l2.hit_latency);
+    let st = t.thread_cycles.stream_idle;
+    assert!(st + q > idle && st < idle + q, "{st} vs {idle}");
+    // One schedule that gave a buffer (the wake), then the end of the frame.
+    assert_eq!((t.stream.schedules, t.stream.switches), (1, 1));
 }
 
 /// `report(v)`: thread 0 prints every thread's `v` in thread order, after all arrive
@@ -544,4 +571,344 @@ fn stream_intervals_integrate_rays_in_flight() {
         (integral - total).abs() < 1e-6 * total,
         "{integral} vs {total}"
     );
+}
+
+/// One thread: `trax.setpipe MODE` (a real change, or none for mode 0), then eight more
+/// to the same mode between two clock reads.
+fn setpipe_kernel(mode: u32) -> String {
+    let word = |op: TraxOp, v: u32| format!(".word {:#x}\\n", instr(op).encode(&[v]));
+    let eight = word(TraxOp::SetPipe, mode).repeat(8);
+    format!(
+        r#"
+#include "trax.h"
+void trax_main(void) {{
+    trax_setpipe({mode});
+    unsigned t0, t1;
+    __asm__ volatile(".rept 4\n nop\n .endr\n" "{c0}" "{eight}" "{c1}"
+        "move %0, $8\n move %1, $9\n" : "=r"(t0), "=r"(t1) : : "$8", "$9");
+    trax_printu(t1 - t0);
+}}
+"#,
+        c0 = word(TraxOp::Clock, 8),
+        c1 = word(TraxOp::Clock, 9),
+    )
+}
+
+#[test]
+fn setpipe_to_the_current_mode_is_free() {
+    let chip = pipe_chip(1);
+    for mode in [0u32, 1, 2] {
+        let elf = common::build_c(&format!("p_same{mode}"), &setpipe_kernel(mode), "-O1");
+        let (t, out) = finished(&elf, &chip, Mode::Timing);
+        // One cycle each (no chip-wide ordering, no reconfiguration): the second clock
+        // reads 8 cycles after the first.
+        assert_eq!(numbers(&out), [8], "mode {mode}");
+        let t = t.unwrap();
+        assert_eq!(t.instruction_mix["trax.setpipe"], 9, "mode {mode}");
+        // The one real change (modes 1, 2) reserves the pipeline's units from then on.
+        assert_eq!(
+            t.pipelines.reserved_unit_cycles == 0,
+            mode == 0,
+            "mode {mode}"
+        );
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// `trax.strsched`: the TM's stream scheduler.
+
+/// Thread 0 writes three rays to buffer 2; thread 3 halts at once; threads 0..2 work for
+/// 40 x tid dependent adds, then schedule. Thread 0 prints, per thread, the cycle before
+/// its strsched and the cycle after it returned, and the buffer it got.
+const RENDEZVOUS: &str = r#"
+#include "trax.h"
+static unsigned arrive[8], resume[8], got[8];
+void trax_main(void) {
+    unsigned tid = trax_tid();
+    if (tid == 0)
+        for (unsigned i = 0; i < 3; i++) {
+            trax_strwstart(2);
+            trax_strw(i);
+            trax_strwend();
+        }
+    if (tid == 3) return;
+    float a = 1.0f, b = 0.5f;
+    for (unsigned i = 0; i < tid * 40; i++) __asm__ volatile("add.s %0, %0, %1" : "+f"(a) : "f"(b));
+    unsigned t0 = trax_clock();
+    unsigned s = trax_strsched();
+    unsigned t1 = trax_clock();
+    arrive[tid] = t0;
+    resume[tid] = t1;
+    got[tid] = s;
+    trax_barrier(1);
+    if (tid == 0)
+        for (unsigned i = 0; i < 3; i++) {
+            trax_printu(arrive[i]); trax_printc(' ');
+            trax_printu(resume[i]); trax_printc(' ');
+            trax_printu(got[i]); trax_printc(' ');
+        }
+}
+"#;
+
+#[test]
+fn strsched_resumes_no_thread_before_every_live_peer_arrived() {
+    let elf = common::build_c("s_rendezvous", RENDEZVOUS, "-O1");
+    let chip = stream_chip(4, 4, 16, 4);
+    let (_, f) = finished(&elf, &chip, Mode::Functional);
+    let (t, out) = finished(&elf, &chip, Mode::Timing);
+    let v = numbers(&out);
+    let (arrive, resume, got): (Vec<u64>, Vec<u64>, Vec<u64>) = (
+        v.iter().step_by(3).copied().collect(),
+        v.iter().skip(1).step_by(3).copied().collect(),
+        v.iter().skip(2).step_by(3).copied().collect(),
+    );
+    // Every thread got buffer 2, the fullest; the halted thread 3 was not waited for.
+    assert_eq!(got, [2, 2, 2], "{out}");
+    assert_eq!(
+        numbers(&f).iter().skip(2).step_by(3).collect::<Vec<_>>(),
+        [&2, &2, &2]
+    );
+    // The workers arrive over about 80 cycles; nobody resumes before the last one arrives.
+    let last = *arrive.iter().max().unwrap();
+    assert!(last - arrive.iter().min().unwrap() >= 80, "{out}");
+    assert!(resume.iter().all(|&r| r > last), "{out}");
+    let t = t.unwrap();
+    // Threads 0 and 1 waited for thread 2 (draining), nobody idled.
+    assert!(
+        t.thread_cycles.stream_drain >= 2 * 40,
+        "{:?}",
+        t.thread_cycles
+    );
+    assert_eq!(
+        (t.thread_cycles.stream_idle, t.stream.idle_tm_cycles),
+        (0, 0)
+    );
+    assert_eq!((t.stream.schedules, t.stream.switches), (1, 1));
+}
+
+/// Each of the chip's threads writes 3 rays (value 10 * gid + k) to buffer (gid + k) % 5
+/// and then drains: schedule, read every ray of the buffer, until the frame is done. A
+/// ray's value tells the buffer it was written to; thread 0 prints the sum of the values
+/// read, the rays read, the threads that got "done" and whether any ray was read from
+/// another buffer than the one scheduled.
+const DRAIN: &str = r#"
+#include "trax.h"
+void trax_main(void) {
+    unsigned g = trax_gid();
+    for (unsigned k = 0; k < 3; k++) {
+        trax_strwstart((g + k) % 5);
+        trax_strw(10 * g + k);
+        for (unsigned i = 1; i < 11; i++) trax_strw(0);
+        trax_strw(1);
+        trax_strwend();
+    }
+    unsigned b;
+    while ((b = trax_strsched()) != 0xFFFFFFFFu) {
+        while (trax_strrstart()) {
+            unsigned v = trax_strr();
+            for (unsigned i = 1; i < 11; i++) trax_strr();
+            unsigned one = trax_strr();
+            trax_strrend();
+            if ((v / 10 + v % 10) % 5 != b) trax_atominc(4);
+            trax_atomadd(1, v);
+            trax_atomadd(2, one);
+        }
+    }
+    trax_atominc(3);
+    trax_barrier(5);
+    if (g == 0) {
+        for (unsigned i = 1; i <= 4; i++) { trax_printu(trax_gread(i)); trax_printc(' '); }
+        trax_printu(trax_strsize(0) + trax_strsize(4));
+    }
+}
+"#;
+
+#[test]
+fn a_drain_loop_reads_every_ray_and_ends_for_every_thread_in_both_modes() {
+    let elf = common::build_c("s_drain", DRAIN, "-O2");
+    let mut chip = stream_chip(4, 5, 64, 4);
+    chip.tms = 3;
+    chip.tms_per_l2 = 3;
+    let n = 12u64;
+    // Sum of 10 g + k over g < 12, k < 3.
+    let sum = 3 * 10 * n * (n - 1) / 2 + n * 3;
+    let expect = [sum, 3 * n, n, 0, 0];
+    let (_, f) = finished(&elf, &chip, Mode::Functional);
+    assert_eq!(numbers(&f), expect, "functional");
+    for policy in ["fullest", "sticky", "round-robin"] {
+        let mut c = chip.clone();
+        c.set_field("stream_memory.schedule", toml::Value::String(policy.into()))
+            .unwrap();
+        let (_, t1, o1) = go_on(&elf, &c, Mode::Timing, 1);
+        let (r2, t2, o2) = go_on(&elf, &c, Mode::Timing, 2);
+        assert!(r2.finished(), "{policy}: {:?}", r2.failure);
+        assert_eq!(numbers(&o1), expect, "{policy}");
+        assert_eq!(o1, o2, "{policy}");
+        let (t1, t2) = (t1.unwrap(), t2.unwrap());
+        assert_eq!(t1.cycles, t2.cycles, "{policy}");
+        assert_eq!(t1.stream, t2.stream, "{policy}");
+        assert_eq!(t1.thread_cycles, t2.thread_cycles, "{policy}");
+        // Every thread-cycle lands in exactly one bucket, the stream waits included.
+        let tc = &t1.thread_cycles;
+        let buckets = tc.issued
+            + tc.data_dependence
+            + tc.unit_conflict
+            + tc.icache_conflict
+            + tc.l1_bank_conflict
+            + tc.l1_mshr_full
+            + tc.sync_wait
+            + tc.stream_drain
+            + tc.stream_idle
+            + tc.global_sync
+            + tc.halted;
+        assert_eq!(buckets, t1.cycles * 12, "{policy}: {tc:?}");
+        assert!(tc.stream_drain > 0, "{policy}: {tc:?}");
+        let s = &t1.stream;
+        assert_eq!(s.reads, 3 * n);
+        assert!(s.schedules >= 5 && s.switches <= s.schedules, "{s:?}");
+        assert!((s.rays_per_visit - s.reads as f64 / s.schedules as f64).abs() < 1e-12);
+    }
+}
+
+/// One thread: buffer 0 gets 1 ray, buffer 1 gets 3, buffer 2 gets 2; then it schedules,
+/// reads one ray, and schedules again, printing each buffer it gets.
+const ONE_PER_VISIT: &str = r#"
+#include "trax.h"
+void trax_main(void) {
+    unsigned n[3] = {1, 3, 2};
+    for (unsigned b = 0; b < 3; b++)
+        for (unsigned i = 0; i < n[b]; i++) {
+            trax_strwstart(b);
+            trax_strwend();
+        }
+    unsigned b;
+    while ((b = trax_strsched()) != 0xFFFFFFFFu) {
+        trax_printu(b);
+        trax_printc(' ');
+        trax_strrstart();
+        trax_strrend();
+    }
+}
+"#;
+
+#[test]
+fn schedule_policies_choose_as_documented() {
+    let elf = common::build_c("s_policy", ONE_PER_VISIT, "-O1");
+    // Counts (1, 3, 2) before each visit, one ray read per visit.
+    for (policy, order, switches) in [
+        // The most rays, lowest id on ties: (1,3,2) (1,2,2) (1,1,2) (1,1,1) (0,1,1) (0,0,1).
+        ("fullest", [1, 1, 2, 0, 1, 2], 5),
+        // Buffer 1 until it is empty, then the fullest.
+        ("sticky", [1, 1, 1, 2, 2, 0], 3),
+        // The next non-empty buffer after the current one.
+        ("round-robin", [0, 1, 2, 1, 2, 1], 6),
+    ] {
+        let mut chip = stream_chip(1, 4, 16, 4);
+        chip.set_field("stream_memory.schedule", toml::Value::String(policy.into()))
+            .unwrap();
+        let (_, f) = finished(&elf, &chip, Mode::Functional);
+        let (t, o) = finished(&elf, &chip, Mode::Timing);
+        assert_eq!(numbers(&f), order, "{policy}");
+        assert_eq!(o, f, "{policy}");
+        let s = t.unwrap().stream;
+        assert_eq!(
+            (s.schedules, s.switches, s.rays_per_visit),
+            (6, switches, 1.0),
+            "{policy}"
+        );
+    }
+    let mut chip = stream_chip(1, 4, 16, 4);
+    let err = chip
+        .set_field(
+            "stream_memory.schedule",
+            toml::Value::String("random".into()),
+        )
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains(
+            "unknown schedule policy `random` (expected one of fullest, sticky, round-robin)"
+        ),
+        "{err}"
+    );
+}
+
+/// One thread writes a ray and schedules, between two clock reads.
+const SCHED_COST: &str = r#"
+#include "trax.h"
+void trax_main(void) {
+    trax_strwstart(1);
+    trax_strwend();
+    unsigned t0 = trax_clock();
+    unsigned s = trax_strsched();
+    __asm__ volatile("addu %0, %0, $0" : "+r"(s));
+    unsigned t1 = trax_clock();
+    trax_printu(t1 - t0);
+    trax_printc(' ');
+    trax_printu(s);
+}
+"#;
+
+#[test]
+fn the_scheduling_decision_costs_schedule_cycles() {
+    let elf = common::build_c("s_cost", SCHED_COST, "-O1");
+    let mut dts = Vec::new();
+    for cost in [0u32, 100, 250] {
+        let mut chip = stream_chip(1, 4, 8, 4);
+        chip.stream_memory.schedule_cycles = cost;
+        let (t, out) = finished(&elf, &chip, Mode::Timing);
+        let v = numbers(&out);
+        assert_eq!(v[1], 1);
+        let t = t.unwrap();
+        // The wait after the quantum of the strsched is drain time (the decision).
+        if cost > 0 {
+            assert!(t.thread_cycles.stream_drain > 0, "{:?}", t.thread_cycles);
+        }
+        dts.push(v[0]);
+    }
+    // Past the quantum in which it issued, the thread resumes `cost` cycles after it.
+    assert_eq!(dts[2] - dts[1], 150, "{dts:?}");
+    let q = 4;
+    assert!(dts[0] <= q + 2 && dts[1] >= 100, "{dts:?}");
+}
+
+/// TM 0's threads wait at a barrier while TM 1's wait in strsched with nothing to read.
+const DEADLOCK: &str = r#"
+#include "trax.h"
+void trax_main(void) {
+    if (trax_tmid() == 0)
+        trax_barrier(4);
+    else
+        while (trax_strsched() != 0xFFFFFFFFu) {}
+}
+"#;
+
+#[test]
+fn a_barrier_against_strsched_deadlock_names_the_threads() {
+    let elf = common::build_c("s_dead", DEADLOCK, "-O1");
+    let mut chip = stream_chip(2, 4, 8, 4);
+    chip.tms = 2;
+    chip.tms_per_l2 = 2;
+    for mode in [Mode::Functional, Mode::Timing] {
+        let (r, _, _) = go(&elf, &chip, mode);
+        assert!(
+            matches!(r.outcome, Outcome::Deadlock { waiting: 4 }),
+            "{mode:?}: {:?}",
+            r.outcome
+        );
+        let report = r.failure.unwrap();
+        assert!(report.contains("deadlock"), "{report}");
+        assert!(
+            report.contains("threads 0-1 (TM 0): trax.barrier G[4] (2 of 4 live threads arrived) in trax_barrier"),
+            "{mode:?}: {report}"
+        );
+        assert!(
+            report.contains("threads 2-3 (TM 1): trax.strsched (its TM drained and every ray buffer is empty: waiting for a ray)"),
+            "{mode:?}: {report}"
+        );
+        assert!(
+            report.contains("s_dead.c:5") && report.contains("s_dead.c:7"),
+            "{report}"
+        );
+    }
 }

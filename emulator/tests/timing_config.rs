@@ -2,6 +2,7 @@
 
 use trax_emulator::memsys::DramModel;
 use trax_emulator::timing::{ChipConfig, CHIP_PRESETS};
+use trax_runtime::isa::UnitClass;
 
 #[test]
 fn presets_are_valid_and_baseline_is_table_2_5() {
@@ -299,6 +300,35 @@ fn baseline_area_matches_thesis_tables() {
     );
 }
 
+/// The chapter 3 presets against §3.2.4: 128 TMs of 32 threads on 256 GB/s of DRAM (the
+/// chapter's simple model); the baseline's 4 MB of L2 and 32 KB L1s; STRaTA's 16 KB L1s,
+/// 512 KB of L2 beside a stream memory of the baseline L2's size, and both pipelines.
+#[test]
+fn chapter_3_presets_follow_the_thesis() {
+    let total_l2 = |c: &ChipConfig| c.memory.l2.capacity_bytes * c.tms.div_ceil(c.tms_per_l2);
+    let b = ChipConfig::preset("baseline-ch3").unwrap();
+    let s = ChipConfig::preset("strata").unwrap();
+    for c in [&b, &s] {
+        assert_eq!((c.tms, c.threads_per_tm), (128, 32));
+        assert_eq!(c.memory.dram.model, DramModel::Simple);
+        assert_eq!(c.memory.dram.simple.bandwidth_bytes_per_cycle, 256);
+        assert_eq!(c.clock_ghz, 1.0);
+        assert_eq!(c.memory.l1.banks, 4);
+    }
+    assert_eq!(total_l2(&b), 4 << 20);
+    assert_eq!(b.memory.l1.capacity_bytes, 32 * 1024);
+    assert_eq!(b.stream_memory.capacity_bytes, 0);
+    assert_eq!(total_l2(&s), 512 << 10);
+    assert_eq!(s.memory.l1.capacity_bytes, 16 * 1024);
+    assert_eq!(s.stream_memory.capacity_bytes, total_l2(&b));
+    assert_eq!(s.treelet_bytes(), 16 * 1024);
+    let modes = s.pipelines.modes_available(
+        s.unit(UnitClass::FpMul).count,
+        s.unit(UnitClass::FpAdd).count,
+    );
+    assert_eq!(modes, 0b111, "both pipelines fit beside general units");
+}
+
 /// The chapter 5 presets against §3.2.4 and §5.1: 128 TMs of 32 threads, the baseline's
 /// 4 MB of L2 and STRaTA+'s 512 KB beside a stream memory of the baseline L2's size, both
 /// on the 512 GB/s GDDR5; STRaTA+'s treelets are L1-sized (16 KB) and start on the 8 KB
@@ -368,7 +398,7 @@ fn treelet_table_fields_defaults_and_errors() {
         assert!(e.contains(want), "{text:?}: {e}");
     }
     // Set by path, as `--set treelets.align=dram-row` does.
-    let mut c = ChipConfig::preset("strata").unwrap();
+    let mut c = ChipConfig::preset("baseline-ch5").unwrap();
     c.set_field("treelets.align", toml::Value::String("dram-row".into()))
         .unwrap();
     assert_eq!(c.treelet_align_bytes().unwrap(), 8192);

@@ -6,7 +6,7 @@
 //! faults on the machine (the host does not check loads in the gaps between segments:
 //! the emulator is the exact reference for bad addresses).
 
-use std::cell::Cell;
+use std::cell::{Cell, RefCell};
 use std::sync::atomic::{AtomicU32, AtomicU64, Ordering};
 use std::sync::{Arc, Condvar, Mutex};
 use std::time::Instant;
@@ -19,6 +19,9 @@ pub mod image;
 mod pipes;
 #[path = "../src/rng.rs"]
 mod rng;
+#[path = "../src/streams.rs"]
+#[allow(dead_code)]
+mod streams;
 
 use super::layout;
 
@@ -30,12 +33,34 @@ const KERNEL_STACK_BYTES: usize = 16 << 20;
 /// Largest address span (lowest to highest segment byte) the host runner maps.
 const MAX_SPAN_BYTES: u64 = 1 << 30;
 
+/// Everything a kernel thread can wait for, under one lock (so a deadlock between
+/// barriers and stream schedulers is seen): barriers, the ray stream memory and the TMs'
+/// stream schedulers (the runtime's `streams.rs`, the emulator's exact semantics).
 struct Barriers {
     /// Threads that have not returned from `trax_main`.
     live: u32,
     /// Per register: threads waiting, and a generation bumped at each release.
     arrived: Vec<u32>,
     generation: Vec<u64>,
+    /// The ray stream memory (shape from the scene header).
+    streams: streams::StreamMemory,
+    /// The TMs' stream schedulers.
+    sched: streams::StreamScheduler,
+    /// What each thread (by global id) waits for, for deadlock reports.
+    waits: Vec<Wait>,
+    /// A kernel thread panicked: waiting threads stop too.
+    aborted: bool,
+}
+
+/// What a kernel thread waits for.
+#[derive(Clone, Copy, PartialEq)]
+enum Wait {
+    /// Nothing (running or finished).
+    None,
+    /// A barrier on this global register.
+    Barrier(u32),
+    /// Its TM's stream scheduler (`trax.strsched`).
+    Schedule,
 }
 
 /// One simulated chip: memory, global registers and barrier state.
@@ -81,6 +106,9 @@ thread_local! {
     static RAYS: Cell<u64> = const { Cell::new(0) };
     /// Barycentric outputs of the last triangle-pipeline test (cop2 21 and 22).
     static TRI_UV: Cell<[f32; 2]> = const { Cell::new([0.0; 2]) };
+    /// The ray being written to a stream (buffer, words) and the one being read.
+    static STREAM_WRITE: RefCell<Option<(u32, Vec<u32>)>> = const { RefCell::new(None) };
+    static STREAM_READ: RefCell<Option<(Vec<u32>, usize)>> = const { RefCell::new(None) };
 }
 
 fn with_machine<R>(f: impl FnOnce(&Machine) -> R) -> R {
@@ -156,6 +184,91 @@ impl Machine {
         if any {
             self.barrier_cv.notify_all();
         }
+    }
+
+    /// The lock over barriers and streams.
+    fn waits(&self) -> std::sync::MutexGuard<'_, Barriers> {
+        self.barriers.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// Waits on the condition variable until `done`; panics when another kernel thread
+    /// panicked, and reports a deadlock (every live thread waiting for another) as a panic
+    /// naming the threads.
+    fn wait_until<'a>(
+        &self,
+        mut b: std::sync::MutexGuard<'a, Barriers>,
+        mut done: impl FnMut(&Barriers) -> bool,
+    ) -> std::sync::MutexGuard<'a, Barriers> {
+        let blocked = |b: &Barriers| b.arrived.iter().sum::<u32>() + b.sched.waiting;
+        loop {
+            // A panic elsewhere stops every waiter, even one its exit released.
+            if b.aborted {
+                drop(b);
+                panic!("trax: stopped: another kernel thread panicked");
+            }
+            if done(&b) {
+                break;
+            }
+            if b.live > 0 && blocked(&b) >= b.live {
+                // The other waiters stop once this thread's panic has been reported (its
+                // `LiveGuard` marks the run aborted).
+                let report = self.deadlock_report(&b);
+                drop(b);
+                panic!("{report}");
+            }
+            b = self.barrier_cv.wait(b).unwrap_or_else(|e| e.into_inner());
+        }
+        b
+    }
+
+    /// "trax: deadlock: ..." with every waiting thread, grouped.
+    fn deadlock_report(&self, b: &Barriers) -> String {
+        let mut s = format!(
+            "trax: deadlock: all {} live thread(s) wait for one another, and none can run:",
+            b.live
+        );
+        let n = self.threads_per_tm;
+        let what = |w: Wait, gid: u32| match w {
+            Wait::Barrier(r) => format!(
+                "trax.barrier G[{r}] ({} of {} live threads arrived)",
+                b.arrived[r as usize], b.live
+            ),
+            Wait::Schedule => {
+                let t = &b.sched.tms[(gid / n) as usize];
+                if t.idle {
+                    "trax.strsched (its TM drained and every ray buffer is empty: waiting for a ray)".to_string()
+                } else {
+                    format!(
+                        "trax.strsched (waiting for {} more live thread(s) of its TM)",
+                        t.live.saturating_sub(t.waiting)
+                    )
+                }
+            }
+            Wait::None => String::new(),
+        };
+        let rows: Vec<(u32, String)> = (0..b.waits.len() as u32)
+            .filter(|&g| b.waits[g as usize] != Wait::None)
+            .map(|g| (g, what(b.waits[g as usize], g)))
+            .collect();
+        let mut i = 0;
+        while i < rows.len() {
+            let mut j = i + 1;
+            while j < rows.len()
+                && rows[j].1 == rows[i].1
+                && rows[j].0 / n == rows[i].0 / n
+                && rows[j].0 == rows[i].0 + (j - i) as u32
+            {
+                j += 1;
+            }
+            let who = if j - i == 1 {
+                format!("thread {}", rows[i].0)
+            } else {
+                format!("threads {}-{}", rows[i].0, rows[j - 1].0)
+            };
+            s += &format!("\n  {who} (TM {}): {}", rows[i].0 / n, rows[i].1);
+            i = j;
+        }
+        s
     }
 }
 
@@ -248,13 +361,14 @@ pub fn barrier(reg: u32) {
     with_machine(|m| {
         m.global(reg);
         let r = reg as usize;
-        let mut b = m.barriers.lock().unwrap_or_else(|e| e.into_inner());
+        let gid = ids().gid as usize;
+        let mut b = m.waits();
         let gen = b.generation[r];
         b.arrived[r] += 1;
+        b.waits[gid] = Wait::Barrier(reg);
         m.release_complete_barriers(&mut b);
-        while b.generation[r] == gen {
-            b = m.barrier_cv.wait(b).unwrap_or_else(|e| e.into_inner());
-        }
+        let mut b = m.wait_until(b, |b| b.generation[r] != gen);
+        b.waits[gid] = Wait::None;
     })
 }
 
@@ -367,6 +481,141 @@ pub fn set_pipe_tri() {
     set_pipe(2);
 }
 
+// ---- Ray streams: the emulator's semantics (the runtime's `streams.rs`) ----
+
+/// `trax.strwstart`: begins a ray for buffer `buffer`.
+pub fn stream_write_start(buffer: u32) {
+    with_machine(|m| {
+        if m.waits().streams.buffer(buffer).is_none() {
+            panic!("trax: ray stream index {buffer} out of range");
+        }
+    });
+    STREAM_WRITE.with(|w| *w.borrow_mut() = Some((buffer, Vec::new())));
+}
+
+/// `trax.strw`: appends a word to the ray being written.
+pub fn stream_write_word(word: u32) {
+    let words = with_machine(|m| m.waits().streams.geometry().ray_words());
+    STREAM_WRITE.with(|w| {
+        if let Some((_, ray)) = w.borrow_mut().as_mut() {
+            if ray.len() >= words {
+                panic!(
+                    "trax: ray too long: trax.strw past the end of a {}-byte ray record (stream_memory.ray_bytes)",
+                    words * 4
+                );
+            }
+            ray.push(word);
+        }
+    });
+}
+
+/// `trax.strwend`: pushes the ray onto its buffer; idle TMs schedule.
+pub fn stream_write_end() {
+    let Some((buffer, ray)) = STREAM_WRITE.with(|w| w.borrow_mut().take()) else {
+        return;
+    };
+    with_machine(|m| {
+        let mut b = m.waits();
+        let Barriers { streams, sched, .. } = &mut *b;
+        // Blocks spill and refill at once here (a host run is untimed): a write never
+        // waits for the sentinel.
+        match streams.push(buffer as usize, &ray) {
+            Ok(_) => {}
+            Err(streams::StreamError::Full(e)) => {
+                drop(b);
+                if e.capacity_rays == 0 {
+                    panic!(
+                        "trax: this chip has no ray stream memory (stream_memory.capacity_bytes = 0)"
+                    );
+                }
+                panic!(
+                    "trax: ray stream memory full: writing a ray to stream {}, but all {} slots of {}-byte rays are taken",
+                    e.stream, e.capacity_rays, e.ray_bytes
+                );
+            }
+            Err(streams::StreamError::SpillAreaFull(e)) => {
+                drop(b);
+                panic!(
+                    "trax: ray spill area full: spilling a block of stream {}, but all {} blocks of {} bytes are taken (stream_memory.spill.area_bytes)",
+                    e.stream, e.blocks, e.block_bytes
+                );
+            }
+        }
+        let before: u64 = sched.tms.iter().map(|t| t.generation).sum();
+        sched.pushed(streams, 0);
+        if sched.tms.iter().map(|t| t.generation).sum::<u64>() != before {
+            m.barrier_cv.notify_all();
+        }
+    })
+}
+
+/// `trax.strrstart`: pops the newest ray of the TM's current buffer; 1 if there was one.
+pub fn stream_read_start() -> u32 {
+    let ray = with_machine(|m| {
+        let mut b = m.waits();
+        let cur = b.sched.tms[ids().tmid as usize].current;
+        match b.streams.buffer(cur).map(|k| b.streams.pop(k)) {
+            Some(streams::Popped::Ray(r)) => Some(r),
+            // Untimed: a refill completes at once, so a read never waits.
+            Some(streams::Popped::Wait) => unreachable!("host streams move blocks at once"),
+            Some(streams::Popped::Empty) | None => None,
+        }
+    });
+    let got = ray.is_some() as u32;
+    STREAM_READ.with(|r| *r.borrow_mut() = ray.map(|v| (v, 0)));
+    got
+}
+
+/// `trax.strr`: the next word of the ray being read (0 past its end or without one).
+pub fn stream_read_word() -> u32 {
+    STREAM_READ.with(|r| match r.borrow_mut().as_mut() {
+        Some((ray, pos)) => {
+            let v = ray.get(*pos).copied().unwrap_or(0);
+            *pos += 1;
+            v
+        }
+        None => 0,
+    })
+}
+
+/// `trax.strrend`.
+pub fn stream_read_end() {
+    STREAM_READ.with(|r| *r.borrow_mut() = None);
+}
+
+/// `trax.strsize`: rays in buffer `buffer` (0 past the buffers).
+pub fn stream_size(buffer: u32) -> u32 {
+    with_machine(|m| {
+        let b = m.waits();
+        b.streams.buffer(buffer).map_or(0, |k| b.streams.len(k))
+    })
+}
+
+/// `trax.strcap`: rays the stream memory holds.
+pub fn stream_capacity() -> u32 {
+    with_machine(|m| m.waits().streams.capacity_rays())
+}
+
+/// `trax.strsched`: waits until the TM has drained, then returns the buffer its stream
+/// scheduler picked (0xFFFFFFFF when the frame's stream work is done).
+pub fn stream_schedule() -> u32 {
+    with_machine(|m| {
+        let (tm, gid) = (ids().tmid as usize, ids().gid as usize);
+        let mut b = m.waits();
+        let live = b.live;
+        let Barriers { streams, sched, .. } = &mut *b;
+        let generation = sched.arrive(tm, streams, live, 0);
+        if sched.released(tm, generation, u64::MAX) {
+            m.barrier_cv.notify_all();
+            return sched.tms[tm].current;
+        }
+        b.waits[gid] = Wait::Schedule;
+        let mut b = m.wait_until(b, |b| b.sched.released(tm, generation, u64::MAX));
+        b.waits[gid] = Wait::None;
+        b.sched.tms[tm].current
+    })
+}
+
 // ---- Statistics ----
 
 /// Counts one ray (per thread; summed when the thread finishes).
@@ -463,6 +712,15 @@ pub fn hdr_bvh_parents() -> u32 {
 pub fn hdr_treelet_ids() -> u32 {
     layout::SCENE_HEADER_ADDR + layout::HDR_TREELET_IDS
 }
+pub fn hdr_stream_rays() -> u32 {
+    layout::SCENE_HEADER_ADDR + layout::HDR_STREAM_RAYS
+}
+pub fn hdr_stream_ray_bytes() -> u32 {
+    layout::SCENE_HEADER_ADDR + layout::HDR_STREAM_RAY_BYTES
+}
+pub fn hdr_stream_buffers() -> u32 {
+    layout::SCENE_HEADER_ADDR + layout::HDR_STREAM_BUFFERS
+}
 
 // ---- The host runner ----
 
@@ -479,7 +737,31 @@ pub fn image_bytes(image: &Image) -> Vec<u8> {
     image.to_bytes()
 }
 
-fn build_machine(image: &Image, num_tms: u32, threads_per_tm: u32) -> Result<Machine, String> {
+fn build_machine(
+    image: &Image,
+    num_tms: u32,
+    threads_per_tm: u32,
+    schedule: &str,
+    spill: Option<&str>,
+) -> Result<Machine, String> {
+    let spill = match spill {
+        None => None,
+        Some(a) => Some(streams::SpillGeometry::from_arg(a).ok_or_else(|| {
+            format!(
+                "bad spill sentinel `{a}` (expected HIGH,LOW,BLOCK_RAYS,BLOCK_BYTES,AREA_BLOCKS)"
+            )
+        })?),
+    };
+    let policy = streams::SchedulePolicy::from_name(schedule).ok_or_else(|| {
+        let names: Vec<&str> = streams::SchedulePolicy::ALL
+            .iter()
+            .map(|(_, n)| *n)
+            .collect();
+        format!(
+            "unknown stream schedule policy `{schedule}` (expected one of {})",
+            names.join(", ")
+        )
+    })?;
     image.validate().map_err(|e| e.to_string())?;
     let mut segments: Vec<image::Segment> = image
         .segments
@@ -545,6 +827,13 @@ fn build_machine(image: &Image, num_tms: u32, threads_per_tm: u32) -> Result<Mac
             live: threads,
             arrived: vec![0; NUM_GLOBAL_REGS as usize],
             generation: vec![0; NUM_GLOBAL_REGS as usize],
+            streams: streams::StreamMemory::new(streams::StreamGeometry {
+                capacity_bytes: 0,
+                ..Default::default()
+            }),
+            sched: streams::StreamScheduler::new(num_tms, threads_per_tm, policy, 0),
+            waits: vec![Wait::None; threads as usize],
+            aborted: false,
         }),
         barrier_cv: Condvar::new(),
         num_tms,
@@ -558,6 +847,34 @@ fn build_machine(image: &Image, num_tms: u32, threads_per_tm: u32) -> Result<Mac
     let seed_addr = layout::SCENE_HEADER_ADDR + layout::HDR_SEED;
     if m.segments.iter().any(|s| s.holds(seed_addr, 4)) {
         m.seed = m.word(seed_addr, "load").load(Ordering::Relaxed);
+    }
+    // The ray stream memory's shape, as the chip config put it in the header.
+    let field = |off: u32| {
+        let addr = layout::SCENE_HEADER_ADDR + off;
+        if m.segments.iter().any(|s| s.holds(addr, 4)) {
+            m.word(addr, "load").load(Ordering::Relaxed)
+        } else {
+            0
+        }
+    };
+    let (rays, ray_bytes, buffers) = (
+        field(layout::HDR_STREAM_RAYS),
+        field(layout::HDR_STREAM_RAY_BYTES),
+        field(layout::HDR_STREAM_BUFFERS),
+    );
+    if field(layout::HDR_MAGIC) == layout::SCENE_MAGIC
+        && field(layout::HDR_VERSION) == layout::SCENE_VERSION
+        && rays > 0
+    {
+        if ray_bytes == 0 || ray_bytes % 4 != 0 || buffers == 0 {
+            return Err(format!(
+                "scene header: bad stream memory shape ({rays} rays of {ray_bytes} bytes in {buffers} buffers)"
+            ));
+        }
+        m.barriers
+            .get_mut()
+            .unwrap_or_else(|e| e.into_inner())
+            .streams = streams::StreamMemory::with_capacity_rays(rays, ray_bytes, buffers, spill);
     }
     Ok(m)
 }
@@ -607,7 +924,24 @@ pub fn run_image_stats(
     threads_per_tm: u32,
     kernel: fn(),
 ) -> Result<(Image, RunStats), RunError> {
-    let machine = Arc::new(build_machine(image, num_tms, threads_per_tm).map_err(RunError::Setup)?);
+    run_image_with(image, num_tms, threads_per_tm, "fullest", None, kernel)
+}
+
+/// [`run_image_stats`] with the ray stream schedulers' policy (`stream_memory.schedule`
+/// of the chip config: `fullest`, `sticky` or `round-robin`) and, when the chip's stream
+/// memory spills (`stream_memory.overflow = "spill"`), its sentinel's shape in
+/// `SpillGeometry::to_arg`'s form (blocks move at once, as in a functional run).
+pub fn run_image_with(
+    image: &Image,
+    num_tms: u32,
+    threads_per_tm: u32,
+    schedule: &str,
+    spill: Option<&str>,
+    kernel: fn(),
+) -> Result<(Image, RunStats), RunError> {
+    let machine = Arc::new(
+        build_machine(image, num_tms, threads_per_tm, schedule, spill).map_err(RunError::Setup)?,
+    );
     let mut failed = Vec::new();
     std::thread::scope(|scope| {
         let mut handles = Vec::new();
@@ -639,9 +973,7 @@ pub fn run_image_stats(
                     eprintln!("trax: cannot start kernel thread {gid}: {e}");
                     failed.push(gid);
                     // The thread never ran: it is not live.
-                    let mut b = machine.barriers.lock().unwrap_or_else(|e| e.into_inner());
-                    b.live -= 1;
-                    machine.release_complete_barriers(&mut b);
+                    machine.thread_gone(gid / threads_per_tm);
                 }
             }
         }
@@ -688,23 +1020,46 @@ impl Drop for LiveGuard {
         let m = &self.0;
         m.rays
             .fetch_add(RAYS.with(|r| r.replace(0)), Ordering::Relaxed);
-        let mut b = m.barriers.lock().unwrap_or_else(|e| e.into_inner());
-        b.live -= 1;
-        m.release_complete_barriers(&mut b);
+        if std::thread::panicking() {
+            m.waits().aborted = true;
+        }
+        m.thread_gone(ids().tmid);
     }
 }
 
-/// Entry point of a natively built kernel: `PROGRAM IMAGE_IN FRAMEBUFFER_OUT TMS THREADS`.
+impl Machine {
+    /// A kernel thread of TM `tm` finished (or never started): one live thread less for
+    /// barriers and its TM's stream scheduler; waiting threads look again (a release, or a
+    /// deadlock they must report).
+    fn thread_gone(&self, tm: u32) {
+        let mut b = self.waits();
+        b.live -= 1;
+        self.release_complete_barriers(&mut b);
+        let live = b.live;
+        let Barriers { streams, sched, .. } = &mut *b;
+        sched.halted(tm as usize, streams, live, 0);
+        self.barrier_cv.notify_all();
+    }
+}
+
+/// Entry point of a natively built kernel: `PROGRAM IMAGE_IN FRAMEBUFFER_OUT TMS THREADS
+/// [SCHEDULE [SPILL]]` (SCHEDULE: the ray stream schedulers' policy, default `fullest`;
+/// SPILL: the stream memory's spill sentinel, `HIGH,LOW,BLOCK_RAYS,BLOCK_BYTES,AREA_BLOCKS`).
 ///
 /// Runs the kernel over the memory image and writes the framebuffer (header field
 /// `framebuffer`, `count × layout::PIXEL_SIZE` bytes) as a one-segment memory image. Exits with status 1
 /// (after the panic message) if any kernel thread panics, 2 on a usage or I/O error.
 pub fn host_main(kernel: fn()) {
     let args: Vec<String> = std::env::args().collect();
-    if args.len() != 5 {
-        eprintln!("usage: {} IMAGE_IN FRAMEBUFFER_OUT TMS THREADS", args[0]);
+    if !(5..=7).contains(&args.len()) {
+        eprintln!(
+            "usage: {} IMAGE_IN FRAMEBUFFER_OUT TMS THREADS [SCHEDULE [SPILL]]",
+            args[0]
+        );
         std::process::exit(2);
     }
+    let schedule = args.get(5).map_or("fullest", String::as_str);
+    let spill = args.get(6).map(String::as_str);
     let fail = |msg: String| -> ! {
         eprintln!("trax native: {msg}");
         std::process::exit(2)
@@ -724,7 +1079,7 @@ pub fn host_main(kernel: fn()) {
         default_hook(info);
         std::process::exit(1);
     }));
-    let out = match run_image_stats(&image, tms, threads, kernel) {
+    let out = match run_image_with(&image, tms, threads, schedule, spill, kernel) {
         Ok((out, stats)) => {
             let mut line = format!(
                 "trax native: {} threads, {:.3} s",

@@ -222,6 +222,56 @@ pub fn hdr_treelet_ids() -> u32 {
     __trax_symbol_addr!("__trax_scene_treelet_ids")
 }
 
+pub fn hdr_stream_rays() -> u32 {
+    __trax_symbol_addr!("__trax_scene_stream_rays")
+}
+
+pub fn hdr_stream_ray_bytes() -> u32 {
+    __trax_symbol_addr!("__trax_scene_stream_ray_bytes")
+}
+
+pub fn hdr_stream_buffers() -> u32 {
+    __trax_symbol_addr!("__trax_scene_stream_buffers")
+}
+
+// ---- Ray streams (STRaTA): one instruction each ----
+
+pub fn stream_write_start(buffer: u32) {
+    __trax_op!("trax.strwstart", buffer);
+}
+
+pub fn stream_write_word(w: u32) {
+    __trax_op!("trax.strw", w);
+}
+
+pub fn stream_write_end() {
+    __trax_op!("trax.strwend");
+}
+
+pub fn stream_read_start() -> u32 {
+    __trax_op!("trax.strrstart")
+}
+
+pub fn stream_read_word() -> u32 {
+    __trax_op!("trax.strr")
+}
+
+pub fn stream_read_end() {
+    __trax_op!("trax.strrend");
+}
+
+pub fn stream_size(buffer: u32) -> u32 {
+    __trax_op!("trax.strsize", buffer)
+}
+
+pub fn stream_schedule() -> u32 {
+    __trax_op!("trax.strsched")
+}
+
+pub fn stream_capacity() -> u32 {
+    __trax_op!("trax.strcap")
+}
+
 // ---- Fused pipelines (inputs in cop2 registers, see the runtime's COP2_REGS) ----
 
 pub fn pipe_box_test(o: [f32; 3], inv: [f32; 3], lo: [f32; 3], hi: [f32; 3]) -> f32 {

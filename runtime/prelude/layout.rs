@@ -11,10 +11,12 @@ pub const SCENE_HEADER_ADDR: u32 = 0x10000;
 /// Value of the header's `magic` field ("TRAX").
 pub const SCENE_MAGIC: u32 = 0x58415254;
 /// Value of the header's `version` field.
-pub const SCENE_VERSION: u32 = 1;
+pub const SCENE_VERSION: u32 = 2;
 /// The global register `pixel_share` hands pixels out from (sampled simulation
 /// follows a frame's progress along it).
 pub const PIXEL_COUNTER_REG: u32 = 255;
+/// Words of the ray record `trax::stream` writes and reads (thesis §3.2.1).
+pub const STREAM_RECORD_WORDS: usize = 12;
 
 // `abi::SceneHeader` (C: `trax_scene_header`).
 /// `SCENE_MAGIC`.
@@ -63,8 +65,14 @@ pub const HDR_POINT_LIGHTS: u32 = 120;
 pub const HDR_BVH_PARENTS: u32 = 128;
 /// Treelet id per BVH node.
 pub const HDR_TREELET_IDS: u32 = 136;
+/// Rays the chip's ray stream memory holds (0: the chip has none).
+pub const HDR_STREAM_RAYS: u32 = 144;
+/// Bytes of one ray record in the stream memory.
+pub const HDR_STREAM_RAY_BYTES: u32 = 148;
+/// Ray buffers of the stream memory (stream ids `0..stream_buffers`).
+pub const HDR_STREAM_BUFFERS: u32 = 152;
 /// Reserved for future components; zero.
-pub const HDR_RESERVED: u32 = 144;
+pub const HDR_RESERVED: u32 = 156;
 /// Size of `SceneHeader` in bytes.
 pub const HDR_SIZE: u32 = 176;
 

@@ -20,6 +20,7 @@
 //!   closest-hit and any-hit traversal;
 //! - [`sampling`]: cosine-weighted hemisphere, disk, sphere and triangle sampling;
 //! - [`pipe`]: the fused box/triangle intersection pipelines;
+//! - [`stream`]: the STRaTA ray stream memory (write, read, schedule rays per buffer);
 //! - `simd` (host file; compiler builtin on TRaX): `f32x4`, `i32x4`;
 //! - `lang` (TRaX only): `Option`, `Result`, `Ordering` — Rust's prelude types, which
 //!   the host takes from `core`;
@@ -53,6 +54,7 @@ pub mod pipe;
 pub mod ray;
 pub mod sampling;
 pub mod scene;
+pub mod stream;
 
 pub use camera::Camera;
 pub use math::Vec3;
@@ -64,8 +66,10 @@ pub use scene::{set_pixel, BvhNode, Material, PointLight, Triangle};
 pub mod host {
     pub use super::hw::{
         framebuffer_segment, host_main, host_ptr, image_bytes, parse_image, pipe_box_test,
-        pipe_tri_test, pipe_tri_u, pipe_tri_v, run_image, run_image_stats, seed, set_pipe_box,
-        set_pipe_general, set_pipe_tri, Image, RunError, RunStats, NUM_GLOBAL_REGS,
+        pipe_tri_test, pipe_tri_u, pipe_tri_v, run_image, run_image_stats, run_image_with, seed,
+        set_pipe_box, set_pipe_general, set_pipe_tri, stream_capacity, stream_read_end,
+        stream_read_start, stream_read_word, stream_schedule, stream_size, stream_write_end,
+        stream_write_start, stream_write_word, Image, RunError, RunStats, NUM_GLOBAL_REGS,
     };
 }
 

@@ -36,7 +36,11 @@ pub const SCENE_MAGIC: u32 = u32::from_le_bytes(*b"TRAX");
 /// components whose symbol the program references.
 pub const SCENE_SYMBOL_PREFIX: &str = "__trax_scene_";
 /// Version of the header layout; bump on any change.
-pub const SCENE_VERSION: u32 = 1;
+pub const SCENE_VERSION: u32 = 2;
+/// Bytes of the ray record the prelude's `trax::stream` writes and reads (thesis §3.2.1:
+/// origin and direction 24, ray state 20, traversal stack 4), and the default of the chip
+/// config's `stream_memory.ray_bytes`.
+pub const STREAM_RECORD_BYTES: u32 = 48;
 
 /// The global register from which `trax::scene::pixel_share` hands out pixels (one
 /// `atomic_add` per pixel block). Sampled simulation (`trax run --sample`) follows a
@@ -287,8 +291,9 @@ macro_rules! slot_type {
     };
 }
 
-/// Defines the scene header (scalar fields, then one field per component, then reserved
-/// words) and [`SCENE_COMPONENTS`] from one list: a component is one line.
+/// Defines the scene header (scalar fields, then one field per component, then scalar
+/// fields added later, which took reserved words so that no earlier field moved, then the
+/// reserved words) and [`SCENE_COMPONENTS`] from one list: a component is one line.
 macro_rules! scene_contract {
     (
         $(#[doc = $doc:literal])*
@@ -299,6 +304,9 @@ macro_rules! scene_contract {
             $( $(#[doc = $cdoc:literal])*
                $c:ident : $ety:ty => $slot:ident, $align:ident, $need:ident, $access:ident; )*
         }
+        tail {
+            $( $(#[doc = $tdoc:literal])* pub $t:ident : $tty:ty, )*
+        }
         $(#[doc = $rdoc:literal])* reserved: $nres:literal
     ) => {
         contract_struct! {
@@ -306,6 +314,7 @@ macro_rules! scene_contract {
             pub struct $name as $cname, prefix $prefix {
                 $( $(#[doc = $sdoc])* pub $s: $sty, )*
                 $( $(#[doc = $cdoc])* pub $c: slot_type!($slot), )*
+                $( $(#[doc = $tdoc])* pub $t: $tty, )*
                 $(#[doc = $rdoc])* pub reserved: [u32; $nres],
             }
         }
@@ -386,8 +395,16 @@ scene_contract! {
         /// Treelet id per BVH node.
         treelet_ids: u32 => Range, Component, OnDemand, ReadOnly;
     }
+    tail {
+        /// Rays the chip's ray stream memory holds (0: the chip has none).
+        pub stream_rays: u32,
+        /// Bytes of one ray record in the stream memory.
+        pub stream_ray_bytes: u32,
+        /// Ray buffers of the stream memory (stream ids `0..stream_buffers`).
+        pub stream_buffers: u32,
+    }
     /// Reserved for future components; zero.
-    reserved: 8
+    reserved: 5
 }
 
 impl SceneHeader {
@@ -507,7 +524,11 @@ mod tests {
             h.treelet_ids.addr,
             word(offset_of!(SceneHeader, treelet_ids))
         );
-        assert_eq!(h.reserved[7], word(offset_of!(SceneHeader, reserved) + 28));
+        assert_eq!(h.reserved[4], word(offset_of!(SceneHeader, reserved) + 16));
+        assert_eq!(
+            h.stream_buffers,
+            word(offset_of!(SceneHeader, stream_buffers))
+        );
         let (c, bytes) = distinct::<Camera>(0x4000_0000);
         assert_eq!(c.to_bytes(), bytes);
         assert_eq!(
@@ -561,12 +582,13 @@ mod tests {
             assert_eq!(back.addr, 0x40);
             assert_eq!(back.count, if c.slot == Slot::Range { 3 } else { 1 });
         }
-        // Every header field after the scalars is a component, up to the reserved words.
+        // Every header field after the scalars is a component, up to the tail scalars.
         let first = l.field("camera").unwrap().offset;
+        let tail = l.field("stream_rays").unwrap().offset;
         let comps: Vec<&str> = l
             .fields
             .iter()
-            .filter(|f| f.offset >= first && f.name != "reserved")
+            .filter(|f| f.offset >= first && f.offset < tail)
             .map(|f| f.name)
             .collect();
         let table: Vec<&str> = SCENE_COMPONENTS.iter().map(|c| c.name).collect();

@@ -1,5 +1,5 @@
 //! Renders `trax_isa.h`, the TRaX extension for C/C++ kernels built with clang: one
-//! `static inline` function per instruction (a macro for instructions with an immediate),
+//! `TRAX_INLINE` (always-inline, no debug info) function per instruction (a macro for instructions with an immediate),
 //! each emitting the real instruction word, generated from [`TRAX_INSTRUCTIONS`].
 //!
 //! The words are built by the assembler: a file-scope assembler macro turns the register
@@ -289,12 +289,11 @@ pub static C_STRUCTS: &[CStruct] = &[
 /// checks every field has one).
 pub fn header_field_type(name: &str) -> Option<(&'static str, usize)> {
     Some(match name {
-        "magic" | "version" | "width" | "height" | "spp" | "max_depth" | "seed" | "camera" => {
-            ("unsigned int", 0)
-        }
+        "magic" | "version" | "width" | "height" | "spp" | "max_depth" | "seed" | "camera"
+        | "stream_rays" | "stream_ray_bytes" | "stream_buffers" => ("unsigned int", 0),
         "inv_width" | "inv_height" | "epsilon" => ("float", 0),
         "background" => ("float", 3),
-        "reserved" => ("unsigned int", 8),
+        "reserved" => ("unsigned int", 5),
         "framebuffer" | "bvh_nodes" | "triangles" | "normals" | "texcoords" | "material_ids"
         | "materials" | "emitters" | "point_lights" | "bvh_parents" | "treelet_ids" => {
             ("trax_component_t", 0)
@@ -429,15 +428,29 @@ TRAX_INLINE float trax_pipe_tri_test(const float o[3], const float d[3], const f
 TRAX_INLINE float trax_pipe_tri_u(void) { return trax_mfc2(21); }
 TRAX_INLINE float trax_pipe_tri_v(void) { return trax_mfc2(22); }
 
-/* ---- Streams ---- */
-TRAX_INLINE void trax_stream_write_start(unsigned int stream) { trax_strwstart(stream); }
-TRAX_INLINE void trax_stream_write(unsigned int word) { trax_strw(word); }
-TRAX_INLINE void trax_stream_write_end(void) { trax_strwend(); }
-TRAX_INLINE unsigned int trax_stream_read_start(void) { return trax_strrstart(); }
-TRAX_INLINE unsigned int trax_stream_read(void) { return trax_strr(); }
-TRAX_INLINE void trax_stream_read_end(void) { trax_strrend(); }
-TRAX_INLINE unsigned int trax_stream_size(unsigned int stream) { return trax_strsize(stream); }
+/* ---- Ray streams (STRaTA; the Rust prelude's trax::stream) ----
+ * trax_stream_write(b, rec) writes a ray record to buffer b (LIFO per buffer; a full
+ * memory stops the program). trax_stream_schedule() waits until every live thread of the
+ * TM calls it, then returns the buffer the TM works on next, or TRAX_STREAM_DONE when
+ * every live thread of the chip waits with the memory empty. trax_stream_read(rec) takes
+ * the newest ray of that buffer (0 when it is empty). */
+#define TRAX_STREAM_DONE 0xFFFFFFFFu
+typedef unsigned int trax_stream_record_t[TRAX_STREAM_RECORD_WORDS];
+TRAX_INLINE unsigned int trax_stream_capacity(void) { return trax_strcap(); }
+TRAX_INLINE unsigned int trax_stream_buffers(void) { return trax_scene_stream_buffers(); }
+TRAX_INLINE void trax_stream_write(unsigned int buffer, const unsigned int rec[TRAX_STREAM_RECORD_WORDS]) {
+    trax_strwstart(buffer);
+    for (unsigned int i = 0; i < TRAX_STREAM_RECORD_WORDS; i++) trax_strw(rec[i]);
+    trax_strwend();
+}
+TRAX_INLINE int trax_stream_read(unsigned int rec[TRAX_STREAM_RECORD_WORDS]) {
+    if (!trax_strrstart()) return 0;
+    for (unsigned int i = 0; i < TRAX_STREAM_RECORD_WORDS; i++) rec[i] = trax_strr();
+    trax_strrend();
+    return 1;
+}
 TRAX_INLINE unsigned int trax_stream_schedule(void) { return trax_strsched(); }
+TRAX_INLINE unsigned int trax_stream_size(unsigned int buffer) { return trax_strsize(buffer); }
 "#;
 
 /// The complete text of `trax.h`: the instruction functions (`trax_isa.h`), the scene
@@ -473,10 +486,15 @@ pub fn render_trax_h() -> String {
     }
     let _ = writeln!(
         out,
-        "#define TRAX_SCENE_MAGIC 0x{:08x}u\n#define TRAX_SCENE_VERSION {}u\n#define TRAX_SCENE_HEADER_ADDR 0x{:08x}u\n",
+        "#define TRAX_SCENE_MAGIC 0x{:08x}u\n#define TRAX_SCENE_VERSION {}u\n#define TRAX_SCENE_HEADER_ADDR 0x{:08x}u",
         abi::SCENE_MAGIC,
         abi::SCENE_VERSION,
         abi::SCENE_HEADER_ADDR
+    );
+    let _ = writeln!(
+        out,
+        "/* Words of a ray record in the stream memory (48-byte rays, thesis 3.2.1). */\n#define TRAX_STREAM_RECORD_WORDS {}u\n",
+        abi::STREAM_RECORD_BYTES / 4
     );
     for st in C_STRUCTS {
         let fields: Vec<(String, String, usize)> = st

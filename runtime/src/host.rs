@@ -64,6 +64,8 @@ pub struct HeaderParams {
     pub background: [f32; 3],
     /// Camera.
     pub camera: Camera,
+    /// The ray stream memory: rays, bytes per ray, buffers (all 0: none).
+    pub stream: [u32; 3],
 }
 
 impl Default for HeaderParams {
@@ -77,6 +79,7 @@ impl Default for HeaderParams {
             epsilon: 1e-4,
             background: [0.0; 3],
             camera: look_at_camera([0.0, 0.0, 5.0], [0.0; 3], [0.0, 1.0, 0.0], 45.0, 1.0),
+            stream: [0; 3],
         }
     }
 }
@@ -106,6 +109,9 @@ pub fn header_only_image(p: &HeaderParams) -> Result<MemoryImage, ImageError> {
         epsilon: p.epsilon,
         seed: p.seed,
         background: p.background,
+        stream_rays: p.stream[0],
+        stream_ray_bytes: p.stream[1],
+        stream_buffers: p.stream[2],
         camera: HEADER_ONLY_CAMERA_ADDR,
         framebuffer: Component {
             addr: HEADER_ONLY_FRAMEBUFFER_ADDR,

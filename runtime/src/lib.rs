@@ -1,7 +1,8 @@
 //! The contract between kernels and the machine: the TRaX instruction table ([`isa`]),
 //! the memory map and the scene contract ([`abi`]: header, element structs, the component
 //! table, the only encoders), the memory image ([`image`]), the executable reader
-//! ([`exe`]) and the kernel prelude sources.
+//! ([`exe`]), exact semantics shared with the host prelude ([`rng`], [`fops`], [`pipes`],
+//! [`streams`]) and the kernel prelude sources.
 
 pub mod abi;
 pub mod abortmsg;
@@ -15,3 +16,4 @@ pub mod pipes;
 pub mod prelude;
 pub mod rng;
 pub mod startup;
+pub mod streams;

@@ -1,10 +1,10 @@
 //! The kernel prelude (crate `trax`) sources, embedded for the compiler and for
 //! `trax native`.
 //!
-//! Paths are relative to the prelude directory [`DIR`]. Four entries lie outside it
-//! (`../src/rng.rs`, `../src/fops.rs`, `../src/pipes.rs`, `../src/image.rs`): the host
-//! implementation shares the emulator's RNG, f32 operation and pipeline semantics and the
-//! memory-image format verbatim. Writers of these files to disk must keep
+//! Paths are relative to the prelude directory [`DIR`]. Six entries lie outside it
+//! (`../src/rng.rs`, `../src/fops.rs`, `../src/pipes.rs`, `../src/streams.rs` with its
+//! `../src/stream_spill.rs`, `../src/image.rs`): the host implementation shares the emulator's RNG, f32 operation,
+//! pipeline and ray-stream semantics and the memory-image format verbatim. Writers of these files to disk must keep
 //! the relative layout (write `p` to `<root>/prelude/<p>`).
 
 /// Root file of crate `trax`.
@@ -30,9 +30,12 @@ pub static FILES: &[(&str, &str)] = &[
     ("bvh.rs", include_str!("../prelude/bvh.rs")),
     ("sampling.rs", include_str!("../prelude/sampling.rs")),
     ("pipe.rs", include_str!("../prelude/pipe.rs")),
+    ("stream.rs", include_str!("../prelude/stream.rs")),
     ("../src/rng.rs", include_str!("rng.rs")),
     ("../src/fops.rs", include_str!("fops.rs")),
     ("../src/pipes.rs", include_str!("pipes.rs")),
+    ("../src/streams.rs", include_str!("streams.rs")),
+    ("../src/stream_spill.rs", include_str!("stream_spill.rs")),
     ("../src/image.rs", include_str!("image.rs")),
 ];
 
@@ -130,6 +133,15 @@ pub fn render_layout() -> String {
         out,
         "pub const PIXEL_COUNTER_REG: u32 = {};",
         abi::PIXEL_COUNTER_REG
+    );
+    let _ = writeln!(
+        out,
+        "/// Words of the ray record `trax::stream` writes and reads (thesis §3.2.1)."
+    );
+    let _ = writeln!(
+        out,
+        "pub const STREAM_RECORD_WORDS: usize = {};",
+        abi::STREAM_RECORD_BYTES / 4
     );
     let mut structs: Vec<StructLayout> = vec![abi::SceneHeader::layout(), abi::Component::layout()];
     for c in abi::SCENE_COMPONENTS {

@@ -44,6 +44,9 @@ fn header_offsets_match_abi() {
         ("point_lights", L::HDR_POINT_LIGHTS),
         ("bvh_parents", L::HDR_BVH_PARENTS),
         ("treelet_ids", L::HDR_TREELET_IDS),
+        ("stream_rays", L::HDR_STREAM_RAYS),
+        ("stream_ray_bytes", L::HDR_STREAM_RAY_BYTES),
+        ("stream_buffers", L::HDR_STREAM_BUFFERS),
         ("reserved", L::HDR_RESERVED),
     ];
     let abi_fields = abi::scene_header_fields();
@@ -1367,4 +1370,166 @@ fn pipelines_match_the_shared_semantics() {
     trax::pipe::use_box_pipeline();
     trax::pipe::use_triangle_pipeline();
     trax::pipe::use_general_units();
+}
+
+// ---------------------------------------------------------------------------------------
+// Ray streams on the host: the runtime's `streams.rs` behind condition variables.
+
+mod host_streams {
+    use super::*;
+    use std::sync::atomic::{AtomicU32, AtomicU64, Ordering::SeqCst};
+    use std::sync::Mutex;
+    use std::time::{Duration, Instant};
+    use trax::stream;
+
+    /// Streams tests share these statics: one at a time.
+    static LOCK: Mutex<()> = Mutex::new(());
+    static START: Mutex<Option<Instant>> = Mutex::new(None);
+    static ARRIVE: [AtomicU64; 4] = [const { AtomicU64::new(0) }; 4];
+    static RESUME: [AtomicU64; 4] = [const { AtomicU64::new(0) }; 4];
+    static GOT: [AtomicU32; 4] = [const { AtomicU32::new(0) }; 4];
+    static READS: AtomicU32 = AtomicU32::new(0);
+    static DONE: AtomicU32 = AtomicU32::new(0);
+
+    fn now_ns() -> u64 {
+        START.lock().unwrap().unwrap().elapsed().as_nanos() as u64
+    }
+
+    /// A header-only image whose stream memory holds `rays` rays in 4 buffers.
+    fn image(rays: u32) -> trax::host::Image {
+        let p = HeaderParams {
+            width: 4,
+            height: 4,
+            stream: [rays, 48, 4],
+            ..HeaderParams::default()
+        };
+        to_image(&header_only_image(&p).unwrap())
+    }
+
+    fn reset() {
+        *START.lock().unwrap() = Some(Instant::now());
+        for a in ARRIVE.iter().chain(&RESUME) {
+            a.store(0, SeqCst);
+        }
+        for g in &GOT {
+            g.store(0, SeqCst);
+        }
+        READS.store(0, SeqCst);
+        DONE.store(0, SeqCst);
+    }
+
+    /// Thread 3 returns at once; thread 0 writes three rays to buffer 2; threads 0..2
+    /// sleep 30 ms x tid, then schedule, drain and schedule again.
+    fn rendezvous_kernel() {
+        let tid = trax::thread_id() as usize;
+        if tid == 3 {
+            return;
+        }
+        let mut rec: stream::Record = [7; stream::RECORD_WORDS];
+        if tid == 0 {
+            for _ in 0..3 {
+                stream::write(2, &rec);
+            }
+        }
+        std::thread::sleep(Duration::from_millis(30 * tid as u64));
+        ARRIVE[tid].store(now_ns(), SeqCst);
+        let b = stream::schedule();
+        RESUME[tid].store(now_ns(), SeqCst);
+        GOT[tid].store(b.unwrap_or(99), SeqCst);
+        while stream::read(&mut rec) {
+            assert_eq!(rec, [7; stream::RECORD_WORDS]);
+            READS.fetch_add(1, SeqCst);
+        }
+        while stream::schedule().is_some() {}
+        DONE.fetch_add(1, SeqCst);
+    }
+
+    #[test]
+    fn schedule_waits_for_every_live_thread_of_the_tm() {
+        let _g = LOCK.lock().unwrap_or_else(|e| e.into_inner());
+        reset();
+        trax::host::run_image(&image(100), 1, 4, rendezvous_kernel).unwrap();
+        let last = ARRIVE[..3].iter().map(|a| a.load(SeqCst)).max().unwrap();
+        let first = ARRIVE[..3].iter().map(|a| a.load(SeqCst)).min().unwrap();
+        assert!(last - first >= 50_000_000, "{first}..{last}");
+        for r in &RESUME[..3] {
+            assert!(r.load(SeqCst) >= last, "resumed before the last arrival");
+        }
+        let got: Vec<u32> = GOT[..3].iter().map(|g| g.load(SeqCst)).collect();
+        assert_eq!(got, [2, 2, 2]);
+        assert_eq!((READS.load(SeqCst), DONE.load(SeqCst)), (3, 3));
+    }
+
+    /// TM 1 schedules with nothing to read; TM 0 writes one ray to buffer 1 after 50 ms.
+    fn idle_kernel() {
+        let mut rec: stream::Record = [0; stream::RECORD_WORDS];
+        if trax::tm_id() == 0 {
+            std::thread::sleep(Duration::from_millis(50));
+            stream::write(1, &rec);
+        } else {
+            GOT[1].store(stream::schedule().unwrap_or(99), SeqCst);
+            RESUME[1].store(now_ns(), SeqCst);
+            while stream::read(&mut rec) {
+                READS.fetch_add(1, SeqCst);
+            }
+        }
+        while let Some(_b) = stream::schedule() {
+            while stream::read(&mut rec) {
+                READS.fetch_add(1, SeqCst);
+            }
+        }
+        DONE.fetch_add(1, SeqCst);
+    }
+
+    #[test]
+    fn an_idle_tm_sleeps_until_another_writes() {
+        let _g = LOCK.lock().unwrap_or_else(|e| e.into_inner());
+        reset();
+        trax::host::run_image(&image(100), 2, 1, idle_kernel).unwrap();
+        assert_eq!(GOT[1].load(SeqCst), 1);
+        assert!(RESUME[1].load(SeqCst) >= 50_000_000);
+        assert_eq!((READS.load(SeqCst), DONE.load(SeqCst)), (1, 2));
+    }
+
+    fn overflow_kernel() {
+        let rec: stream::Record = [0; stream::RECORD_WORDS];
+        for _ in 0..3 {
+            stream::write(0, &rec);
+        }
+    }
+
+    fn deadlock_kernel() {
+        if trax::tm_id() == 0 {
+            trax::barrier(4);
+        } else {
+            while stream::schedule().is_some() {}
+        }
+    }
+
+    #[test]
+    fn a_full_memory_and_a_deadlock_stop_the_run() {
+        let _g = LOCK.lock().unwrap_or_else(|e| e.into_inner());
+        assert_eq!(stream_capacity_of(2), 2);
+        match trax::host::run_image(&image(2), 1, 1, overflow_kernel) {
+            Err(trax::host::RunError::Panicked(ids)) => assert_eq!(ids, vec![0]),
+            other => panic!("{:?}", other.map(|_| ())),
+        }
+        // Every thread ends (none hangs): the detecting one reports, the others stop.
+        match trax::host::run_image(&image(8), 2, 2, deadlock_kernel) {
+            Err(trax::host::RunError::Panicked(ids)) => assert_eq!(ids, vec![0, 1, 2, 3]),
+            other => panic!("{:?}", other.map(|_| ())),
+        }
+    }
+
+    static CAP: AtomicU32 = AtomicU32::new(0);
+
+    fn capacity_kernel() {
+        CAP.store(stream::capacity(), SeqCst);
+        assert_eq!(stream::buffers(), 4);
+    }
+
+    fn stream_capacity_of(rays: u32) -> u32 {
+        trax::host::run_image(&image(rays), 1, 1, capacity_kernel).unwrap();
+        CAP.load(SeqCst)
+    }
 }

@@ -143,7 +143,13 @@ fn native(a: &NativeArgs) -> Result<(), NativeError> {
     for w in &warnings {
         eprintln!("warning: {w}");
     }
-    let fb = run_kernel(&exe, &a.kernel, &scene_image.memory, tms, threads, &cache)?;
+    let shape = HostShape {
+        tms,
+        threads,
+        schedule: chip.stream_memory.schedule.name(),
+        spill: chip.stream_memory.geometry().spill.map(|g| g.to_arg()),
+    };
+    let fb = run_kernel(&exe, &a.kernel, &scene_image.memory, &shape, &cache)?;
     eprint!("{}", scene_report(&scene_image));
     let bytes = fb
         .segments
@@ -589,22 +595,31 @@ fn run_kernel(
     exe: &Path,
     kernel: &Path,
     image: &MemoryImage,
-    tms: u32,
-    threads: u32,
+    shape: &HostShape,
     cache: &Path,
 ) -> Result<MemoryImage, NativeError> {
     let tmp = scratch_dir(cache, "run")?;
-    let result = run_in(exe, kernel, image, tms, threads, &tmp);
+    let result = run_in(exe, kernel, image, shape, &tmp);
     let _ = std::fs::remove_dir_all(&tmp);
     result
+}
+
+/// What the host runner takes from the chip config besides the memory image (whose
+/// header carries the stream memory's shape).
+struct HostShape {
+    tms: u32,
+    threads: u32,
+    /// `stream_memory.schedule`.
+    schedule: &'static str,
+    /// The spill sentinel (`stream_memory.overflow = "spill"`), in its argument form.
+    spill: Option<String>,
 }
 
 fn run_in(
     exe: &Path,
     kernel: &Path,
     image: &MemoryImage,
-    tms: u32,
-    threads: u32,
+    shape: &HostShape,
     tmp: &Path,
 ) -> Result<MemoryImage, NativeError> {
     let input = tmp.join("image.bin");
@@ -613,8 +628,10 @@ fn run_in(
     let mut child = Command::new(exe)
         .arg(&input)
         .arg(&output)
-        .arg(tms.to_string())
-        .arg(threads.to_string())
+        .arg(shape.tms.to_string())
+        .arg(shape.threads.to_string())
+        .arg(shape.schedule)
+        .args(shape.spill.as_deref())
         .stdin(Stdio::null())
         .stderr(Stdio::piped())
         .spawn()

@@ -17,7 +17,14 @@ use trax_runtime::isa::UnitClass;
 use crate::memsys::{self, DramConfig, MemSysConfig};
 
 /// Names of the chip presets, for help texts.
-pub const CHIP_PRESETS: &[&str] = &["tiny", "baseline", "strata", "baseline-ch5", "strata-plus"];
+pub const CHIP_PRESETS: &[&str] = &[
+    "tiny",
+    "baseline",
+    "baseline-ch3",
+    "strata",
+    "baseline-ch5",
+    "strata-plus",
+];
 
 /// The chip every command uses unless told otherwise (`trax run`, and `trax native`'s
 /// thread shape), so the README's commands give the same image.
@@ -211,6 +218,16 @@ pub struct StreamMemoryConfig {
     /// (`memsys::cacti::dcache`, 64-byte lines; Table 2.2's 4 MB, 32 banks = 33.5 mm²),
     /// the linked-list logic taken to be the size of the cache's tags (§3.2.1).
     pub area_mm2: Option<f64>,
+    /// How a TM's stream scheduler picks the buffer its threads work on next when
+    /// `trax.strsched` has drained the TM: `fullest` (default: the non-empty buffer with
+    /// the most rays, lowest id on ties), `sticky` (the current buffer while it has rays,
+    /// else the fullest) or `round-robin` (the next non-empty buffer after the current
+    /// one). The thesis names no rule (§3.2.2), so each is an assumption.
+    #[serde(with = "schedule_policy")]
+    pub schedule: crate::streams::SchedulePolicy,
+    /// Cycles a scheduling decision takes before the TM's threads resume. Default 1 (an
+    /// assumption: one pass over the buffers' counters, as a priority encoder would).
+    pub schedule_cycles: u32,
     /// What a ray written to a full memory does: `"fault"` (default; the thesis's STRaTA,
     /// §3.2.1: rays are generated and consumed one for one) or `"spill"` (beyond the thesis,
     /// §7.1.1's proposal: a hardware sentinel moves blocks of rays to a DRAM spill area and
@@ -284,6 +301,8 @@ impl Default for StreamMemoryConfig {
             area_mm2: None,
             overflow: Overflow::Fault,
             spill: SpillConfig::default(),
+            schedule: crate::streams::SchedulePolicy::Fullest,
+            schedule_cycles: 1,
         }
     }
 }
@@ -367,6 +386,27 @@ impl StreamMemoryConfig {
     pub fn area(&self) -> f64 {
         self.area_mm2
             .unwrap_or_else(|| memsys::cacti::dcache(self.capacity_bytes, self.banks, 64).area_mm2)
+    }
+}
+
+/// `stream_memory.schedule` as its name in config files.
+mod schedule_policy {
+    use crate::streams::SchedulePolicy;
+    use serde::{Deserialize, Deserializer, Serializer};
+
+    pub fn serialize<S: Serializer>(p: &SchedulePolicy, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(p.name())
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<SchedulePolicy, D::Error> {
+        let name = String::deserialize(d)?;
+        SchedulePolicy::from_name(&name).ok_or_else(|| {
+            let names: Vec<&str> = SchedulePolicy::ALL.iter().map(|(_, n)| *n).collect();
+            serde::de::Error::custom(format!(
+                "unknown schedule policy `{name}` (expected one of {})",
+                names.join(", ")
+            ))
+        })
     }
 }
 
@@ -741,17 +781,42 @@ impl ChipConfig {
                 c.memory.dram = DramConfig::gddr5_thesis();
                 thesis_area_lines(&mut c);
             }
-            "strata" => {
-                // Thesis §3.2.4: 128 TMs of 32 threads (the TM of Table 2.5: 8 FP
-                // multipliers and 8 adders, so both pipelines of §3.2.3 fit with 2 of
-                // each left for general use).
+            "baseline-ch3" => {
+                // Chapter 3's baseline (§3.2.4, Figures 3.6-3.10): "a baseline TRaX
+                // processor with a near-future L2 cache capacity of 4MB shared among the
+                // TMs", 128 TMs (4K TPs) of 32 threads with Table 2.5's TM (2 int-mul,
+                // 8 FP-mul, 8 FP-add, 1 FP-invsqrt, 2 16-banked I-caches).
                 c.tms = 128;
+                // L1: Table 2.5's top row, 32 KB in 4 banks (Figure 3.7's 93-94% baseline L1
+                // hit rates match Table 2.5's 93%).
+                c.memory.l1.capacity_bytes = 32 * 1024;
+                c.memory.l1.banks = 4;
+                // L2: 4 MB as §2.2.2.3's four 16-banked L2s of 1 MB, 32 TMs each (the split
+                // is an assumption: the thesis gives only the total).
                 c.tms_per_l2 = 32;
+                c.memory.l2.capacity_bytes = 1024 * 1024;
+                c.memory.l2.banks = 16;
+                // DRAM: "The off-chip memory channels are capable of delivering a max
+                // bandwidth of 256GB/s" with chapter 3's simple model (chapter 4: "the simple
+                // model for memory used in the TRaX simulator"): a fixed latency and 256
+                // bytes per 1 GHz core cycle; 16.3 nJ per access (Table 3.3's off-chip DRAM).
+                c.memory.dram = DramConfig::preset("simple")?;
+                c.memory.dram.simple.bandwidth_bytes_per_cycle = 256;
+                thesis_area_lines(&mut c);
+            }
+            "strata" => {
+                // Chapter 3's STRaTA (§3.2.4), beside `baseline-ch3`: 128 TMs of 32 threads
+                // (the TM of Table 2.5: 8 FP multipliers and 8 adders, so both pipelines of
+                // §3.2.3 fit with 2 of each left for general use).
+                c.tms = 128;
                 // §5 (treelets "as close to the capacity of the L1 cache as possible ...
-                // which is 16KB").
+                // which is 16KB"), Table 2.5's 4 banks.
                 c.memory.l1.capacity_bytes = 16 * 1024;
-                // §3.2.4: "a small 512KB L2 cache in addition to the stream memory".
-                c.memory.l2.capacity_bytes = 512 * 1024;
+                c.memory.l1.banks = 4;
+                // §3.2.4: "a small 512KB L2 cache in addition to the stream memory", as four
+                // 16-banked L2s of 128 KB, 32 TMs each (the split as for `baseline-ch3`).
+                c.tms_per_l2 = 32;
+                c.memory.l2.capacity_bytes = 128 * 1024;
                 c.memory.l2.banks = 16;
                 // §3.2.4, Figure 3.7: the stream memory is the size of the baseline's L2
                 // (4 MB, "near-future L2 cache capacity"); the rest of
@@ -759,7 +824,9 @@ impl ChipConfig {
                 c.stream_memory = StreamMemoryConfig::default();
                 // §3.2.3: box and triangle pipelines (`PipelinesConfig::default()`).
                 c.pipelines = PipelinesConfig::default();
-                c.memory.dram = DramConfig::gddr5_thesis();
+                // The same DRAM as `baseline-ch3`: chapter 3's simple model at 256 GB/s.
+                c.memory.dram = DramConfig::preset("simple")?;
+                c.memory.dram.simple.bandwidth_bytes_per_cycle = 256;
                 // Area as for `baseline` (Tables 2.2/2.4/2.5); the stream memory's line
                 // is its own (`StreamMemoryConfig`), the pipelines' MUXes and latches none.
                 thesis_area_lines(&mut c);
@@ -1002,6 +1069,12 @@ impl ChipConfig {
         }
         if sm.banks == 0 || sm.bank_busy_cycles == 0 || sm.latency == 0 {
             return bad("stream_memory.banks, bank_busy_cycles and latency must be >= 1".into());
+        }
+        if sm.schedule_cycles > 1_000_000 {
+            return bad(format!(
+                "stream_memory.schedule_cycles = {} must be at most 1000000",
+                sm.schedule_cycles
+            ));
         }
         if sm.capacity_bytes > 0 && sm.geometry().capacity_rays() == 0 {
             return bad(format!(

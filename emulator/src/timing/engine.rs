@@ -27,7 +27,7 @@
 use std::io::Write;
 use std::sync::Mutex;
 
-use trax_runtime::isa::{TraxOp, UnitClass};
+use trax_runtime::isa::UnitClass;
 
 use super::config::ChipConfig;
 use super::intervals::Snapshot;
@@ -35,9 +35,8 @@ use super::operands::{classify, OpInfo};
 use super::tm::{retire, Deferred, Summary, TmSim};
 use super::workers::{rebalance, Batch, Crew, RoundCell, Rounds};
 use crate::chip::Effects;
-use crate::decode::Inst;
 use crate::exec::Stop;
-use crate::machine::{drain, release_barriers, Crash, Machine, Outcome};
+use crate::machine::{drain, Crash, Machine, Outcome};
 use crate::memsys::sentinel::DmaJob;
 use crate::memsys::{CacheStats, MemStats, MemSystem};
 use crate::profile::Profiler;
@@ -64,6 +63,11 @@ pub struct ThreadCycles {
     pub l1_mshr_full: u64,
     /// Waiting at a barrier or semaphore.
     pub sync_wait: u64,
+    /// Waiting in `trax.strsched` for the TM's other live threads to finish their rays
+    /// (and for the scheduling decision, `stream_memory.schedule_cycles`).
+    pub stream_drain: u64,
+    /// Waiting in `trax.strsched` with the TM drained and every ray buffer empty.
+    pub stream_idle: u64,
     /// Waiting, after a chip-wide instruction (store to global memory, global-register,
     /// barrier, semaphore, stream or halt operation), for the end of the quantum in which
     /// it is ordered with the other TMs.
@@ -101,9 +105,6 @@ pub struct Counters {
     pub stream_conflict_cycles: u64,
     /// Stream memory: rays in flight integrated over cycles (for the mean).
     pub stream_ray_cycles: u64,
-    /// TM-cycles from a `trax.strsched` that found every stream empty until the TM's next
-    /// one that found rays (or its last thread's halt).
-    pub stream_starved_tm_cycles: u64,
     /// Thread-cycles a stream write or read waited for the spill sentinel (from its first
     /// attempt to the one that went through).
     pub stream_spill_stall_cycles: u64,
@@ -431,10 +432,7 @@ impl<'c> Engine<'c> {
                     halted_excess: &mut halted_excess,
                     progress: progress.as_deref_mut(),
                     fx: Effects::default(),
-                    streams: StreamTiming {
-                        last_halt: vec![None; tms],
-                        ..StreamTiming::default()
-                    },
+                    streams: StreamTiming::default(),
                     interval: self.interval,
                     snap_at: self.snap_at,
                     next_sample: u64::MAX,
@@ -453,6 +451,7 @@ impl<'c> Engine<'c> {
         self.samples = samples;
         self.paused = paused;
         streams.finish(&mut self.c, self.now);
+        m.shared.sched.finish(self.now);
         self.profiler = profiler;
         self.progress = progress;
         // Take everything back.
@@ -488,10 +487,6 @@ struct StreamTiming {
     /// Rays in flight since cycle `last`.
     in_flight: u64,
     last: u64,
-    /// Per TM: the cycle its `trax.strsched` found every stream empty (until one finds
-    /// rays), and the cycle of its last halt.
-    starved_since: Vec<Option<u64>>,
-    last_halt: Vec<Option<u64>>,
     /// Per thread (TM x threads + thread): the cycle its stream op first waited for the
     /// spill sentinel, until it goes through.
     spill_wait: Vec<Option<u64>>,
@@ -519,22 +514,6 @@ impl StreamTiming {
         c.stream_ray_cycles += self.in_flight * cycle.saturating_sub(self.last);
         self.last = self.last.max(cycle);
         self.in_flight = u64::from(now_in_flight);
-    }
-
-    /// A `trax.strsched` of TM `tm` at `cycle` found a stream (`found`) or none.
-    fn scheduled(&mut self, c: &mut Counters, tms: usize, tm: usize, cycle: u64, found: bool) {
-        if self.starved_since.is_empty() {
-            self.starved_since = vec![None; tms];
-        }
-        let since = &mut self.starved_since[tm];
-        match (found, *since) {
-            (true, Some(s)) => {
-                c.stream_starved_tm_cycles += cycle.saturating_sub(s);
-                *since = None;
-            }
-            (false, None) => *since = Some(cycle),
-            _ => {}
-        }
     }
 
     /// Thread `gid`'s stream op at `cycle` waited for the sentinel (`waited`) or went
@@ -566,12 +545,6 @@ impl StreamTiming {
     /// Closes the open intervals at the end of the run (`end`).
     fn finish(&mut self, c: &mut Counters, end: u64) {
         c.stream_ray_cycles += self.in_flight * end.saturating_sub(self.last);
-        for (tm, s) in self.starved_since.iter().enumerate() {
-            if let Some(s) = s {
-                let stop = self.last_halt.get(tm).copied().flatten().unwrap_or(end);
-                c.stream_starved_tm_cycles += stop.min(end).saturating_sub(*s);
-            }
-        }
     }
 }
 
@@ -753,6 +726,7 @@ impl Driver<'_, '_> {
                 }
                 let sim = &mut *sims[d.tm as usize];
                 let tid = d.tid as usize;
+                sh.clock = d.cycle;
                 // A halt (executed in the parallel phase, or here: it is never deferred
                 // today) ends its thread.
                 let halted = d.halted || {
@@ -779,10 +753,8 @@ impl Driver<'_, '_> {
                     }
                 };
                 if halted {
-                    sh.live_threads -= 1;
-                    release_barriers(sh);
+                    sh.thread_halted(d.tm);
                     last_halt = Some(d.cycle);
-                    self.streams.last_halt[d.tm as usize] = Some(d.cycle);
                 }
                 if d.halted {
                     continue;
@@ -801,15 +773,6 @@ impl Driver<'_, '_> {
                     if let Some(slot) = sh.streams.last_slot.take() {
                         ready = self.streams.access(self.cfg, c, slot, d.cycle);
                         self.streams.rays(c, d.cycle, sh.streams.in_flight);
-                    }
-                    if let Some(Inst::Trax {
-                        op: TraxOp::StreamSchedule,
-                        ..
-                    }) = sh.program.insts.get(idx)
-                    {
-                        let found = sh.tm_stream[d.tm as usize] != u32::MAX;
-                        self.streams
-                            .scheduled(c, tms as usize, d.tm as usize, d.cycle, found);
                     }
                 }
                 if info.class == UnitClass::GlobalRegs {
@@ -871,6 +834,18 @@ impl Driver<'_, '_> {
                     *self.halted_excess = (to - h - 1) * sh.shape.total() as u64;
                     return Outcome::Finished;
                 }
+            }
+            // Every live thread waits for another (barriers, stream schedulers): nothing
+            // can run again.
+            // (Threads block and halt only through deferred instructions.)
+            if flags.any(Summary::DEFERRED)
+                && sh.live_threads > 0
+                && sh.blocked_threads() >= sh.live_threads
+            {
+                *self.now = to;
+                return Outcome::Deadlock {
+                    waiting: sh.live_threads,
+                };
             }
             if progressed {
                 idle_cycles = 0;
@@ -990,6 +965,8 @@ impl Counters {
         a.l1_bank_conflict += b.l1_bank_conflict;
         a.l1_mshr_full += b.l1_mshr_full;
         a.sync_wait += b.sync_wait;
+        a.stream_drain += b.stream_drain;
+        a.stream_idle += b.stream_idle;
         a.global_sync += b.global_sync;
         a.halted += b.halted;
         for k in 0..NUM_CLASSES {
@@ -1004,7 +981,6 @@ impl Counters {
         self.stream_bank_conflicts += o.stream_bank_conflicts;
         self.stream_conflict_cycles += o.stream_conflict_cycles;
         self.stream_ray_cycles += o.stream_ray_cycles;
-        self.stream_starved_tm_cycles += o.stream_starved_tm_cycles;
         self.stream_spill_stall_cycles += o.stream_spill_stall_cycles;
     }
 }

@@ -119,6 +119,8 @@ fn tc_diff(a: &ThreadCycles, b: &ThreadCycles) -> ThreadCycles {
         l1_bank_conflict: a.l1_bank_conflict - b.l1_bank_conflict,
         l1_mshr_full: a.l1_mshr_full - b.l1_mshr_full,
         sync_wait: a.sync_wait - b.sync_wait,
+        stream_drain: a.stream_drain - b.stream_drain,
+        stream_idle: a.stream_idle - b.stream_idle,
         global_sync: a.global_sync - b.global_sync,
         halted: a.halted - b.halted,
     }

@@ -78,9 +78,15 @@ pub struct StreamStats {
     pub bank_conflicts: u64,
     /// Cycles those accesses waited.
     pub bank_conflict_cycles: u64,
-    /// TM-cycles from a `trax.strsched` that found every stream empty until the TM's next
-    /// one that found rays (or its last halt): TMs idle for lack of rays.
-    pub starved_tm_cycles: u64,
+    /// Decisions of the TMs' stream schedulers that gave a TM a buffer (buffer visits).
+    pub schedules: u64,
+    /// Those that gave the TM another buffer than the one it had.
+    pub switches: u64,
+    /// Rays read per buffer visit: `reads / schedules` (0 without schedules).
+    pub rays_per_visit: f64,
+    /// TM-cycles a TM spent idle: drained (every live thread in `trax.strsched`) with
+    /// every buffer empty, until a ray was written or the frame's stream work was done.
+    pub idle_tm_cycles: u64,
     /// Energy per access, nJ.
     pub energy_per_access_nj: f64,
     /// The spill sentinel (`stream_memory.overflow = "spill"`; zeros otherwise).
@@ -344,16 +350,17 @@ pub fn area_breakdown(cfg: &ChipConfig, l1_area_mm2: f64, l2_area_mm2: f64) -> A
     area
 }
 
-/// Builds the statistics from the raw counters.
+/// Builds the statistics from the raw counters and the chip after the run (program,
+/// `trax.stat` counters, stream memory and schedulers).
 pub fn build(
     cfg: &ChipConfig,
     c: &Counters,
     cycles: u64,
-    program: &Program,
     mem: MemStats,
-    counters: &[u64],
-    streams: &crate::streams::StreamMemory,
+    sh: &crate::thread::Shared,
 ) -> TimingStats {
+    let (program, counters) = (&sh.program, &sh.stats[..]);
+    let (streams, sched) = (&sh.streams, &sh.sched);
     let threads = cfg.tms as u64 * cfg.threads_per_tm as u64;
     let hz = cfg.clock_ghz * 1e9;
     let seconds = cycles as f64 / hz;
@@ -385,7 +392,10 @@ pub fn build(
         mean_rays_in_flight: ratio(c.stream_ray_cycles as f64, cycles as f64),
         bank_conflicts: c.stream_bank_conflicts,
         bank_conflict_cycles: c.stream_conflict_cycles,
-        starved_tm_cycles: c.stream_starved_tm_cycles,
+        schedules: sched.schedules,
+        switches: sched.switches,
+        rays_per_visit: ratio(streams.reads as f64, sched.schedules as f64),
+        idle_tm_cycles: sched.idle_tm_cycles,
         energy_per_access_nj: if has_stream {
             sm.energy_per_access_nj()
         } else {
@@ -519,6 +529,8 @@ impl TimingStats {
             ("L1 bank conflict", tc.l1_bank_conflict),
             ("L1 MSHRs full", tc.l1_mshr_full),
             ("barrier/semaphore", tc.sync_wait),
+            ("stream drain", tc.stream_drain),
+            ("stream idle", tc.stream_idle),
             ("chip-wide order", tc.global_sync),
             ("halted", tc.halted),
         ] {
@@ -599,9 +611,10 @@ impl TimingStats {
         if st.reads + st.writes > 0 {
             let _ = writeln!(
                 s,
-                "stream memory: {} rays capacity, {} writes, {} reads, rays in flight max {} mean {:.1}, {} bank conflicts ({} cycles), {} TM-cycles starved",
+                "stream memory: {} rays capacity, {} writes, {} reads, rays in flight max {} mean {:.1}, {} bank conflicts ({} cycles); {} schedules ({} switches, {:.1} rays per visit), {} idle TM-cycles",
                 st.capacity_rays, st.writes, st.reads, st.max_rays_in_flight, st.mean_rays_in_flight,
-                st.bank_conflicts, st.bank_conflict_cycles, st.starved_tm_cycles
+                st.bank_conflicts, st.bank_conflict_cycles, st.schedules, st.switches, st.rays_per_visit,
+                st.idle_tm_cycles
             );
         }
         let p = &self.pipelines;

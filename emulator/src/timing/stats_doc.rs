@@ -20,6 +20,8 @@ struct ThreadCyclesDoc {
     l1_bank_conflict: u64,
     l1_mshr_full: u64,
     sync_wait: u64,
+    stream_drain: u64,
+    stream_idle: u64,
     global_sync: u64,
     halted: u64,
 }
@@ -181,6 +183,8 @@ pub(super) fn thread_cycles<S: Serializer>(t: &ThreadCycles, s: S) -> Result<S::
         l1_bank_conflict: t.l1_bank_conflict,
         l1_mshr_full: t.l1_mshr_full,
         sync_wait: t.sync_wait,
+        stream_drain: t.stream_drain,
+        stream_idle: t.stream_idle,
         global_sync: t.global_sync,
         halted: t.halted,
     }

@@ -285,21 +285,27 @@ impl TmSim {
             return;
         }
         let t = &mut self.threads[tid];
-        match t.state {
-            RunState::Halted => {
-                c.tc.halted += 1;
-                return;
-            }
-            RunState::Barrier { reg, generation } => {
-                if shared.barrier_generation[reg as usize] > generation {
-                    t.state = RunState::Running;
-                } else {
-                    c.tc.sync_wait += 1;
-                    charge!(CostKind::OtherStall);
+        if t.state != RunState::Running && !t.wake(shared, now) {
+            match t.state {
+                RunState::Halted => {
+                    c.tc.halted += 1;
                     return;
                 }
+                RunState::Barrier { .. } => c.tc.sync_wait += 1,
+                // Released (paying for the decision) or waiting for peers: draining; the
+                // TM drained with nothing to read: idle.
+                RunState::StreamWait { generation, .. } => {
+                    let s = &shared.sched.tms[self.tm];
+                    if s.idle && s.generation == generation {
+                        c.tc.stream_idle += 1;
+                    } else {
+                        c.tc.stream_drain += 1;
+                    }
+                }
+                RunState::Running => {}
             }
-            RunState::Running => {}
+            charge!(CostKind::OtherStall);
+            return;
         }
         // Debug-class ops cost nothing: run them and look at the next instruction.
         for _ in 0..64 {

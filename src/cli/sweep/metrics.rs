@@ -135,10 +135,22 @@ pub const METRICS: &[Metric] = &[
         "timing.stream.mean_rays_in_flight",
     ),
     m(
-        "stream_starved_tm_cycles",
-        "TM-cycles starved of rays",
+        "stream_idle_tm_cycles",
+        "TM-cycles idle for lack of rays",
         "cycles",
-        "timing.stream.starved_tm_cycles",
+        "timing.stream.idle_tm_cycles",
+    ),
+    m(
+        "stream_schedules",
+        "Stream buffer visits",
+        "",
+        "timing.stream.schedules",
+    ),
+    m(
+        "stream_rays_per_visit",
+        "Rays per buffer visit",
+        "",
+        "timing.stream.rays_per_visit",
     ),
     m("area_mm2", "Chip area", "mm²", "timing.area.total"),
     m(

@@ -27,8 +27,7 @@
 
 use std::collections::BTreeMap;
 
-use super::StreamMemory;
-use crate::thread::Fault;
+use super::{SpillAreaFull, StreamError, StreamMemory};
 
 /// The first DRAM address of the spill area: the upper half of the 32-bit space, where the
 /// memory image never lies (it ends below the stack window's top, `abi::STACK_TOP`), so
@@ -48,6 +47,40 @@ pub struct SpillGeometry {
     pub block_bytes: u32,
     /// Blocks in the spill area.
     pub area_blocks: u32,
+}
+
+impl SpillGeometry {
+    /// As one command-line word, `HIGH,LOW,BLOCK_RAYS,BLOCK_BYTES,AREA_BLOCKS` (how
+    /// `trax native` hands the chip's sentinel to the host runner).
+    pub fn to_arg(self) -> String {
+        format!(
+            "{},{},{},{},{}",
+            self.high_rays, self.low_rays, self.block_rays, self.block_bytes, self.area_blocks
+        )
+    }
+
+    /// Parses [`SpillGeometry::to_arg`]'s form; `None` if it is not five numbers with
+    /// non-empty blocks.
+    pub fn from_arg(s: &str) -> Option<SpillGeometry> {
+        let v: Vec<u32> = s
+            .split(',')
+            .map(|x| x.parse().ok())
+            .collect::<Option<Vec<u32>>>()?;
+        match v[..] {
+            [high_rays, low_rays, block_rays, block_bytes, area_blocks]
+                if block_rays > 0 && block_bytes > 0 =>
+            {
+                Some(SpillGeometry {
+                    high_rays,
+                    low_rays,
+                    block_rays,
+                    block_bytes,
+                    area_blocks,
+                })
+            }
+            _ => None,
+        }
+    }
 }
 
 /// One block transfer for the timing model's DMA engine.
@@ -216,7 +249,7 @@ impl StreamMemory {
     }
 
     /// After a write: spill blocks while the SRAM lists hold more than the high watermark.
-    pub(super) fn spill_over(&mut self) -> Result<(), Fault> {
+    pub(super) fn spill_over(&mut self) -> Result<(), StreamError> {
         let Some(g) = self.geom.spill else {
             return Ok(());
         };
@@ -233,7 +266,7 @@ impl StreamMemory {
         Ok(())
     }
 
-    fn spill_block(&mut self, b: usize, g: SpillGeometry) -> Result<(), Fault> {
+    fn spill_block(&mut self, b: usize, g: SpillGeometry) -> Result<(), StreamError> {
         let index = match self.spill.free_blocks.pop() {
             Some(i) => i,
             None if self.spill.next_block < g.area_blocks => {
@@ -241,11 +274,11 @@ impl StreamMemory {
                 self.spill.next_block - 1
             }
             None => {
-                return Err(Fault::SpillAreaFull {
+                return Err(StreamError::SpillAreaFull(SpillAreaFull {
                     stream: b as u32,
                     blocks: g.area_blocks,
                     block_bytes: g.block_bytes,
-                })
+                }))
             }
         };
         let n = g.block_rays.min(self.listed[b]);
@@ -447,6 +480,15 @@ mod tests {
     }
 
     #[test]
+    fn the_geometry_round_trips_through_its_argument_form() {
+        let g = memory(3, false).geometry().spill.unwrap();
+        assert_eq!(SpillGeometry::from_arg(&g.to_arg()), Some(g));
+        for bad in ["", "1,2,3,4", "1,2,0,4,5", "1,2,3,4,5,6", "a,2,3,4,5"] {
+            assert_eq!(SpillGeometry::from_arg(bad), None, "{bad}");
+        }
+    }
+
+    #[test]
     fn a_full_spill_area_is_a_fault() {
         let mut m = memory(2, false);
         // Spills at the 13th and 17th writes fill the area; the 21st needs a third block.
@@ -457,11 +499,11 @@ mod tests {
         assert!(
             matches!(
                 e,
-                Fault::SpillAreaFull {
+                StreamError::SpillAreaFull(SpillAreaFull {
                     stream: 0,
                     blocks: 2,
                     block_bytes: 192
-                }
+                })
             ),
             "{e:?}"
         );

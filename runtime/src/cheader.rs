@@ -1,6 +1,7 @@
 //! Renders `trax_isa.h`, the TRaX extension for C/C++ kernels built with clang: one
-//! `TRAX_INLINE` (always-inline, no debug info) function per instruction (a macro for instructions with an immediate),
-//! each emitting the real instruction word, generated from [`TRAX_INSTRUCTIONS`].
+//! `TRAX_INLINE` function (always inlined, without debug information) per instruction (a
+//! macro for instructions with an immediate), each emitting the real instruction word,
+//! generated from [`TRAX_INSTRUCTIONS`].
 //!
 //! The words are built by the assembler: a file-scope assembler macro turns the register
 //! name the allocator picked for an operand (`$2`, `$sp`, `$f12`...) into its number, and
@@ -866,7 +867,7 @@ pub const HPP_CONSTANTS: &[(&str, &str)] = &[
     ("ray.rs", "NO_HIT"),
     ("ray.rs", "POINT_ERROR"),
     ("scene.rs", "NO_PIXEL"),
-    ("scene.rs", "PIXEL_COUNTER_REG"),
+    ("layout.rs", "PIXEL_COUNTER_REG"),
     ("scene.rs", "PIXEL_BLOCK"),
     ("bvh.rs", "STACK_SIZE"),
     ("bvh.rs", "SLAB_FAR_SCALE"),

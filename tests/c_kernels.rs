@@ -665,3 +665,188 @@ extern "C" void trax_main(void) { trax_printi(k::run(4)); }
     // 3 * (1 + 2 + 3 + 4)
     assert_eq!(stdout.trim(), "30", "{stdout}");
 }
+
+/// A TRaX-Rust kernel and a C file calling each other: Rust declares the C functions in an
+/// `extern "C"` block, C calls Rust's `#[no_mangle] pub extern "C" fn`s. Narrow integers
+/// cross the boundary in registers with upper bits the callee relies on (clang's
+/// `signext`/`zeroext`): `rust_wrap_add` wraps past `i8` (a callee that did not re-extend
+/// its return value would hand C 200 + id instead of -56 + id) and `c_widen16` returns its
+/// `unsigned short` argument as it finds it. Expected lines are computed here; functional,
+/// timing and `trax native` agree.
+const CALLS_RS: &str = r#"extern "C" {
+    fn c_shade(id: u32, x: f32) -> f32;
+    fn c_widen16(x: u16) -> u32;
+    fn c_widen8(x: i8) -> i32;
+    fn c_is_odd(x: i32) -> bool;
+    fn c_neg16(x: i16) -> i16;
+}
+
+#[no_mangle]
+pub extern "C" fn rust_scale(x: f32, k: i64) -> f32 {
+    x * k as f32
+}
+
+#[no_mangle]
+pub extern "C" fn rust_wrap_add(a: i8, b: i8) -> i8 {
+    a.wrapping_add(b)
+}
+
+#[no_mangle]
+pub extern "C" fn rust_is_big(x: u16) -> bool {
+    x > 300
+}
+
+fn trax_main() {
+    let id = trax::global_id();
+    while trax::global_read(1) != id {}
+    let s = unsafe { c_shade(id, 1.5) };
+    let a = unsafe { c_widen16(0xFFF0u16.wrapping_add(id as u16 * 8)) };
+    let b = unsafe { c_widen8((id as i8).wrapping_mul(50)) };
+    let o = unsafe { c_is_odd(id as i32) };
+    let n = unsafe { c_neg16(-(id as i16) - 1) };
+    println!("thread {id}: shade {s} w16 {a} w8 {b} odd {o} neg {n}");
+    trax::atomic_inc(1);
+}
+"#;
+
+const CALLS_C: &str = r#"#include <trax.h>
+
+float rust_scale(float x, long long k);
+signed char rust_wrap_add(signed char a, signed char b);
+_Bool rust_is_big(unsigned short x);
+
+float c_shade(unsigned id, float x) {
+    int w = rust_wrap_add((signed char)(100 + id), 100);
+    return rust_scale(x, (long long)id - 3) + (float)w + (rust_is_big(250 + 20 * id) ? 1000.0f : 0.0f);
+}
+unsigned c_widen16(unsigned short x) { return x; }
+int c_widen8(signed char x) { return x; }
+_Bool c_is_odd(int x) { return x & 1; }
+short c_neg16(short x) { return -x; }
+"#;
+
+#[test]
+fn rust_and_c_call_each_other() {
+    let dir = scratch("calls");
+    let (k, c) = (dir.join("k.rs"), dir.join("lib.c"));
+    std::fs::write(&k, CALLS_RS).unwrap();
+    std::fs::write(&c, CALLS_C).unwrap();
+    let mut want = String::new();
+    for id in 0..8u32 {
+        let w = (200 + id) as u8 as i8 as i32;
+        let big = if 250 + 20 * id > 300 { 1000.0 } else { 0.0 };
+        let s = 1.5f32 * (id as i64 - 3) as f32 + w as f32 + big;
+        let a = 0xFFF0u16.wrapping_add(id as u16 * 8) as u32;
+        let b = (id as i8).wrapping_mul(50) as i32;
+        let n = id + 1;
+        want += &format!(
+            "thread {id}: shade {s} w16 {a} w8 {b} odd {} neg {n}\n",
+            id % 2 == 1
+        );
+    }
+    let files = [k.clone(), c.clone()];
+    for opt in [0, 2] {
+        let (out, _, _) = emulate(&files, opt, Mode::Functional, 4, 4);
+        assert_eq!(out, want, "functional -O{opt}");
+    }
+    let (out, _, cycles) = emulate(&files, 2, Mode::Timing, 4, 4);
+    assert_eq!(out, want, "timing");
+    assert!(cycles > 0);
+    let out = trax(&[
+        "native",
+        k.to_str().unwrap(),
+        c.to_str().unwrap(),
+        "--width",
+        "4",
+        "--height",
+        "4",
+        "--tms",
+        "2",
+        "--threads",
+        "4",
+    ]);
+    assert!(out.status.success(), "native: {}", text(&out.stderr));
+    assert_eq!(text(&out.stdout), want, "native");
+}
+
+/// The attributes of the C boundary against clang's own (the oracle for the ABI): every
+/// integer width, `bool`, floats and pointers, as exports and as `extern "C"` imports,
+/// carry the `signext`/`zeroext` attributes clang-14 gives the same C prototypes.
+#[test]
+fn c_boundary_attributes_match_clangs() {
+    use trax_compiler::{compile_source, CompileOptions, Emit};
+    let types = [
+        ("bool", "_Bool"),
+        ("i8", "signed char"),
+        ("u8", "unsigned char"),
+        ("i16", "short"),
+        ("u16", "unsigned short"),
+        ("i32", "int"),
+        ("u32", "unsigned"),
+        ("i64", "long long"),
+        ("u64", "unsigned long long"),
+        ("usize", "unsigned long"),
+        ("f32", "float"),
+        ("f64", "double"),
+        ("*const f32", "const float *"),
+    ];
+    let mut rs = String::from("extern \"C\" {\n");
+    let mut c = String::new();
+    for (i, (r, ct)) in types.iter().enumerate() {
+        rs += &format!("    fn imp{i}(a: {r}, b: {r}) -> {r};\n");
+        c += &format!("{ct} imp{i}({ct} a, {ct} b);\n{ct} exp{i}({ct} a, {ct} b) {{ return imp{i}(a, b); }}\n");
+    }
+    rs += "}\n";
+    for (i, (r, _)) in types.iter().enumerate() {
+        rs += &format!(
+            "#[no_mangle]\npub extern \"C\" fn exp{i}(a: {r}, b: {r}) -> {r} {{\n    let _ = b;\n    unsafe {{ imp{i}(a, a) }}\n}}\n"
+        );
+    }
+    rs += "fn trax_main() {}\n";
+    let opts = CompileOptions {
+        opt_level: 0,
+        emit: Emit::LlvmIr,
+        ..Default::default()
+    };
+    let ours = compile_source("abi", &rs, &opts).unwrap_or_else(|e| panic!("{e}"));
+    let ours = String::from_utf8(ours.bytes).unwrap();
+    let dir = scratch("abi");
+    let src = dir.join("abi.c");
+    std::fs::write(&src, &c).unwrap();
+    let theirs = trax::clang::compile(&src, trax::clang::Lang::C, 0, Emit::LlvmIr)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let theirs = String::from_utf8(theirs).unwrap();
+    // `signext`/`zeroext` of the return value and each parameter, per function.
+    let sig = |ir: &str, name: &str| -> Vec<String> {
+        let line = ir
+            .lines()
+            .find(|l| {
+                (l.starts_with("define") || l.starts_with("declare"))
+                    && l.contains(&format!("@{name}("))
+            })
+            .unwrap_or_else(|| panic!("no {name} in\n{ir}"));
+        let (head, rest) = line.split_once(&format!("@{name}(")).unwrap();
+        let params = rest.rsplit_once(')').unwrap().0;
+        let exts = |s: &str| {
+            let mut e: Vec<&str> = s
+                .split_whitespace()
+                .filter(|w| *w == "signext" || *w == "zeroext")
+                .collect();
+            e.sort();
+            e.join(" ")
+        };
+        std::iter::once(exts(head))
+            .chain(params.split(',').map(exts))
+            .collect()
+    };
+    for i in 0..types.len() {
+        for name in [format!("imp{i}"), format!("exp{i}")] {
+            assert_eq!(
+                sig(&ours, &name),
+                sig(&theirs, &name),
+                "{name} ({})",
+                types[i].0
+            );
+        }
+    }
+}

@@ -510,7 +510,8 @@ pub fn host_shim() -> String {
 
 /// `main` of a C or C++ kernel's host program (with [`host_shim`]): every host thread
 /// runs the C/C++ constructors, then `trax_main`, as every hardware thread does on the
-/// machine (`runtime::startup`).
+/// machine (`runtime::startup`). Also appended to a TRaX-Rust crate without `trax_main`
+/// that exports functions to the C kernel.
 pub const HOST_MAIN_C: &str = r#"
 extern "C" {
     #[link_name = "trax_main"]

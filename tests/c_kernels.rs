@@ -850,3 +850,32 @@ fn c_boundary_attributes_match_clangs() {
         }
     }
 }
+
+/// A C kernel calling a TRaX-Rust file that only exports functions (no `trax_main`):
+/// `trax run` and `trax native` link it either way round.
+#[test]
+fn c_kernel_calls_a_rust_library() {
+    let dir = scratch("rust-lib");
+    let (main, lib) = (dir.join("main.c"), dir.join("lib.rs"));
+    std::fs::write(
+        &main,
+        "#include <trax.h>\nfloat rust_twice(float x);\nvoid trax_main(void) {\n    if (trax_global_id() == 0) {\n        trax_print_float(rust_twice(1.25f));\n        trax_print_char('\\n');\n    }\n}\n",
+    )
+    .unwrap();
+    std::fs::write(
+        &lib,
+        "#[no_mangle]\npub extern \"C\" fn rust_twice(x: f32) -> f32 {\n    x * 2.0\n}\n",
+    )
+    .unwrap();
+    let (m, l) = (main.to_str().unwrap(), lib.to_str().unwrap());
+    for cmd in [["run", "--functional"].as_slice(), &["native"]] {
+        for files in [[m, l], [l, m]] {
+            let mut args = cmd.to_vec();
+            args.extend(files);
+            args.extend(["--width", "4", "--height", "4"]);
+            let out = trax(&args);
+            assert!(out.status.success(), "{args:?}: {}", text(&out.stderr));
+            assert_eq!(text(&out.stdout), "2.5\n", "{args:?}");
+        }
+    }
+}

@@ -12,7 +12,8 @@
 //! Steps: (1) the prelude is written out from `trax_runtime::prelude::FILES` and built as
 //! an rlib named `trax`; (2) the kernel is compiled from stdin with the current directory
 //! set to the kernel's directory (so `mod x;` files resolve), with
-//! `fn main() { trax::host::host_main(trax_main) }` appended — C and C++ sources are
+//! `fn main() { trax::host::host_main(trax_main) }` appended (or the C kernel's entry when
+//! the Rust crate only exports `#[no_mangle] extern "C"` functions) — C and C++ sources are
 //! compiled by clang for the host (`trax::clang::compile_host`, constructors moved so they
 //! run on every kernel thread) and linked in, with `trax::clang::host_shim()` (and, for a
 //! C/C++ kernel alone, `HOST_MAIN_C` as the whole program); (3) a memory image (format:
@@ -449,19 +450,29 @@ fn build_kernel(
     cache: &Path,
 ) -> Result<PathBuf, NativeError> {
     let src = std::fs::read_to_string(kernel).map_err(io_err(kernel))?;
-    if !src.contains("fn trax_main") {
+    // The entry point is the Rust kernel's, or a C file's when the Rust crate only
+    // exports functions to C (`#[no_mangle] extern "C" fn`).
+    let rust_entry = src.contains("fn trax_main");
+    let mut c_entry = false;
+    for o in objs {
+        let bytes = std::fs::read(o).map_err(io_err(o))?;
+        c_entry |= trax::clang::entry_point(&bytes) == trax::clang::EntryPoint::Defined;
+    }
+    if !rust_entry && !c_entry {
         return Err(NativeError::NoEntry {
             kernel: kernel.display().to_string(),
         });
     }
     let tail = if objs.is_empty() {
         MAIN_SHIM.to_string()
-    } else {
+    } else if rust_entry {
         format!(
             "{}{}",
             trax::clang::HOST_MAIN_RUST_WITH_C,
             trax::clang::host_shim()
         )
+    } else {
+        format!("{}{}", trax::clang::HOST_MAIN_C, trax::clang::host_shim())
     };
     let mut h = Fnv1a::new();
     h.write(&kernel_hash(kernel, &src)?.to_le_bytes());

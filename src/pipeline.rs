@@ -106,8 +106,8 @@ impl Request {
 }
 
 /// The image options for `render` on `chip`: the chip's local-store size as each thread's
-/// stack window, its ray stream memory's shape (scene header `stream_*`) and the chip's
-/// treelet layout (`[treelets]`: form, size, alignment). Every
+/// stack window, its ray stream memory's shape (scene header `stream_*`), its pipeline
+/// modes (`pipe_modes`) and the chip's treelet layout (`[treelets]`: form, size, alignment). Every
 /// image that runs on a chip, or that `trax native` runs over, is laid out with these
 /// ([`lay_out`], [`scene_image`], [`lay_out_scene`]), so run and native lay out alike.
 pub fn image_options(render: &RenderOptions, chip: &ChipConfig) -> Result<RenderOptions, String> {
@@ -125,6 +125,7 @@ pub fn image_options(render: &RenderOptions, chip: &ChipConfig) -> Result<Render
     Ok(RenderOptions {
         stack_size: chip.local_store.bytes,
         stream,
+        pipe_modes: u32::from(chip.pipe_modes()),
         treelets: TreeletLayout {
             always: chip.treelets.form == TreeletForm::Always,
             options: TreeletOptions {

@@ -11,7 +11,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use trax::pipeline::{prepare, Request};
+use trax::pipeline::{chip_config, prepare, Request};
 use trax_emulator::{run, Mode};
 
 fn root() -> PathBuf {
@@ -33,6 +33,8 @@ struct Setup<'a> {
     tms: u32,
     threads: u32,
     opt_level: u8,
+    /// A chip preset (`--config`) instead of the default chip.
+    config: Option<&'a str>,
 }
 
 fn emulate(s: &Setup) -> Frame {
@@ -42,6 +44,9 @@ fn emulate(s: &Setup) -> Frame {
     req.render.height = s.height;
     req.render.spp = s.spp;
     req.render.max_depth = s.depth;
+    if let Some(preset) = s.config {
+        req.chip = chip_config(preset, &[], Some(s.tms), Some(s.threads), None).unwrap();
+    }
     req.chip.tms = s.tms;
     req.chip.threads_per_tm = s.threads;
     let prepared = prepare(&req).unwrap_or_else(|e| panic!("{}: {e}", s.kernel));
@@ -86,6 +91,7 @@ fn native(s: &Setup) -> Frame {
             "--threads",
             &s.threads.to_string(),
         ])
+        .args(s.config.map(|c| ["--config", c]).into_iter().flatten())
         .arg("--raw-framebuffer")
         .arg(&raw)
         .env("TRAX_CACHE_DIR", &cache)
@@ -137,6 +143,8 @@ fn check(s: Setup) {
         || s.kernel.contains("/lang_")
     {
         assert!(e.stdout.lines().count() > 10, "{}", e.stdout);
+    } else if s.kernel.ends_with("pipe_reload.rs") {
+        assert_eq!(e.stdout.lines().count(), 5, "{}", e.stdout);
     } else if s.kernel.ends_with("hello.rs") {
         let lines = e.stdout.lines().filter(|l| l.starts_with("hello")).count();
         assert_eq!(lines as u32, s.tms * s.threads, "{}", e.stdout);
@@ -159,6 +167,7 @@ fn setup(kernel: &str) -> Setup<'_> {
         tms: 2,
         threads: 3,
         opt_level: 2,
+        config: None,
     }
 }
 
@@ -195,6 +204,21 @@ fn ao() {
 #[test]
 fn pathtracer() {
     check(setup("examples/pathtracer.rs"));
+}
+
+/// A one-off pipeline test between a `PipeTests`' tests reloads the ray on both sides
+/// (the host kept the `PipeTests`' ray, so its third line printed a hit the machine
+/// did not).
+#[test]
+fn pipelines_keep_the_last_loaded_ray() {
+    let s = Setup {
+        config: Some("strata"),
+        ..setup("tests/kernels/pipe_reload.rs")
+    };
+    let e = emulate(&s);
+    assert!(e.stdout.contains("A's tests after B: inf"), "{}", e.stdout);
+    assert!(e.stdout.contains("A: 2\n"), "{}", e.stdout);
+    check(s);
 }
 
 /// The compiler's every-feature kernel prints what rustc's build prints, at -O0 and -O3.

@@ -303,11 +303,20 @@ fn run_reports_scene_components_and_what_was_left_out() {
         "point_lights",
         "bvh_parents",
         "treelet_ids",
+        "tri_treelet_ids",
+        "tri_leaf_ids",
     ];
     for (kernel, left_out) in [
         (
             "examples/pathtracer.rs",
-            &["normals", "texcoords", "bvh_parents", "treelet_ids"][..],
+            &[
+                "normals",
+                "texcoords",
+                "bvh_parents",
+                "treelet_ids",
+                "tri_treelet_ids",
+                "tri_leaf_ids",
+            ][..],
         ),
         ("examples/mandelbrot.rs", &all[..]),
     ] {

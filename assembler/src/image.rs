@@ -77,6 +77,8 @@ pub struct RenderOptions {
     pub treelets: TreeletLayout,
     /// The shape of the chip's ray stream memory, written into the header for kernels.
     pub stream: StreamShape,
+    /// The chip's `trax.setpipe` modes (header `pipe_modes`: bit m for mode m).
+    pub pipe_modes: u32,
 }
 
 /// The ray stream memory's shape as kernels see it (header fields `stream_rays`,
@@ -105,6 +107,7 @@ impl Default for RenderOptions {
             bvh: BvhOptions::default(),
             treelets: TreeletLayout::default(),
             stream: StreamShape::default(),
+            pipe_modes: 1,
         }
     }
 }
@@ -330,6 +333,7 @@ pub fn build_image_from_symbols(
         stream_rays: opts.stream.rays,
         stream_ray_bytes: opts.stream.ray_bytes,
         stream_buffers: opts.stream.buffers,
+        pipe_modes: opts.pipe_modes,
         ..SceneHeader::new(opts.width, opts.height)
     };
     let ctx = Ctx {
@@ -446,7 +450,10 @@ impl Produced {
 
 /// Whether component `name` is built from the BVH.
 fn from_bvh(name: &str) -> bool {
-    matches!(name, "bvh_nodes" | "bvh_parents" | "treelet_ids")
+    matches!(
+        name,
+        "bvh_nodes" | "bvh_parents" | "treelet_ids" | "tri_treelet_ids" | "tri_leaf_ids"
+    )
 }
 
 /// An upper bound of component `c`'s element count, known before anything is built.
@@ -457,7 +464,8 @@ fn count_bound(c: &ComponentDesc, scene: &Scene, pixels: u64) -> Result<u64, Ima
         "framebuffer" => pixels,
         // A binary BVH over n triangles has fewer than 2n nodes.
         "bvh_nodes" | "bvh_parents" | "treelet_ids" => 2 * tris,
-        "triangles" | "normals" | "texcoords" | "material_ids" | "emitters" => tris,
+        "triangles" | "normals" | "texcoords" | "material_ids" | "emitters" | "tri_treelet_ids"
+        | "tri_leaf_ids" => tris,
         "materials" => scene.materials.len() as u64,
         "point_lights" => scene.point_lights.len() as u64,
         other => return Err(ImageError::NoProducer(table_name(other))),
@@ -515,6 +523,31 @@ fn produce(c: &ComponentDesc, x: &Ctx) -> Result<Produced, ImageError> {
                 .map(|t| t.node_treelet.clone())
                 .unwrap_or_default(),
         ),
+        "tri_treelet_ids" => {
+            let b = bvh()?;
+            let mut ids = vec![u32::MAX; b.tri_order.len()];
+            if let Some(t) = &b.treelets {
+                let first = t.node_ranges.len() as u32;
+                for (k, r) in t.tri_ranges.iter().enumerate() {
+                    for slot in r.clone() {
+                        if b.tri_order[slot as usize] != PAD {
+                            ids[slot as usize] = first + k as u32;
+                        }
+                    }
+                }
+            }
+            Produced::of(ids)
+        }
+        "tri_leaf_ids" => {
+            let b = bvh()?;
+            let mut ids = vec![u32::MAX; b.tri_order.len()];
+            for (i, n) in b.nodes.iter().enumerate() {
+                if n.is_leaf() {
+                    ids[n.a as usize..(n.a + n.b) as usize].fill(i as u32);
+                }
+            }
+            Produced::of(ids)
+        }
         other => return Err(ImageError::NoProducer(table_name(other))),
     })
 }

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 use std::process::Command;
 
 use std::mem::size_of;
-use trax_assembler::bvh::{BvhOptions, TreeletLayout, TreeletOptions};
+use trax_assembler::bvh::{BvhOptions, TreeletLayout, TreeletOptions, PAD};
 use trax_assembler::image::{
     build_image, build_image_from_symbols, on_demand_components, ImageError, Perms, RenderOptions,
     SceneImage, Segment,
@@ -138,7 +138,7 @@ fn header_bytes_match_abi_offsets() {
     h.triangles.addr = 0xABCD;
     h.triangles.count = 0x1234;
     h.treelet_ids.count = 99;
-    h.reserved[4] = 77;
+    h.reserved[0] = 77;
     h.stream_ray_bytes = 48;
     let b = h.to_bytes();
     assert_eq!(b.len(), abi::SCENE_HEADER_SIZE);
@@ -154,7 +154,7 @@ fn header_bytes_match_abi_offsets() {
     assert_eq!(word("triangles", 0), 0xABCD);
     assert_eq!(word("triangles", 4), 0x1234);
     assert_eq!(word("treelet_ids", 4), 99);
-    assert_eq!(word("reserved", 16), 77);
+    assert_eq!(word("reserved", 0), 77);
     assert_eq!(word("stream_ray_bytes", 0), 48);
 }
 
@@ -314,6 +314,26 @@ fn all_components_with_bvh_and_treelets() {
         img.memory.read_u32(h.treelet_ids.addr),
         Some(t.node_treelet[0])
     );
+    // Triangle treelet ids: each slot's treelet (ids after the node treelets'), padding
+    // slots none; the aligned layout here has padding.
+    assert_eq!(bytes("tri_treelet_ids"), 4 * slots);
+    assert!(bvh.tri_order.contains(&PAD) && t.tri_ranges.len() > 1);
+    let first = t.node_ranges.len() as u32;
+    for slot in 0..slots {
+        let id = img
+            .memory
+            .read_u32(h.tri_treelet_ids.addr + 4 * slot)
+            .unwrap();
+        if bvh.tri_order[slot as usize] == PAD {
+            assert_eq!(id, u32::MAX, "padding slot {slot}");
+        } else {
+            let k = (id - first) as usize;
+            assert!(
+                t.tri_ranges[k].contains(&slot),
+                "slot {slot} in treelet {id}"
+            );
+        }
+    }
 }
 
 /// A program that reads `treelet_ids` on a chip whose treelets are formed when read and
@@ -396,6 +416,22 @@ fn treelets_formed_when_the_program_reads_treelet_ids() {
     assert_eq!(
         img.header.treelet_ids.count,
         img.bvh.as_ref().unwrap().nodes.len() as u32
+    );
+    // Or the triangle treelets' ids.
+    let img = build_image_from_symbols(
+        Vec::new(),
+        abi::TEXT_BASE,
+        &["tri_treelet_ids"],
+        &s,
+        &RenderOptions::default(),
+    )
+    .unwrap();
+    let bvh = img.bvh.as_ref().unwrap();
+    let t = bvh.treelets.as_ref().unwrap();
+    assert_eq!(img.header.tri_treelet_ids.count, bvh.tri_order.len() as u32);
+    assert_eq!(
+        img.memory.read_u32(img.header.tri_treelet_ids.addr),
+        Some(t.node_ranges.len() as u32)
     );
     let img = build_image_from_symbols(
         Vec::new(),

@@ -25,7 +25,6 @@ use crate::profile::{profile_run, Profile, Profiler};
 use crate::sched::Executor;
 use crate::thread::{Shared, Thread};
 use crate::timing::{self, ChipConfig, ConfigError, TimingStats};
-use trax_runtime::isa::UnitClass;
 
 /// Instructions a thread runs per turn of the functional interleaving by default.
 pub const DEFAULT_QUANTUM: u32 = 1000;
@@ -295,10 +294,7 @@ fn load(req: &RunRequest<'_>, quantum: u32) -> Result<(Executable, Machine), Run
         sm.schedule,
         u64::from(sm.schedule_cycles),
     );
-    machine.shared.pipe_modes = req.chip.pipelines.modes_available(
-        req.chip.unit(UnitClass::FpMul).count,
-        req.chip.unit(UnitClass::FpAdd).count,
-    );
+    machine.shared.pipe_modes = req.chip.pipe_modes();
     Ok((exe, machine))
 }
 

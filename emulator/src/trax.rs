@@ -363,7 +363,7 @@ pub fn exec_trax<C: Chip>(
             }
             if chip.shared().pipe_modes & (1 << sa) == 0 {
                 return Err(Fault::BadIndex {
-                    what: "pipeline mode (the TM lacks the FP units it reserves)",
+                    what: "pipeline mode (pipelines disabled, or the TM lacks the FP units it reserves)",
                     index: sa as u32,
                 });
             }

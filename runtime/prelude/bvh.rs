@@ -1,8 +1,12 @@
 //! Ray/scene intersection: a watertight ray/triangle test (Woop, Benthin and Wald,
 //! "Watertight Ray/Triangle Intersection", JCGT 2013), a robust slab test for BVH boxes,
-//! and closest-hit / any-hit BVH traversal.
+//! and closest-hit / any-hit BVH traversal, with a stack of node indices ([`intersect`],
+//! [`occluded`]) or as a resumable state machine with a one-word bit stack and parent
+//! pointers ([`Traversal`], thesis §3.2.2), which a streaming ray tracer stops at treelet
+//! boundaries and continues later on another TM.
 
 use super::hw;
+use super::layout;
 use super::math::Vec3;
 use super::ray::{Hit, Ray};
 use super::scene;
@@ -243,6 +247,90 @@ impl BoxRay {
     }
 }
 
+/// The box and triangle tests a traversal runs: the prelude's robust slab and watertight
+/// triangle tests ([`SoftTests`]), or the fused pipelines' semantics
+/// ([`super::pipe::PipeTests`]).
+///
+/// Both take the element's address in simulated memory, so a test loads what it needs
+/// in the form it needs (a pipeline: the words, straight into its input registers).
+pub trait RayTests {
+    /// Entry distance of the ray into the box of the BVH node stored at `node` when it
+    /// enters before `t_max`, otherwise `INFINITY`.
+    fn box_entry(&self, node: u32, t_max: f32) -> f32;
+    /// Tests the triangle stored at `tri`: on a hit closer than `hit.t` updates `hit.t`,
+    /// `hit.u` and `hit.v` (not `hit.tri`) and returns true.
+    fn tri_hit(&self, tri: u32, hit: &mut Hit) -> bool;
+}
+
+/// The prelude's own tests for one ray: [`BoxRay`] and [`TriRay`], hits with
+/// `t_min < t < hit.t`. What [`intersect`] and [`occluded`] run.
+#[derive(Clone, Copy)]
+pub struct SoftTests {
+    pub br: BoxRay,
+    pub tr: TriRay,
+    pub t_min: f32,
+}
+
+impl SoftTests {
+    /// The tests of `ray` in a scene whose coordinates are at most about `bound` in
+    /// magnitude (see [`TriRay::new`]).
+    pub fn new(ray: &Ray, t_min: f32, bound: f32) -> SoftTests {
+        SoftTests {
+            br: BoxRay::new(ray),
+            tr: TriRay::new(ray, bound),
+            t_min,
+        }
+    }
+}
+
+impl RayTests for SoftTests {
+    #[inline(always)]
+    fn box_entry(&self, node: u32, t_max: f32) -> f32 {
+        let lo = scene::load_vec3(node + layout::BVH_MIN);
+        let hi = scene::load_vec3(node + layout::BVH_MAX);
+        self.br.entry(lo, hi, self.t_min, t_max)
+    }
+
+    #[inline(always)]
+    fn tri_hit(&self, tri: u32, hit: &mut Hit) -> bool {
+        self.tr
+            .intersect(&scene::triangle_stored(tri), self.t_min, hit)
+    }
+}
+
+/// Tests the triangles of leaf `node` (in the array at `tris`, [`scene::triangles_base`])
+/// in order, keeping the closest hit in `hit` (`hit.tri` = the triangle's index); with
+/// `any`, stops at the first hit. True if a triangle was hit. The leaf loop of every
+/// traversal here.
+#[inline(always)]
+pub fn leaf_hits<X: RayTests>(x: &X, tris: u32, node: &BvhNode, hit: &mut Hit, any: bool) -> bool {
+    let mut found = false;
+    let mut i = node.a;
+    while i < node.a + node.b {
+        if x.tri_hit(tris + i * layout::TRIANGLES_STRIDE, hit) {
+            hit.tri = i;
+            found = true;
+            if any {
+                return true;
+            }
+        }
+        i += 1;
+    }
+    found
+}
+
+/// Every triangle of a scene without a BVH, as [`leaf_hits`] tests a leaf.
+fn all_triangles_hit(ray: &Ray, t_min: f32, hit: &mut Hit, any: bool) -> bool {
+    let x = SoftTests::new(ray, t_min, scene_bound());
+    let all = BvhNode {
+        min: Vec3::zero(),
+        max: Vec3::zero(),
+        a: 0,
+        b: scene::triangle_count(),
+    };
+    leaf_hits(&x, scene::triangles_base(), &all, hit, any)
+}
+
 /// Closest hit along `ray` with `t_min < t < t_max` over the whole scene (BVH if the
 /// scene has one, otherwise every triangle). Counts one ray (`trax.stat 0`).
 pub fn intersect(ray: &Ray, t_min: f32, t_max: f32) -> Hit {
@@ -250,15 +338,7 @@ pub fn intersect(ray: &Ray, t_min: f32, t_max: f32) -> Hit {
     let mut hit = Hit::none(t_max);
     let base = scene::bvh_base();
     if scene::bvh_node_count() == 0 {
-        let tr = TriRay::new(ray, scene_bound());
-        let n = scene::triangle_count();
-        let mut i: u32 = 0;
-        while i < n {
-            if tr.intersect(&scene::triangle(i), t_min, &mut hit) {
-                hit.tri = i;
-            }
-            i += 1;
-        }
+        all_triangles_hit(ray, t_min, &mut hit, false);
         return hit;
     }
     let br = BoxRay::new(ray);
@@ -268,16 +348,15 @@ pub fn intersect(ray: &Ray, t_min: f32, t_max: f32) -> Hit {
     if br.node_entry(&node, t_min, hit.t) == super::INFINITY {
         return hit;
     }
-    let tr = TriRay::new(ray, node_bound(&node));
+    let x = SoftTests {
+        br,
+        tr: TriRay::new(ray, node_bound(&node)),
+        t_min,
+    };
+    let tris = scene::triangles_base();
     loop {
         if node.is_leaf() {
-            let mut i = node.a;
-            while i < node.a + node.b {
-                if tr.intersect(&scene::triangle(i), t_min, &mut hit) {
-                    hit.tri = i;
-                }
-                i += 1;
-            }
+            leaf_hits(&x, tris, &node, &mut hit, false);
         } else {
             let left = scene::bvh_node_at(base, node.a);
             let right = scene::bvh_node_at(base, node.a + 1);
@@ -327,35 +406,22 @@ pub fn occluded(ray: &Ray, t_min: f32, t_max: f32) -> bool {
     let mut hit = Hit::none(t_max);
     let base = scene::bvh_base();
     if scene::bvh_node_count() == 0 {
-        let tr = TriRay::new(ray, scene_bound());
-        let n = scene::triangle_count();
-        let mut i: u32 = 0;
-        while i < n {
-            if tr.intersect(&scene::triangle(i), t_min, &mut hit) {
-                return true;
-            }
-            i += 1;
-        }
-        return false;
+        return all_triangles_hit(ray, t_min, &mut hit, true);
     }
-    let br = BoxRay::new(ray);
-    let tr = TriRay::new(ray, node_bound(&scene::bvh_node_at(base, 0)));
+    let x = SoftTests::new(ray, t_min, node_bound(&scene::bvh_node_at(base, 0)));
+    let tris = scene::triangles_base();
     let mut stack: [u32; 64] = [0; 64];
     let mut sp: usize = 1;
     stack[0] = 0;
     while sp > 0 {
         sp -= 1;
         let node = scene::bvh_node_at(base, stack[sp]);
-        if br.node_entry(&node, t_min, t_max) == super::INFINITY {
+        if x.br.node_entry(&node, t_min, t_max) == super::INFINITY {
             continue;
         }
         if node.is_leaf() {
-            let mut i = node.a;
-            while i < node.a + node.b {
-                if tr.intersect(&scene::triangle(i), t_min, &mut hit) {
-                    return true;
-                }
-                i += 1;
+            if leaf_hits(&x, tris, &node, &mut hit, true) {
+                return true;
             }
         } else {
             stack[sp] = node.a;
@@ -364,4 +430,330 @@ pub fn occluded(ray: &Ray, t_min: f32, t_max: f32) -> bool {
         }
     }
     false
+}
+
+/// A traversal stack of one bit per BVH level in one word (thesis §3.2.2): the top is the
+/// least significant bit, push shifts left (adding 1 when the left child was visited
+/// first), pop shifts right. With parent pointers, the bit is all a level needs: coming
+/// back up from a child, the traversal visits the other child when the one it comes from
+/// was the first.
+///
+/// A sentinel bit below the first level marks the bottom, so a BVH deeper than 31 levels
+/// stops the program with a message instead of losing the oldest bits.
+#[derive(Clone, Copy, PartialEq)]
+pub struct BitStack {
+    /// The stack word: the sentinel, then one bit per level, top at bit 0.
+    pub bits: u32,
+}
+
+impl BitStack {
+    /// The empty stack (the sentinel alone).
+    pub fn new() -> BitStack {
+        BitStack { bits: 1 }
+    }
+
+    /// A stack from its word (as stored in a ray record).
+    pub fn from_bits(bits: u32) -> BitStack {
+        BitStack { bits }
+    }
+
+    /// Pushes a level: whether its left child is visited first.
+    #[inline(always)]
+    pub fn push(&mut self, left_first: bool) {
+        if self.bits >= 0x8000_0000 {
+            panic!("BVH deeper than the 31 levels a one-word traversal stack holds");
+        }
+        self.bits = (self.bits << 1) | (left_first as u32);
+    }
+
+    /// Pops the top level.
+    #[inline(always)]
+    pub fn pop(&mut self) {
+        self.bits >>= 1;
+    }
+
+    /// Whether the top level visited its left child first.
+    #[inline(always)]
+    pub fn left_first(&self) -> bool {
+        self.bits & 1 == 1
+    }
+}
+
+/// Where a [`Traversal`]'s arrays are, read once from the scene header: the BVH nodes,
+/// their parent pointers (`bvh_parents`), the triangles and the leaf of each triangle
+/// slot (`tri_leaf_ids`). A traversal step reads no header field.
+#[derive(Clone, Copy)]
+pub struct BvhArrays {
+    /// Address of node 0 ([`scene::bvh_base`]).
+    pub nodes: u32,
+    /// Address of triangle 0 ([`scene::triangles_base`]).
+    pub tris: u32,
+    /// Address of the parent pointers ([`scene::bvh_parents_base`]).
+    pub parents: u32,
+    /// Address of the slots' leaves ([`scene::tri_leaf_ids_base`]).
+    pub leaves: u32,
+    /// Triangle slots.
+    pub slots: u32,
+}
+
+impl BvhArrays {
+    /// The scene's.
+    pub fn load() -> BvhArrays {
+        BvhArrays {
+            nodes: scene::bvh_base(),
+            tris: scene::triangles_base(),
+            parents: scene::bvh_parents_base(),
+            leaves: scene::tri_leaf_ids_base(),
+            slots: scene::triangle_count(),
+        }
+    }
+}
+
+/// Where the treelet ids are (`treelet_ids` per node, `tri_treelet_ids` per triangle
+/// slot), read once from the scene header. A program that reads them gets its BVH laid out
+/// in treelets.
+#[derive(Clone, Copy)]
+pub struct TreeletArrays {
+    pub nodes: u32,
+    pub tris: u32,
+}
+
+impl TreeletArrays {
+    /// The scene's.
+    pub fn load() -> TreeletArrays {
+        TreeletArrays {
+            nodes: scene::treelet_ids_base(),
+            tris: scene::tri_treelet_ids_base(),
+        }
+    }
+}
+
+/// Step kinds of a [`Traversal`] (the top two bits of its word).
+const STEP_ROOT: u32 = 0;
+const STEP_PAIR: u32 = 1;
+const STEP_LEAF: u32 = 2;
+const STEP_UP: u32 = 3;
+const NODE_MASK: u32 = 0x3FFF_FFFF;
+/// The finished traversal: back up from the root.
+const DONE: u32 = STEP_UP << 30;
+
+/// A resumable closest-hit or any-hit BVH traversal (thesis §3.2.2): the nearer child
+/// first, a one-word [`BitStack`], parent pointers (`bvh_parents`) to climb back up, early
+/// termination (boxes entered beyond the closest hit are skipped). Its whole state is two
+/// words (the step and its node, and the stack) plus the ray and its hit record, so a
+/// streaming ray can stop after any [`Traversal::step`] and continue on another TM; each
+/// step reads the BVH of one treelet ([`Traversal::treelet`]).
+///
+/// Steps (the next one is decided by the one before):
+/// - root: test the root's box;
+/// - pair `c`: test the boxes of siblings `c`, `c + 1` (the children of the node above);
+///   push whether the left goes first (a lone hit child is pushed as if visited second, so
+///   nothing comes back to it) and descend; neither hit: up from their parent;
+/// - leaf: test the triangles of the leaf whose first triangle slot is the step's node (the
+///   slots' leaves, `tri_leaf_ids`, give the leaf and the run of its slots, so the step
+///   reads only triangle-treelet data), then up from that leaf;
+/// - up from `x`: the top bit says which child of `x`'s parent went first; if `x` (the
+///   left child when `bvh_parents` of `x - 1` is not that parent) was the first, the
+///   other child is tested again with the closest hit found since and visited if still
+///   ahead; otherwise pop and go up from the parent. Up from the root: done.
+///
+/// It visits the same nodes in the same order as [`intersect`]'s stack (which also tests
+/// a waiting child's box again when popping it), so with the same tests it finds the same
+/// hit, bit for bit ([`intersect_bitstack`], [`occluded_bitstack`]).
+#[derive(Clone, Copy)]
+pub struct Traversal {
+    /// The next step's kind (top two bits) and node.
+    pub word: u32,
+    /// Which child went first at each level above.
+    pub stack: BitStack,
+}
+
+impl Traversal {
+    /// A traversal that starts at the root.
+    pub fn new() -> Traversal {
+        Traversal {
+            word: STEP_ROOT << 30,
+            stack: BitStack::new(),
+        }
+    }
+
+    /// A traversal from its two words (as stored in a ray record).
+    pub fn from_words(word: u32, stack: u32) -> Traversal {
+        Traversal {
+            word,
+            stack: BitStack::from_bits(stack),
+        }
+    }
+
+    /// True when the traversal is over.
+    pub fn is_done(&self) -> bool {
+        self.word == DONE
+    }
+
+    /// Ends the traversal (an any-hit query that found its answer).
+    pub fn finish(&mut self) {
+        self.word = DONE;
+    }
+
+    /// True when the next step tests a leaf's triangles (its data is a triangle treelet).
+    pub fn at_leaf(&self) -> bool {
+        self.word >> 30 == STEP_LEAF
+    }
+
+    /// The next step's node: the root (0), the first of a sibling pair, a leaf's first
+    /// triangle slot, or the node to go up from.
+    pub fn node(&self) -> u32 {
+        self.word & NODE_MASK
+    }
+
+    /// The treelet whose data the next step reads: the node's (`treelet_ids`), or for a
+    /// leaf step its first triangle's (`tri_treelet_ids`). Meaningless once done.
+    pub fn treelet(&self, t: &TreeletArrays) -> u32 {
+        let node = self.word & NODE_MASK;
+        if self.word >> 30 == STEP_LEAF {
+            hw::load_u32(t.tris + node * 4)
+        } else {
+            hw::load_u32(t.nodes + node * 4)
+        }
+    }
+
+    /// Descends into the node stored at `n`, whose box was hit: its children's boxes next,
+    /// or a leaf's triangles (the node word then names the leaf's first triangle slot).
+    #[inline(always)]
+    fn descend(&mut self, n: u32) {
+        let step = if hw::load_u32(n + layout::BVH_B) != 0 {
+            STEP_LEAF
+        } else {
+            STEP_PAIR
+        };
+        self.word = (step << 30) | hw::load_u32(n + layout::BVH_A);
+    }
+
+    /// Runs steps while the traversal is not done and `stay` accepts the next one (a
+    /// streaming kernel: while it reads the current treelet); see [`Traversal::step`].
+    /// True if it stopped because `stay` refused a step.
+    pub fn run<X: RayTests, F: Fn(&Traversal) -> bool>(
+        &mut self,
+        x: &X,
+        b: &BvhArrays,
+        hit: &mut Hit,
+        any: bool,
+        stay: F,
+    ) -> bool {
+        // Locals, so the state stays in registers between steps.
+        let mut t = *self;
+        let mut h = *hit;
+        let mut refused = false;
+        while !t.is_done() {
+            if !stay(&t) {
+                refused = true;
+                break;
+            }
+            t.step(x, b, &mut h, any);
+        }
+        *self = t;
+        *hit = h;
+        refused
+    }
+
+    /// Runs the next step with the tests `x` against `hit` (the closest hit so far, its
+    /// `t` the search limit) on the BVH at `b`. With `any`, the traversal ends at the
+    /// first triangle hit. Not to be called once done.
+    #[inline(always)]
+    pub fn step<X: RayTests>(&mut self, x: &X, b: &BvhArrays, hit: &mut Hit, any: bool) {
+        let kind = self.word >> 30;
+        let node = self.word & NODE_MASK;
+        if kind == STEP_PAIR {
+            let left = b.nodes + node * layout::BVH_NODES_STRIDE;
+            let right = left + layout::BVH_NODES_STRIDE;
+            let tl = x.box_entry(left, hit.t);
+            let tr = x.box_entry(right, hit.t);
+            let hit_l = tl != super::INFINITY;
+            let hit_r = tr != super::INFINITY;
+            if hit_l && hit_r {
+                let left_first = tl <= tr;
+                self.stack.push(left_first);
+                self.descend(if left_first { left } else { right });
+            } else if hit_l {
+                // Pushed as the second child: nothing to come back for.
+                self.stack.push(false);
+                self.descend(left);
+            } else if hit_r {
+                self.stack.push(true);
+                self.descend(right);
+            } else {
+                self.word = (STEP_UP << 30) | scene::bvh_parent_at(b.parents, node);
+            }
+        } else if kind == STEP_UP {
+            let parent = scene::bvh_parent_at(b.parents, node);
+            // `node` is the right child when its left neighbour has the same parent.
+            let right = scene::bvh_parent_at(b.parents, node - 1) == parent;
+            if right != self.stack.left_first() {
+                // `node` went first: the other child, if still ahead of the closest hit.
+                let other = if right { node - 1 } else { node + 1 };
+                let n = b.nodes + other * layout::BVH_NODES_STRIDE;
+                if x.box_entry(n, hit.t) != super::INFINITY {
+                    self.descend(n);
+                    return;
+                }
+            }
+            self.stack.pop();
+            self.word = (STEP_UP << 30) | parent;
+        } else if kind == STEP_LEAF {
+            // The leaf and its run of slots.
+            let leaf = scene::tri_leaf_at(b.leaves, node);
+            let mut end = node + 1;
+            while end < b.slots && scene::tri_leaf_at(b.leaves, end) == leaf {
+                end += 1;
+            }
+            let tris = BvhNode {
+                min: Vec3::zero(),
+                max: Vec3::zero(),
+                a: node,
+                b: end - node,
+            };
+            if leaf_hits(x, b.tris, &tris, hit, any) && any {
+                self.word = DONE;
+            } else {
+                self.word = (STEP_UP << 30) | leaf;
+            }
+        } else {
+            if x.box_entry(b.nodes, hit.t) == super::INFINITY {
+                self.word = DONE;
+            } else {
+                self.descend(b.nodes);
+            }
+        }
+    }
+}
+
+/// The whole [`Traversal`] of `ray` at once, with the prelude's tests.
+fn traverse_bitstack(ray: &Ray, t_min: f32, hit: &mut Hit, any: bool) -> bool {
+    if scene::bvh_node_count() == 0 {
+        return all_triangles_hit(ray, t_min, hit, any);
+    }
+    let b = BvhArrays::load();
+    let x = SoftTests::new(ray, t_min, node_bound(&scene::bvh_node_at(b.nodes, 0)));
+    let mut t = Traversal::new();
+    while !t.is_done() {
+        t.step(&x, &b, hit, any);
+    }
+    hit.is_hit()
+}
+
+/// [`intersect`] by the resumable bit-stack [`Traversal`]: the same hit, bit for bit.
+/// Counts one ray.
+pub fn intersect_bitstack(ray: &Ray, t_min: f32, t_max: f32) -> Hit {
+    hw::count_ray();
+    let mut hit = Hit::none(t_max);
+    traverse_bitstack(ray, t_min, &mut hit, false);
+    hit
+}
+
+/// [`occluded`] by the resumable bit-stack [`Traversal`]: the same answer. Counts one
+/// ray.
+pub fn occluded_bitstack(ray: &Ray, t_min: f32, t_max: f32) -> bool {
+    hw::count_ray();
+    let mut hit = Hit::none(t_max);
+    traverse_bitstack(ray, t_min, &mut hit, true)
 }

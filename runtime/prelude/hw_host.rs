@@ -106,6 +106,8 @@ thread_local! {
     static RAYS: Cell<u64> = const { Cell::new(0) };
     /// Barycentric outputs of the last triangle-pipeline test (cop2 21 and 22).
     static TRI_UV: Cell<[f32; 2]> = const { Cell::new([0.0; 2]) };
+    /// The ray inputs of the pipelines (cop2 0..5) loaded by `pipe_load_ray`.
+    static PIPE_RAY: Cell<[[f32; 3]; 2]> = const { Cell::new([[0.0; 3]; 2]) };
     /// The ray being written to a stream (buffer, words) and the one being read.
     static STREAM_WRITE: RefCell<Option<(u32, Vec<u32>)>> = const { RefCell::new(None) };
     static STREAM_READ: RefCell<Option<(Vec<u32>, usize)>> = const { RefCell::new(None) };
@@ -450,13 +452,33 @@ fn set_pipe(mode: u32) {
     with_machine(|m| m.pipe_modes[ids().tmid as usize].store(mode, Ordering::SeqCst));
 }
 
+/// `trax.boxtest`: loads the ray `(o, inv)` (kept, as the machine's cop2 0..5 keep it)
+/// and tests it against the box `[lo, hi]`.
 pub fn pipe_box_test(o: [f32; 3], inv: [f32; 3], lo: [f32; 3], hi: [f32; 3]) -> f32 {
-    need_pipe_mode(1, "trax.boxtest");
-    pipes::box_test(o, inv, lo, hi)
+    pipe_load_ray(o, inv);
+    pipe_box(lo[0], lo[1], lo[2], hi[0], hi[1], hi[2])
 }
 
+/// `trax.tritest`: loads the ray `(o, d)` (kept) and tests it against `(a, b, c)`.
 pub fn pipe_tri_test(o: [f32; 3], d: [f32; 3], a: [f32; 3], b: [f32; 3], c: [f32; 3]) -> f32 {
+    pipe_load_ray(o, d);
+    pipe_tri(a, b, c)
+}
+
+/// The ray in the pipelines' input registers (cop2 0..5), per thread as on the machine.
+pub fn pipe_load_ray(o: [f32; 3], v: [f32; 3]) {
+    PIPE_RAY.with(|r| r.set([o, v]));
+}
+
+pub fn pipe_box(lx: f32, ly: f32, lz: f32, hx: f32, hy: f32, hz: f32) -> f32 {
+    need_pipe_mode(1, "trax.boxtest");
+    let [o, inv] = PIPE_RAY.with(|r| r.get());
+    pipes::box_test(o, inv, [lx, ly, lz], [hx, hy, hz])
+}
+
+pub fn pipe_tri(a: [f32; 3], b: [f32; 3], c: [f32; 3]) -> f32 {
     need_pipe_mode(2, "trax.tritest");
+    let [o, d] = PIPE_RAY.with(|r| r.get());
     let (t, u, v) = pipes::tri_test(o, d, a, b, c);
     TRI_UV.with(|uv| uv.set([u, v]));
     t
@@ -468,6 +490,20 @@ pub fn pipe_tri_u() -> f32 {
 
 pub fn pipe_tri_v() -> f32 {
     TRI_UV.with(|uv| uv.get()[1])
+}
+
+/// The pipelines' tests in software (any mode).
+pub fn soft_box_test(o: [f32; 3], inv: [f32; 3], lo: [f32; 3], hi: [f32; 3]) -> f32 {
+    pipes::box_test(o, inv, lo, hi)
+}
+pub fn soft_tri_test(
+    o: [f32; 3],
+    d: [f32; 3],
+    a: [f32; 3],
+    b: [f32; 3],
+    c: [f32; 3],
+) -> (f32, f32, f32) {
+    pipes::tri_test(o, d, a, b, c)
 }
 
 /// The TM's `trax.setpipe` mode (checked by the pipeline tests; no timing on the host).
@@ -711,6 +747,15 @@ pub fn hdr_bvh_parents() -> u32 {
 }
 pub fn hdr_treelet_ids() -> u32 {
     layout::SCENE_HEADER_ADDR + layout::HDR_TREELET_IDS
+}
+pub fn hdr_tri_treelet_ids() -> u32 {
+    layout::SCENE_HEADER_ADDR + layout::HDR_TRI_TREELET_IDS
+}
+pub fn hdr_tri_leaf_ids() -> u32 {
+    layout::SCENE_HEADER_ADDR + layout::HDR_TRI_LEAF_IDS
+}
+pub fn hdr_pipe_modes() -> u32 {
+    layout::SCENE_HEADER_ADDR + layout::HDR_PIPE_MODES
 }
 pub fn hdr_stream_rays() -> u32 {
     layout::SCENE_HEADER_ADDR + layout::HDR_STREAM_RAYS

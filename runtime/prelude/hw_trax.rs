@@ -222,6 +222,18 @@ pub fn hdr_treelet_ids() -> u32 {
     __trax_symbol_addr!("__trax_scene_treelet_ids")
 }
 
+pub fn hdr_tri_treelet_ids() -> u32 {
+    __trax_symbol_addr!("__trax_scene_tri_treelet_ids")
+}
+
+pub fn hdr_tri_leaf_ids() -> u32 {
+    __trax_symbol_addr!("__trax_scene_tri_leaf_ids")
+}
+
+pub fn hdr_pipe_modes() -> u32 {
+    __trax_symbol_addr!("__trax_scene_pipe_modes")
+}
+
 pub fn hdr_stream_rays() -> u32 {
     __trax_symbol_addr!("__trax_scene_stream_rays")
 }
@@ -274,29 +286,44 @@ pub fn stream_capacity() -> u32 {
 
 // ---- Fused pipelines (inputs in cop2 registers, see the runtime's COP2_REGS) ----
 
+/// `trax.boxtest` of the ray `(o, inv)` against the box `[lo, hi]` (loads the ray too).
 pub fn pipe_box_test(o: [f32; 3], inv: [f32; 3], lo: [f32; 3], hi: [f32; 3]) -> f32 {
+    pipe_load_ray(o, inv);
+    pipe_box(lo[0], lo[1], lo[2], hi[0], hi[1], hi[2])
+}
+
+/// `trax.tritest` of the ray `(o, d)` against the triangle `(a, b, c)` (loads the ray too).
+pub fn pipe_tri_test(o: [f32; 3], d: [f32; 3], a: [f32; 3], b: [f32; 3], c: [f32; 3]) -> f32 {
+    pipe_load_ray(o, d);
+    pipe_tri(a, b, c)
+}
+
+/// Loads a ray into the pipelines' input registers (cop2 0..5: origin, then the inverse
+/// direction for box tests or the direction for triangle tests); they keep it for
+/// [`pipe_box`] and [`pipe_tri`].
+pub fn pipe_load_ray(o: [f32; 3], v: [f32; 3]) {
     __trax_mtc2!(0, o[0]);
     __trax_mtc2!(1, o[1]);
     __trax_mtc2!(2, o[2]);
-    __trax_mtc2!(3, inv[0]);
-    __trax_mtc2!(4, inv[1]);
-    __trax_mtc2!(5, inv[2]);
-    __trax_mtc2!(6, lo[0]);
-    __trax_mtc2!(7, lo[1]);
-    __trax_mtc2!(8, lo[2]);
-    __trax_mtc2!(9, hi[0]);
-    __trax_mtc2!(10, hi[1]);
-    __trax_mtc2!(11, hi[2]);
+    __trax_mtc2!(3, v[0]);
+    __trax_mtc2!(4, v[1]);
+    __trax_mtc2!(5, v[2]);
+}
+
+/// `trax.boxtest` on the loaded ray and the box `[lo, hi]` (by coordinates, so they go
+/// from the registers they were loaded into straight to the pipeline's).
+pub fn pipe_box(lx: f32, ly: f32, lz: f32, hx: f32, hy: f32, hz: f32) -> f32 {
+    __trax_mtc2!(6, lx);
+    __trax_mtc2!(7, ly);
+    __trax_mtc2!(8, lz);
+    __trax_mtc2!(9, hx);
+    __trax_mtc2!(10, hy);
+    __trax_mtc2!(11, hz);
     __trax_op!("trax.boxtest")
 }
 
-pub fn pipe_tri_test(o: [f32; 3], d: [f32; 3], a: [f32; 3], b: [f32; 3], c: [f32; 3]) -> f32 {
-    __trax_mtc2!(0, o[0]);
-    __trax_mtc2!(1, o[1]);
-    __trax_mtc2!(2, o[2]);
-    __trax_mtc2!(3, d[0]);
-    __trax_mtc2!(4, d[1]);
-    __trax_mtc2!(5, d[2]);
+/// `trax.tritest` on the loaded ray and the triangle `(a, b, c)`.
+pub fn pipe_tri(a: [f32; 3], b: [f32; 3], c: [f32; 3]) -> f32 {
     __trax_mtc2!(12, a[0]);
     __trax_mtc2!(13, a[1]);
     __trax_mtc2!(14, a[2]);
@@ -315,6 +342,35 @@ pub fn pipe_tri_u() -> f32 {
 
 pub fn pipe_tri_v() -> f32 {
     __trax_mfc2!(22)
+}
+
+// ---- The pipelines' tests in software (the shared semantics compiled as kernel code) ----
+
+#[path = "../src/pipes.rs"]
+mod pipes;
+
+/// `trax.fmin`/`trax.fmax` under the names the shared pipeline semantics use.
+mod fops {
+    pub fn fmin(a: f32, b: f32) -> f32 {
+        super::fmin(a, b)
+    }
+    pub fn fmax(a: f32, b: f32) -> f32 {
+        super::fmax(a, b)
+    }
+}
+
+pub fn soft_box_test(o: [f32; 3], inv: [f32; 3], lo: [f32; 3], hi: [f32; 3]) -> f32 {
+    pipes::box_test(o, inv, lo, hi)
+}
+
+pub fn soft_tri_test(
+    o: [f32; 3],
+    d: [f32; 3],
+    a: [f32; 3],
+    b: [f32; 3],
+    c: [f32; 3],
+) -> (f32, f32, f32) {
+    pipes::tri_test(o, d, a, b, c)
 }
 
 pub fn set_pipe_general() {

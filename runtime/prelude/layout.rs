@@ -11,7 +11,7 @@ pub const SCENE_HEADER_ADDR: u32 = 0x10000;
 /// Value of the header's `magic` field ("TRAX").
 pub const SCENE_MAGIC: u32 = 0x58415254;
 /// Value of the header's `version` field.
-pub const SCENE_VERSION: u32 = 2;
+pub const SCENE_VERSION: u32 = 3;
 /// The global register `pixel_share` hands pixels out from (sampled simulation
 /// follows a frame's progress along it).
 pub const PIXEL_COUNTER_REG: u32 = 255;
@@ -65,16 +65,22 @@ pub const HDR_POINT_LIGHTS: u32 = 120;
 pub const HDR_BVH_PARENTS: u32 = 128;
 /// Treelet id per BVH node.
 pub const HDR_TREELET_IDS: u32 = 136;
+/// Triangle treelet id per triangle slot.
+pub const HDR_TRI_TREELET_IDS: u32 = 144;
+/// BVH leaf (node index) per triangle slot.
+pub const HDR_TRI_LEAF_IDS: u32 = 152;
 /// Rays the chip's ray stream memory holds (0: the chip has none).
-pub const HDR_STREAM_RAYS: u32 = 144;
+pub const HDR_STREAM_RAYS: u32 = 160;
 /// Bytes of one ray record in the stream memory.
-pub const HDR_STREAM_RAY_BYTES: u32 = 148;
+pub const HDR_STREAM_RAY_BYTES: u32 = 164;
 /// Ray buffers of the stream memory (stream ids `0..stream_buffers`).
-pub const HDR_STREAM_BUFFERS: u32 = 152;
+pub const HDR_STREAM_BUFFERS: u32 = 168;
+/// The `trax.setpipe` modes the chip's TMs offer, bit `m` for mode `m`.
+pub const HDR_PIPE_MODES: u32 = 172;
 /// Reserved for future components; zero.
-pub const HDR_RESERVED: u32 = 156;
+pub const HDR_RESERVED: u32 = 176;
 /// Size of `SceneHeader` in bytes.
-pub const HDR_SIZE: u32 = 176;
+pub const HDR_SIZE: u32 = 180;
 
 // `abi::Component` (C: `trax_component`).
 /// Address of the first element.
@@ -205,3 +211,7 @@ pub const POINT_LIGHTS_STRIDE: u32 = 24;
 pub const BVH_PARENTS_STRIDE: u32 = 4;
 /// `treelet_ids`: u32.
 pub const TREELET_IDS_STRIDE: u32 = 4;
+/// `tri_treelet_ids`: u32.
+pub const TRI_TREELET_IDS_STRIDE: u32 = 4;
+/// `tri_leaf_ids`: u32.
+pub const TRI_LEAF_IDS_STRIDE: u32 = 4;

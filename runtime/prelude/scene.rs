@@ -228,10 +228,24 @@ pub fn triangle_count() -> u32 {
     hw::load_u32(hw::hdr_triangles() + layout::COMPONENT_COUNT)
 }
 
+/// Address of triangle 0.
+pub fn triangles_base() -> u32 {
+    hw::load_u32(hw::hdr_triangles() + layout::COMPONENT_ADDR)
+}
+
 /// Triangle `i`.
 pub fn triangle(i: u32) -> Triangle {
-    let a =
-        hw::load_u32(hw::hdr_triangles() + layout::COMPONENT_ADDR) + i * layout::TRIANGLES_STRIDE;
+    triangle_at(triangles_base(), i)
+}
+
+/// Triangle `i` of the array at `base` (see [`triangles_base`]): in a loop, the header is
+/// read once.
+pub fn triangle_at(base: u32, i: u32) -> Triangle {
+    triangle_stored(base + i * layout::TRIANGLES_STRIDE)
+}
+
+/// The triangle stored at address `a`.
+pub fn triangle_stored(a: u32) -> Triangle {
     Triangle {
         v0: load_vec3(a),
         v1: load_vec3(a + layout::TRI_V1),
@@ -387,12 +401,20 @@ pub fn bvh_node(i: u32) -> BvhNode {
     bvh_node_at(bvh_base(), i)
 }
 
+/// Address of the parent pointers (`bvh_parents`; 0 if absent).
+pub fn bvh_parents_base() -> u32 {
+    hw::load_u32(hw::hdr_bvh_parents() + layout::COMPONENT_ADDR)
+}
+
+/// Parent node index of BVH node `i` from the parent pointers at `base` (see
+/// [`bvh_parents_base`]); `0xFFFFFFFF` for the root.
+pub fn bvh_parent_at(base: u32, i: u32) -> u32 {
+    hw::load_u32(base + i * layout::BVH_PARENTS_STRIDE)
+}
+
 /// Parent node index of BVH node `i` (`0xFFFFFFFF` for the root).
 pub fn bvh_parent(i: u32) -> u32 {
-    hw::load_u32(
-        hw::load_u32(hw::hdr_bvh_parents() + layout::COMPONENT_ADDR)
-            + i * layout::BVH_PARENTS_STRIDE,
-    )
+    bvh_parent_at(bvh_parents_base(), i)
 }
 
 /// Treelet id of BVH node `i`.
@@ -401,6 +423,42 @@ pub fn treelet_id(i: u32) -> u32 {
         hw::load_u32(hw::hdr_treelet_ids() + layout::COMPONENT_ADDR)
             + i * layout::TREELET_IDS_STRIDE,
     )
+}
+
+/// Address of the treelet ids (`treelet_ids`; 0 if absent).
+pub fn treelet_ids_base() -> u32 {
+    hw::load_u32(hw::hdr_treelet_ids() + layout::COMPONENT_ADDR)
+}
+
+/// Address of the triangle treelet ids (`tri_treelet_ids`; 0 if absent).
+pub fn tri_treelet_ids_base() -> u32 {
+    hw::load_u32(hw::hdr_tri_treelet_ids() + layout::COMPONENT_ADDR)
+}
+
+/// Triangle treelet id of triangle slot `i` (`0xFFFFFFFF` for a padding slot); triangle
+/// treelet ids follow the node treelets' ([`treelet_id`]).
+pub fn tri_treelet_id(i: u32) -> u32 {
+    hw::load_u32(
+        hw::load_u32(hw::hdr_tri_treelet_ids() + layout::COMPONENT_ADDR)
+            + i * layout::TRI_TREELET_IDS_STRIDE,
+    )
+}
+
+/// Address of the triangle slots' leaves (`tri_leaf_ids`; 0 if absent).
+pub fn tri_leaf_ids_base() -> u32 {
+    hw::load_u32(hw::hdr_tri_leaf_ids() + layout::COMPONENT_ADDR)
+}
+
+/// The BVH leaf holding triangle slot `i` (`0xFFFFFFFF` for a padding slot), from the
+/// array at `base` (see [`tri_leaf_ids_base`]).
+pub fn tri_leaf_at(base: u32, i: u32) -> u32 {
+    hw::load_u32(base + i * layout::TRI_LEAF_IDS_STRIDE)
+}
+
+/// The `trax.setpipe` modes this chip's TMs offer: bit `m` for mode `m` (see
+/// [`super::pipe`]); from the chip config, in the scene header.
+pub fn pipe_modes() -> u32 {
+    hw::load_u32(hw::hdr_pipe_modes())
 }
 
 // ---- Texture coordinates ----

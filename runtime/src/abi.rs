@@ -36,7 +36,7 @@ pub const SCENE_MAGIC: u32 = u32::from_le_bytes(*b"TRAX");
 /// components whose symbol the program references.
 pub const SCENE_SYMBOL_PREFIX: &str = "__trax_scene_";
 /// Version of the header layout; bump on any change.
-pub const SCENE_VERSION: u32 = 2;
+pub const SCENE_VERSION: u32 = 3;
 /// Bytes of the ray record the prelude's `trax::stream` writes and reads (thesis §3.2.1:
 /// origin and direction 24, ray state 20, traversal stack 4), and the default of the chip
 /// config's `stream_memory.ray_bytes`.
@@ -394,6 +394,14 @@ scene_contract! {
         bvh_parents: u32 => Range, Component, OnDemand, ReadOnly;
         /// Treelet id per BVH node.
         treelet_ids: u32 => Range, Component, OnDemand, ReadOnly;
+        /// Triangle treelet id per triangle slot.
+        /// (Ids follow the node treelets', as the assembler's `Treelets` numbers them;
+        /// 0xFFFFFFFF for padding slots.)
+        tri_treelet_ids: u32 => Range, Component, OnDemand, ReadOnly;
+        /// BVH leaf (node index) per triangle slot.
+        /// (A leaf's triangles are the run of slots from its first that name it;
+        /// 0xFFFFFFFF for padding slots.)
+        tri_leaf_ids: u32 => Range, Component, OnDemand, ReadOnly;
     }
     tail {
         /// Rays the chip's ray stream memory holds (0: the chip has none).
@@ -402,9 +410,12 @@ scene_contract! {
         pub stream_ray_bytes: u32,
         /// Ray buffers of the stream memory (stream ids `0..stream_buffers`).
         pub stream_buffers: u32,
+        /// The `trax.setpipe` modes the chip's TMs offer, bit `m` for mode `m`.
+        /// (Bit 0, general-purpose units, always; 0b111 with both pipelines.)
+        pub pipe_modes: u32,
     }
     /// Reserved for future components; zero.
-    reserved: 5
+    reserved: 1
 }
 
 impl SceneHeader {
@@ -495,6 +506,8 @@ mod tests {
             ("point_lights", 24),
             ("bvh_parents", 4),
             ("treelet_ids", 4),
+            ("tri_treelet_ids", 4),
+            ("tri_leaf_ids", 4),
         ];
         assert_eq!(sizes, pinned);
     }
@@ -524,7 +537,7 @@ mod tests {
             h.treelet_ids.addr,
             word(offset_of!(SceneHeader, treelet_ids))
         );
-        assert_eq!(h.reserved[4], word(offset_of!(SceneHeader, reserved) + 16));
+        assert_eq!(h.reserved[0], word(offset_of!(SceneHeader, reserved)));
         assert_eq!(
             h.stream_buffers,
             word(offset_of!(SceneHeader, stream_buffers))

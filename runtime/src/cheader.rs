@@ -291,14 +291,15 @@ pub static C_STRUCTS: &[CStruct] = &[
 pub fn header_field_type(name: &str) -> Option<(&'static str, usize)> {
     Some(match name {
         "magic" | "version" | "width" | "height" | "spp" | "max_depth" | "seed" | "camera"
-        | "stream_rays" | "stream_ray_bytes" | "stream_buffers" => ("unsigned int", 0),
+        | "stream_rays" | "stream_ray_bytes" | "stream_buffers" | "pipe_modes" => {
+            ("unsigned int", 0)
+        }
         "inv_width" | "inv_height" | "epsilon" => ("float", 0),
         "background" => ("float", 3),
-        "reserved" => ("unsigned int", 5),
+        "reserved" => ("unsigned int", 1),
         "framebuffer" | "bvh_nodes" | "triangles" | "normals" | "texcoords" | "material_ids"
-        | "materials" | "emitters" | "point_lights" | "bvh_parents" | "treelet_ids" => {
-            ("trax_component_t", 0)
-        }
+        | "materials" | "emitters" | "point_lights" | "bvh_parents" | "treelet_ids"
+        | "tri_treelet_ids" | "tri_leaf_ids" => ("trax_component_t", 0),
         _ => return None,
     })
 }

@@ -66,6 +66,8 @@ pub struct HeaderParams {
     pub camera: Camera,
     /// The ray stream memory: rays, bytes per ray, buffers (all 0: none).
     pub stream: [u32; 3],
+    /// The chip's `trax.setpipe` modes (header `pipe_modes`, bit m for mode m).
+    pub pipe_modes: u32,
 }
 
 impl Default for HeaderParams {
@@ -80,6 +82,7 @@ impl Default for HeaderParams {
             background: [0.0; 3],
             camera: look_at_camera([0.0, 0.0, 5.0], [0.0; 3], [0.0, 1.0, 0.0], 45.0, 1.0),
             stream: [0; 3],
+            pipe_modes: 1,
         }
     }
 }
@@ -112,6 +115,7 @@ pub fn header_only_image(p: &HeaderParams) -> Result<MemoryImage, ImageError> {
         stream_rays: p.stream[0],
         stream_ray_bytes: p.stream[1],
         stream_buffers: p.stream[2],
+        pipe_modes: p.pipe_modes,
         camera: HEADER_ONLY_CAMERA_ADDR,
         framebuffer: Component {
             addr: HEADER_ONLY_FRAMEBUFFER_ADDR,

@@ -44,9 +44,12 @@ fn header_offsets_match_abi() {
         ("point_lights", L::HDR_POINT_LIGHTS),
         ("bvh_parents", L::HDR_BVH_PARENTS),
         ("treelet_ids", L::HDR_TREELET_IDS),
+        ("tri_treelet_ids", L::HDR_TRI_TREELET_IDS),
+        ("tri_leaf_ids", L::HDR_TRI_LEAF_IDS),
         ("stream_rays", L::HDR_STREAM_RAYS),
         ("stream_ray_bytes", L::HDR_STREAM_RAY_BYTES),
         ("stream_buffers", L::HDR_STREAM_BUFFERS),
+        ("pipe_modes", L::HDR_PIPE_MODES),
         ("reserved", L::HDR_RESERVED),
     ];
     let abi_fields = abi::scene_header_fields();
@@ -132,9 +135,8 @@ fn contract_image() -> (MemoryImage, Vec<(&'static str, Vec<u8>)>) {
                 (N, abi::encode(n))
             }
             // Index components hold small indices (the prelude indexes with them).
-            "material_ids" | "emitters" | "bvh_parents" | "treelet_ids" => {
-                (N, abi::encode((0..N).map(|i| (i * 7 + k as u32) % 5)))
-            }
+            "material_ids" | "emitters" | "bvh_parents" | "treelet_ids" | "tri_treelet_ids"
+            | "tri_leaf_ids" => (N, abi::encode((0..N).map(|i| (i * 7 + k as u32) % 5))),
             _ => {
                 let n = c.element_bytes / 4;
                 let words = (0..N * n).map(|w| ((base + w) as f32).to_bits());
@@ -238,6 +240,13 @@ fn contract_kernel() {
     }
     for i in 0..N {
         put(S::treelet_id(i));
+    }
+    for i in 0..N {
+        put(S::tri_treelet_id(i));
+    }
+    let leaves = S::tri_leaf_ids_base();
+    for i in 0..N {
+        put(S::tri_leaf_at(leaves, i));
     }
 }
 

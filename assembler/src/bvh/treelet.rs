@@ -51,7 +51,8 @@ impl Default for TreeletOptions {
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct TreeletLayout {
     /// Form treelets for every program that reads the BVH; when false, only for a program
-    /// that reads `treelet_ids` (the others see the BVH in build order).
+    /// that reads `treelet_ids` or `tri_treelet_ids` (the others see the BVH in build
+    /// order).
     pub always: bool,
     /// Budget and alignment.
     pub options: TreeletOptions,
@@ -68,9 +69,11 @@ impl Default for TreeletLayout {
 }
 
 impl TreeletLayout {
-    /// The treelets to form for a program that references the header fields `referenced`.
+    /// The treelets to form for a program that references the header fields `referenced`
+    /// (formed for one that reads `treelet_ids` or `tri_treelet_ids`).
     pub fn for_program(&self, referenced: &[&str]) -> Option<TreeletOptions> {
-        (self.always || referenced.contains(&"treelet_ids")).then(|| self.options.clone())
+        let reads = referenced.contains(&"treelet_ids") || referenced.contains(&"tri_treelet_ids");
+        (self.always || reads).then(|| self.options.clone())
     }
 }
 

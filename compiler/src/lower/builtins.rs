@@ -1429,6 +1429,9 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                 }
                 self.trax(instr, &regs, &imms)
             }
+            // `.set noat`: the register allocator may pick `$at` ($1) for the operand,
+            // which the assembler otherwise warns about (it would use `$at` only for
+            // macro instructions, and these are none).
             MacroCall::Mtc2(n, x) => {
                 let v = self.expr(x)?;
                 let v = self.val(v, &Ty::Float(FloatTy::F32));
@@ -1437,7 +1440,7 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                 let fty = self.ctx.void_type().fn_type(&[i32t.into()], false);
                 let ia = self.ctx.create_inline_asm(
                     fty,
-                    format!("mtc2 $0, $${n}"),
+                    format!(".set push\n.set noat\nmtc2 $0, $${n}\n.set pop"),
                     "r".into(),
                     true,
                     false,
@@ -1453,7 +1456,7 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                 let fty = i32t.fn_type(&[], false);
                 let ia = self.ctx.create_inline_asm(
                     fty,
-                    format!("mfc2 $0, $${n}"),
+                    format!(".set push\n.set noat\nmfc2 $0, $${n}\n.set pop"),
                     "=r".into(),
                     true,
                     false,

@@ -553,6 +553,10 @@ pub struct PipeConfig {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct PipelinesConfig {
+    /// Whether the TMs can be configured as pipelines at all. Default true; false makes a
+    /// chip without them (only `trax.setpipe 0`), the same units otherwise, so a kernel
+    /// that asks the scene header (`pipe_modes`) runs its tests in software.
+    pub enabled: bool,
     /// Cycles a `trax.setpipe` that changes the mode keeps the TM's FP multipliers and
     /// adders unavailable. Default 1 (an assumption: the thesis calls the time overhead
     /// "fairly low", §3.2.3).
@@ -568,6 +572,7 @@ pub struct PipelinesConfig {
 impl Default for PipelinesConfig {
     fn default() -> Self {
         PipelinesConfig {
+            enabled: true,
             reconfig_cycles: 1,
             box_pipe: PipeConfig {
                 fp_mul: 6,
@@ -589,10 +594,10 @@ impl Default for PipelinesConfig {
 
 impl PipelinesConfig {
     /// Bit `m` set when `trax.setpipe m` is possible on a TM with `fp_mul` multipliers and
-    /// `fp_add` adders (mode 0 always is): a pipeline needs the units it reserves plus at
-    /// least one of each left for ordinary instructions.
+    /// `fp_add` adders (mode 0 always is): the pipelines are enabled and a pipeline has
+    /// the units it reserves plus at least one of each left for ordinary instructions.
     pub fn modes_available(&self, fp_mul: u32, fp_add: u32) -> u8 {
-        let fits = |p: &PipeConfig| p.fp_mul < fp_mul && p.fp_add < fp_add;
+        let fits = |p: &PipeConfig| self.enabled && p.fp_mul < fp_mul && p.fp_add < fp_add;
         1 | (u8::from(fits(&self.box_pipe)) << 1) | (u8::from(fits(&self.tri)) << 2)
     }
 
@@ -992,6 +997,16 @@ impl ChipConfig {
             .unwrap_or_else(|| unit(self.threads_per_tm, 1, 0.0, 0.0))
     }
 
+    /// Bit `m` set when the TMs can take `trax.setpipe m`
+    /// ([`PipelinesConfig::modes_available`] with the TM's FP units); the scene header's
+    /// `pipe_modes`.
+    pub fn pipe_modes(&self) -> u8 {
+        self.pipelines.modes_available(
+            self.unit(UnitClass::FpMul).count,
+            self.unit(UnitClass::FpAdd).count,
+        )
+    }
+
     /// Checks ranges and cross-field constraints.
     pub fn validate(&self) -> Result<(), ConfigError> {
         let bad = |m: String| Err(ConfigError::Invalid(m));
@@ -1357,5 +1372,12 @@ mod tests {
         assert_eq!(p.modes_available(8, 8), 0b111);
         assert_eq!(p.modes_available(6, 8), 0b101);
         assert_eq!(p.modes_available(1, 1), 0b001);
+        // A chip without pipelines: the same units, general purpose only.
+        let mut c = ChipConfig::preset("strata").unwrap();
+        assert_eq!(c.pipe_modes(), 0b111);
+        c.set_field("pipelines.enabled", toml::Value::Boolean(false))
+            .unwrap();
+        assert_eq!(c.pipe_modes(), 0b001);
+        assert_eq!(ChipConfig::preset("tiny").unwrap().pipe_modes(), 0b001);
     }
 }

@@ -197,6 +197,10 @@ pub struct Estimate {
     pub ci95_high: f64,
     /// Half the interval's width relative to the estimate (0.01 = ±1%).
     pub rel_half_width: f64,
+    /// The part of `rel_half_width` from the windows' spread alone (the Student-t interval
+    /// over the windows), before the fast-forward's [`ALLOWANCE`] and any Poisson bound
+    /// widen it: this is the part that more windows shrink.
+    pub sampling_rel_half_width: f64,
     /// Why the interval is less reliable than its width says (`null`: nothing known).
     pub note: Option<String>,
 }
@@ -205,15 +209,17 @@ impl Estimate {
     fn new(estimate: f64, low: f64, high: f64) -> Estimate {
         let low = low.min(estimate);
         let high = high.max(estimate);
+        let rel = if estimate != 0.0 {
+            (high - low) / 2.0 / estimate.abs()
+        } else {
+            0.0
+        };
         Estimate {
             estimate,
             ci95_low: low,
             ci95_high: high,
-            rel_half_width: if estimate != 0.0 {
-                (high - low) / 2.0 / estimate.abs()
-            } else {
-                0.0
-            },
+            rel_half_width: rel,
+            sampling_rel_half_width: rel,
             note: None,
         }
     }

@@ -14,7 +14,8 @@ pub struct Metric {
     pub label: &'static str,
     /// Unit (empty: a count or a ratio).
     pub unit: &'static str,
-    /// Dotted path in the statistics document.
+    /// Dotted path in the statistics document; `a+b` sums paths, and a segment `name[]`
+    /// sums the rest of the path over the elements of array `name` (one L2 each, say).
     pub path: &'static str,
     /// A component of the energy per frame (stacked in energy charts).
     pub energy_part: bool,
@@ -23,7 +24,9 @@ pub struct Metric {
 impl Metric {
     /// Whether functional runs report it (everything but cycles and the `timing` object).
     pub fn functional(&self) -> bool {
-        self.path != "cycles" && !self.path.starts_with("timing.")
+        self.path
+            .split('+')
+            .all(|p| p != "cycles" && !p.starts_with("timing."))
     }
 }
 
@@ -64,7 +67,27 @@ pub const METRICS: &[Metric] = &[
         "timing.issue_rate",
     ),
     m("l1_hit_rate", "L1 hit rate", "", "timing.l1_hit_rate"),
+    m(
+        "l1_hit_rate_merged",
+        "L1 hit rate (merged loads as hits)",
+        "",
+        "timing.l1_hit_rate_merged_as_hits",
+    ),
+    m(
+        "l1_accesses",
+        "L1 accesses",
+        "",
+        "timing.memory.l1.accesses",
+    ),
+    m("l1_misses", "L1 misses", "", "timing.memory.l1.misses"),
     m("l2_hit_rate", "L2 hit rate", "", "timing.l2_hit_rate"),
+    m(
+        "l2_accesses",
+        "L2 accesses",
+        "",
+        "timing.memory.l2[].accesses",
+    ),
+    m("l2_misses", "L2 misses", "", "timing.memory.l2[].misses"),
     m("dram_gbps", "DRAM bandwidth", "GB/s", "timing.dram_gbps"),
     m("dram_reads", "DRAM reads", "", "timing.memory.dram.reads"),
     m(
@@ -116,6 +139,19 @@ pub const METRICS: &[Metric] = &[
     ),
     e("energy_pipelines_j", "Pipelines", "timing.energy.pipelines"),
     e("energy_dram_j", "DRAM", "timing.energy.dram"),
+    // Not parts of the stack: sums of the parts above.
+    m(
+        "energy_memsys_j",
+        "Memory system energy (L2 + stream + DRAM)",
+        "J",
+        "timing.energy.l2+timing.energy.stream_memory+timing.energy.dram",
+    ),
+    m(
+        "energy_fetch_rf_j",
+        "Instruction fetch + register file energy",
+        "J",
+        "timing.energy.instruction_caches+timing.energy.register_files",
+    ),
     m(
         "stream_reads",
         "Stream memory reads",
@@ -127,6 +163,12 @@ pub const METRICS: &[Metric] = &[
         "Stream memory writes",
         "",
         "timing.stream.writes",
+    ),
+    m(
+        "stream_accesses",
+        "Stream memory accesses",
+        "",
+        "timing.stream.reads+timing.stream.writes",
     ),
     m(
         "rays_in_flight",
@@ -181,11 +223,26 @@ pub fn extract(m: &Metric, stats: &Value) -> Option<f64> {
     if stats.get("schema").and_then(Value::as_u64) != Some(u64::from(trax::stats::SCHEMA)) {
         return None;
     }
-    let mut v = stats;
-    for k in m.path.split('.') {
-        v = v.get(k)?;
+    m.path.split('+').map(|p| sum_at(stats, p)).sum()
+}
+
+/// The number at dotted `path` in `v`, summed over arrays marked `name[]`.
+fn sum_at(v: &Value, path: &str) -> Option<f64> {
+    let (head, rest) = match path.split_once('.') {
+        Some((h, r)) => (h, Some(r)),
+        None => (path, None),
+    };
+    match (head.strip_suffix("[]"), rest) {
+        (Some(name), Some(rest)) => v
+            .get(name)?
+            .as_array()?
+            .iter()
+            .map(|e| sum_at(e, rest))
+            .sum(),
+        (Some(name), None) => v.get(name)?.as_array()?.iter().map(Value::as_f64).sum(),
+        (None, Some(rest)) => sum_at(v.get(head)?, rest),
+        (None, None) => v.get(head)?.as_f64(),
     }
-    v.as_f64()
 }
 
 /// The metric columns for runs in these modes (`functional`, `timing`).
@@ -194,4 +251,49 @@ pub fn columns_for(functional: bool, timing: bool) -> Vec<&'static Metric> {
         .iter()
         .filter(|m| timing || (functional && m.functional()))
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn doc() -> Value {
+        serde_json::json!({
+            "schema": trax::stats::SCHEMA,
+            "cycles": 10,
+            "timing": {
+                "energy": { "l2": 1.5, "stream_memory": 0.25, "dram": 2.0 },
+                "memory": { "l2": [ { "accesses": 3 }, { "accesses": 4 } ] },
+                "stream": { "reads": 5, "writes": null }
+            }
+        })
+    }
+
+    #[test]
+    fn paths_sum_terms_and_arrays() {
+        let d = doc();
+        let get = |c: &str| extract(metric(c).unwrap(), &d);
+        assert_eq!(get("energy_memsys_j"), Some(3.75));
+        assert_eq!(get("l2_accesses"), Some(7.0));
+        assert_eq!(get("cycles"), Some(10.0));
+        // A missing or null term makes the sum missing, not partial.
+        assert_eq!(get("stream_accesses"), None);
+        assert_eq!(get("l2_misses"), None);
+    }
+
+    #[test]
+    fn every_path_names_documented_fields() {
+        let stats = include_str!("../../../docs/STATS.md");
+        for m in METRICS {
+            for field in m.path.split('+') {
+                assert!(
+                    stats.contains(&format!("`{field}`")),
+                    "{}: `{field}` is not in docs/STATS.md",
+                    m.column
+                );
+            }
+        }
+        assert!(!metric("energy_memsys_j").unwrap().functional());
+        assert!(metric("instructions").unwrap().functional());
+    }
 }

@@ -839,14 +839,9 @@ fn c_boundary_attributes_match_clangs() {
             .chain(params.split(',').map(exts))
             .collect()
     };
-    for i in 0..types.len() {
+    for (i, (r, _)) in types.iter().enumerate() {
         for name in [format!("imp{i}"), format!("exp{i}")] {
-            assert_eq!(
-                sig(&ours, &name),
-                sig(&theirs, &name),
-                "{name} ({})",
-                types[i].0
-            );
+            assert_eq!(sig(&ours, &name), sig(&theirs, &name), "{name} ({r})");
         }
     }
 }

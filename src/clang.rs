@@ -661,7 +661,8 @@ pub extern "C" fn __trax_host_mfc2(reg: u32) -> f32 {
 "#;
 
 /// Compiles a C or C++ kernel for the host (`trax native`): `-DTRAX_HOST` selects the
-/// host side of `trax.h`; the float flags are the TRaX ones, so results match the machine.
+/// host side of `trax.h`; the float flags are the TRaX ones and `long double` is 64-bit,
+/// as on the machine, so results match.
 pub fn compile_host(src: &Path, lang: Lang, out: &Path) -> Result<(), ClangError> {
     let clang = find_clang().ok_or_else(|| ClangError::Missing {
         file: src.display().to_string(),
@@ -679,6 +680,10 @@ pub fn compile_host(src: &Path, lang: Lang, out: &Path) -> Result<(), ClangError
             "-fno-threadsafe-statics",
         ]),
     };
+    // `long double` is `double` on o32; x86 hosts would use the 80-bit format.
+    if cfg!(any(target_arch = "x86_64", target_arch = "x86")) {
+        cmd.arg("-mlong-double-64");
+    }
     cmd.args([
         "-DTRAX_HOST",
         "-O2",

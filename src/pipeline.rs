@@ -353,6 +353,16 @@ pub fn build_executable_of(files: &[PathBuf], opt_level: u8) -> Result<Vec<u8>, 
                     .any(|i| clang::entry_point(&i.bytes) == clang::EntryPoint::CppLinkage);
                 return Err(PrepareError::Flag(clang::no_entry_message(&name, cpp)));
             }
+            Err(trax_assembler::link::LinkError::UndefinedSymbol { symbol, file, .. })
+                if files
+                    .iter()
+                    .any(|f| matches!(KernelFile::of(f), KernelFile::C(_))) =>
+            {
+                // A libc call (`malloc`, `printf`, ...) in C code: say there is no libc.
+                return Err(PrepareError::Flag(format!(
+                    "linking {name}: undefined symbol `{symbol}`, referenced from `{file}`: TRaX kernels have no C library (no heap, no stdio, no system calls); define it in one of the linked files, or use trax.h (`trax_print_*` for printf, `trax_sinf`, `trax_powf`, ... for <math.h>)"
+                )));
+            }
             Err(source) => {
                 return Err(PrepareError::Link {
                     path: name,

@@ -874,3 +874,41 @@ fn c_kernel_calls_a_rust_library() {
         }
     }
 }
+
+/// `long double` is `double` on o32 (clang's mipsel target); `trax native` builds with
+/// `-mlong-double-64` so x86's 80-bit format does not give other digits: 1/3 rounded to
+/// double loses the 1e-17 that the 80-bit format keeps.
+#[test]
+fn long_double_is_double_on_the_machine_and_natively() {
+    let dir = scratch("long-double");
+    let k = dir.join("ld.c");
+    std::fs::write(
+        &k,
+        "#include <trax.h>\nvoid trax_main(void) {\n    if (trax_global_id()) return;\n    long double x = 1.0L / 3.0L;\n    trax_print_uint(sizeof(long double));\n    trax_print_char(' ');\n    trax_print_double((double)(x + 1e-17L - x));\n    trax_print_char('\\n');\n}\n",
+    )
+    .unwrap();
+    let (run, _) = raw_framebuffer(&["run", "--functional"], &k, "run");
+    let (native, _) = raw_framebuffer(&["native"], &k, "native");
+    assert_eq!(run, "8 0\n");
+    assert_eq!(native, run);
+}
+
+/// A libc call has no implementation on the machine: the link error says so and points
+/// to trax.h, exit 1.
+#[test]
+fn libc_calls_get_a_clear_message() {
+    let dir = scratch("libc");
+    let k = dir.join("heap.c");
+    std::fs::write(
+        &k,
+        "#include <trax.h>\nvoid *malloc(unsigned long n);\nvoid trax_main(void) {\n    char *p = malloc(4);\n    trax_print_int(p[0]);\n}\n",
+    )
+    .unwrap();
+    let out = trax(&["run", k.to_str().unwrap()]);
+    let err = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("undefined symbol `malloc`") && err.contains("no C library"),
+        "{err}"
+    );
+}

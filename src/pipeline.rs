@@ -354,9 +354,10 @@ pub fn build_executable_of(files: &[PathBuf], opt_level: u8) -> Result<Vec<u8>, 
                 return Err(PrepareError::Flag(clang::no_entry_message(&name, cpp)));
             }
             Err(trax_assembler::link::LinkError::UndefinedSymbol { symbol, file, .. })
-                if files
-                    .iter()
-                    .any(|f| matches!(KernelFile::of(f), KernelFile::C(_))) =>
+                if symbol != "trax_main"
+                    && files
+                        .iter()
+                        .any(|f| matches!(KernelFile::of(f), KernelFile::C(_))) =>
             {
                 // A libc call (`malloc`, `printf`, ...) in C code: say there is no libc.
                 return Err(PrepareError::Flag(format!(

@@ -276,10 +276,14 @@ fn run(cmd: &mut Command, clang: &Path) -> Result<(), ClangError> {
     Err(ClangError::Diagnostics { diagnostics })
 }
 
-/// Memory functions clang may call in freestanding code (struct copies, zeroing).
-/// Weak, so a kernel may define its own; `-fno-builtin` keeps clang from turning the
-/// loops back into calls.
-pub const RUNTIME_C: &str = r#"typedef unsigned int size_t;
+/// What clang-compiled code may call without defining it: memory functions (struct
+/// copies, zeroing) and the C++ ABI's `__cxa_pure_virtual`/`__cxa_deleted_virtual` and
+/// `operator delete` (referenced by every class with a virtual destructor; TRaX has no
+/// heap, so it can only be reached by a bug). Weak, so a kernel may define its own;
+/// `-fno-builtin` keeps clang from turning the loops back into calls. Compiled without
+/// debug information: a pure virtual call is reported at its caller's line, as a panic.
+pub const RUNTIME_C: &str = r#"#include <trax.h>
+typedef unsigned int size_t;
 __attribute__((weak)) void *memcpy(void *d, const void *s, size_t n) {
     unsigned char *dp = d; const unsigned char *sp = s;
     while (n--) *dp++ = *sp++;
@@ -301,25 +305,63 @@ __attribute__((weak)) int memcmp(const void *a, const void *b, size_t n) {
     for (; n; n--, x++, y++) if (*x != *y) return *x - *y;
     return 0;
 }
+__attribute__((weak, noreturn)) void __cxa_pure_virtual(void) {
+    trax_panic("pure virtual method called");
+}
+__attribute__((weak, noreturn)) void __cxa_deleted_virtual(void) {
+    trax_panic("deleted virtual method called");
+}
+__attribute__((weak, noreturn)) void trax_rt_delete(void *p) __asm__("_ZdlPv");
+__attribute__((weak, noreturn)) void trax_rt_delete(void *p) {
+    (void)p;
+    trax_panic("operator delete called: TRaX kernels have no heap");
+}
+__attribute__((weak, noreturn)) void trax_rt_delete_sized(void *p, size_t n) __asm__("_ZdlPvj");
+__attribute__((weak, noreturn)) void trax_rt_delete_sized(void *p, size_t n) {
+    (void)p; (void)n;
+    trax_panic("operator delete called: TRaX kernels have no heap");
+}
 "#;
 
 /// Symbols [`RUNTIME_C`] defines.
-pub const RUNTIME_C_SYMBOLS: &[&str] = &["memcpy", "memmove", "memset", "memcmp"];
+pub const RUNTIME_C_SYMBOLS: &[&str] = &[
+    "memcpy",
+    "memmove",
+    "memset",
+    "memcmp",
+    "__cxa_pure_virtual",
+    "__cxa_deleted_virtual",
+    "_ZdlPv",
+    "_ZdlPvj",
+];
+
+/// True if `symbol` is a C name of the prelude's libm (`trax_sinf`, ...).
+pub fn is_libm_symbol(symbol: &str) -> bool {
+    symbol.strip_prefix("trax_").is_some_and(|n| {
+        trax_runtime::cheader::libm_functions()
+            .iter()
+            .any(|f| f.name == n)
+    })
+}
 
 /// True if the trax C runtime defines `symbol` (see [`runtime_object_for`]).
 pub fn runtime_provides(symbol: &str) -> bool {
-    RUNTIME_C_SYMBOLS.contains(&symbol) || trax_compiler::rtlib::HELPERS.contains(&symbol)
+    RUNTIME_C_SYMBOLS.contains(&symbol)
+        || trax_compiler::rtlib::HELPERS.contains(&symbol)
+        || is_libm_symbol(symbol)
 }
 
 /// The runtime object (name, bytes) that defines `symbol`, if it is one the trax C
-/// runtime provides: [`RUNTIME_C`] for memory functions, the trax compiler's 64-bit
-/// helpers (`int64.ll`) for 64-bit division and conversions. The linker asks for them
-/// when an object references one that no input defines.
+/// runtime provides: [`RUNTIME_C`] for memory functions and the C++ ABI, the trax
+/// compiler's 64-bit helpers (`int64.ll`) for 64-bit division and conversions, the
+/// prelude's libm built by the trax compiler for `trax_sinf` and the other functions of
+/// `trax.h`'s libm section. The linker asks for them when an object references one that
+/// no input defines.
 pub fn runtime_object_for(symbol: &str) -> Option<Result<(String, Vec<u8>), ClangError>> {
     if RUNTIME_C_SYMBOLS.contains(&symbol) {
         return Some(
-            compile_text(RUNTIME_C, "c", &["-O2", "-fno-builtin"])
-                .map(|o| ("<trax C runtime: memcpy, memset>".to_string(), o)),
+            compile_text(RUNTIME_C, "c", &["-O2", "-fno-builtin", "-g0"])
+                .map(|o| ("<trax C runtime: memcpy, memset, C++ ABI>".to_string(), o)),
         );
     }
     if trax_compiler::rtlib::HELPERS.contains(&symbol) {
@@ -328,7 +370,33 @@ pub fn runtime_object_for(symbol: &str) -> Option<Result<(String, Vec<u8>), Clan
                 .map(|o| ("<trax 64-bit helpers>".to_string(), o)),
         );
     }
+    if is_libm_symbol(symbol) {
+        return Some(libm_object().map(|o| ("<trax libm (trax::libm)>".to_string(), o)));
+    }
     None
+}
+
+/// The prelude's libm under its C names ([`trax_runtime::cheader::libm_c_exports`]),
+/// built by the trax compiler at -O2 with the prelude: the very code a TRaX-Rust kernel's
+/// `x.sin()` runs.
+fn libm_object() -> Result<Vec<u8>, ClangError> {
+    let opts = trax_compiler::CompileOptions {
+        opt_level: 2,
+        emit: Emit::Obj,
+        prelude: Some(trax_compiler::Prelude::runtime()),
+    };
+    trax_compiler::compile_source("trax_libm", &trax_runtime::cheader::libm_c_exports(), &opts)
+        .map(|o| o.bytes)
+        .map_err(|e| {
+            // The first diagnostic says why; the others repeat it for every function.
+            let all = e.to_string();
+            let first = all.split("\n\n").next().unwrap_or_default();
+            ClangError::Diagnostics {
+                diagnostics: format!(
+                    "error: the kernel calls the prelude's libm (trax_sinf, ...), which the trax compiler builds from `extern \"C\"` exports of trax::libm, and that failed:\n{first}\n"
+                ),
+            }
+        })
 }
 
 /// Compiles `text` (language `x` for clang's `-x`) to an object for TRaX.
@@ -340,9 +408,12 @@ fn compile_text(text: &str, x: &str, extra: &[&str]) -> Result<Vec<u8>, ClangErr
     let src = dir.join(if x == "ir" { "rt.ll" } else { "rt.c" });
     std::fs::write(&src, text).map_err(io(&src))?;
     let out = dir.join("rt.o");
+    let include = include_dir()?;
     let mut cmd = Command::new(&clang);
     cmd.args(TARGET_FLAGS)
         .args(extra)
+        .arg("-I")
+        .arg(&include)
         .args(["-x", x, "-c"])
         .arg(&src)
         .arg("-o")
@@ -354,10 +425,13 @@ fn compile_text(text: &str, x: &str, extra: &[&str]) -> Result<Vec<u8>, ClangErr
     result
 }
 
-/// The Rust program `trax native` links a host-compiled C or C++ kernel into: it defines
-/// the functions of `trax_host.h` over the host prelude (the same thread ids, global
-/// registers, barriers, `trax.rand`, `fmin`/`fmax`/`invsqrt`, pipelines and print
-/// formatting as the machine) and runs the kernel's `trax_main` on every host thread.
+/// Rust code `trax native` links host-compiled C and C++ objects with: module
+/// `__trax_c_api` defines the functions of `trax_host.h` over the host prelude (the same
+/// thread ids, global registers, barriers, `trax.rand`, `fmin`/`fmax`/`invsqrt`,
+/// pipelines and print formatting as the machine), the C++ ABI functions of
+/// [`RUNTIME_C`] and the prelude's libm under its C names
+/// ([`trax_runtime::cheader::libm_c_exports`]). Appended to a TRaX-Rust kernel linked
+/// with C files, or with [`HOST_MAIN_C`] the whole program of a C or C++ kernel.
 pub fn host_shim() -> String {
     use trax_runtime::cheader::{c_name, rust_signature};
     use trax_runtime::isa::{TraxOp as Op, TRAX_INSTRUCTIONS};
@@ -428,27 +502,96 @@ pub fn host_shim() -> String {
             "{allow}#[no_mangle]\npub extern \"C\" fn {name}({params}){ret} {{\n    {body}\n}}\n\n"
         );
     }
+    s += HOST_SHIM_CXX;
+    s += &trax_runtime::cheader::libm_c_exports();
+    s += "}\n";
     s
 }
 
-const HOST_SHIM_HEAD: &str = r#"//! Generated by `trax native` (trax::clang::host_shim): the host side of trax_host.h.
-#![allow(clippy::all)]
-use std::cell::RefCell;
-use std::io::Write;
-
+/// `main` of a C or C++ kernel's host program (with [`host_shim`]): every host thread
+/// runs the C/C++ constructors, then `trax_main`, as every hardware thread does on the
+/// machine (`runtime::startup`). Also appended to a TRaX-Rust crate without `trax_main`
+/// that exports functions to the C kernel.
+pub const HOST_MAIN_C: &str = r#"
 extern "C" {
     #[link_name = "trax_main"]
     fn c_trax_main();
+    fn __trax_run_inits();
 }
 
 fn kernel() {
-    // SAFETY: `trax_main` is the C kernel's entry point, `void trax_main(void)`.
-    unsafe { c_trax_main() }
+    // SAFETY: `__trax_run_inits` calls the objects' constructors (HOST_INITS_C) and
+    // `trax_main` is the C kernel's entry point, `void trax_main(void)`.
+    unsafe {
+        __trax_run_inits();
+        c_trax_main()
+    }
 }
 
 fn main() {
     trax::host::host_main(kernel)
 }
+"#;
+
+/// `main` of a TRaX-Rust kernel's host program when C or C++ files are linked with it
+/// (appended with [`host_shim`]): constructors, then the kernel's `trax_main`.
+pub const HOST_MAIN_RUST_WITH_C: &str = r#"
+extern "C" {
+    fn __trax_run_inits();
+}
+
+fn __trax_entry() {
+    // SAFETY: `__trax_run_inits` calls the C objects' constructors (HOST_INITS_C).
+    unsafe { __trax_run_inits() };
+    trax_main()
+}
+
+fn main() {
+    trax::host::host_main(__trax_entry)
+}
+"#;
+
+/// The C++ ABI functions of [`RUNTIME_C`] on the host.
+const HOST_SHIM_CXX: &str = r#"#[no_mangle]
+pub extern "C" fn __cxa_pure_virtual() -> ! {
+    panic!("pure virtual method called")
+}
+
+#[no_mangle]
+pub extern "C" fn __cxa_deleted_virtual() -> ! {
+    panic!("deleted virtual method called")
+}
+
+#[no_mangle]
+pub extern "C" fn _ZdlPv(_: *mut u8) -> ! {
+    panic!("operator delete called: TRaX kernels have no heap")
+}
+
+#[no_mangle]
+pub extern "C" fn _ZdlPvm(_: *mut u8, _: usize) -> ! {
+    panic!("operator delete called: TRaX kernels have no heap")
+}
+
+"#;
+
+/// Runs the constructors of host-compiled C and C++ objects, whose `.init_array`
+/// sections [`move_constructors`] renamed to `trax_inits` (so the C library does not
+/// run them once at start-up): the linker's `__start_`/`__stop_` symbols bound them.
+pub const HOST_INITS_C: &str = r#"typedef void (*trax_init_fn)(void);
+extern const trax_init_fn __start_trax_inits[] __attribute__((weak, visibility("hidden")));
+extern const trax_init_fn __stop_trax_inits[] __attribute__((weak, visibility("hidden")));
+void __trax_run_inits(void) {
+    for (const trax_init_fn *p = __start_trax_inits; p < __stop_trax_inits; p++)
+        (*p)();
+}
+"#;
+
+const HOST_SHIM_HEAD: &str = r#"
+/// The host side of trax_host.h (generated by trax::clang::host_shim).
+#[allow(clippy::all, dead_code)]
+mod __trax_c_api {
+use std::cell::RefCell;
+use std::io::Write;
 
 /// Output of this thread up to its next newline (one line is printed at a time).
 struct Line(RefCell<String>);
@@ -518,7 +661,8 @@ pub extern "C" fn __trax_host_mfc2(reg: u32) -> f32 {
 "#;
 
 /// Compiles a C or C++ kernel for the host (`trax native`): `-DTRAX_HOST` selects the
-/// host side of `trax.h`; the float flags are the TRaX ones, so results match the machine.
+/// host side of `trax.h`; the float flags are the TRaX ones and `long double` is 64-bit,
+/// as on the machine, so results match.
 pub fn compile_host(src: &Path, lang: Lang, out: &Path) -> Result<(), ClangError> {
     let clang = find_clang().ok_or_else(|| ClangError::Missing {
         file: src.display().to_string(),
@@ -536,6 +680,10 @@ pub fn compile_host(src: &Path, lang: Lang, out: &Path) -> Result<(), ClangError
             "-fno-threadsafe-statics",
         ]),
     };
+    // `long double` is `double` on o32; x86 hosts would use the 80-bit format.
+    if cfg!(any(target_arch = "x86_64", target_arch = "x86")) {
+        cmd.arg("-mlong-double-64");
+    }
     cmd.args([
         "-DTRAX_HOST",
         "-O2",
@@ -552,4 +700,103 @@ pub fn compile_host(src: &Path, lang: Lang, out: &Path) -> Result<(), ClangError
     .arg("-o")
     .arg(out);
     run(&mut cmd, &clang)
+}
+
+/// Renames the `.init_array` sections of a host object (ELF64 little-endian, as clang
+/// writes for x86-64 and AArch64 Linux) to `trax_inits`, typed `SHT_PROGBITS` and marked
+/// `SHF_GNU_RETAIN`, so the C library does not run the constructors once at start-up and
+/// [`HOST_INITS_C`] runs them on every kernel thread, as the machine's start-up code does.
+/// Returns how many sections were moved. The name is patched in place: `trax_inits` and
+/// its terminating NUL take the bytes of `.init_array` (a `.rela.init_array` sharing the
+/// string becomes `.relatrax_inits`, which linkers do not read; `.init_array.NNNNN`
+/// priority sections become plain `trax_inits`, so priorities are not kept).
+pub fn move_constructors(obj: &mut [u8]) -> Result<usize, String> {
+    use object::read::elf::{FileHeader, SectionHeader};
+    const NAME: &[u8] = b".init_array";
+    const NEW: &[u8; 11] = b"trax_inits\0";
+    let mut patches: Vec<(usize, usize)> = Vec::new(); // (header offset, name offset)
+    {
+        let data: &[u8] = obj;
+        let header = object::elf::FileHeader64::<object::Endianness>::parse(data)
+            .map_err(|e| format!("not an ELF64 object: {e}"))?;
+        let endian = header.endian().map_err(|e| e.to_string())?;
+        let shoff = header.e_shoff(endian) as usize;
+        let entsize = header.e_shentsize(endian) as usize;
+        let sections = header
+            .section_headers(endian, data)
+            .map_err(|e| e.to_string())?;
+        let strndx = header
+            .section_strings_index(endian, data)
+            .map_err(|e| e.to_string())?;
+        let strtab = sections
+            .get(strndx.0)
+            .and_then(|s| s.file_range(endian))
+            .ok_or("no section name table")?
+            .0 as usize;
+        for (i, sh) in sections.iter().enumerate() {
+            let name = strtab + sh.sh_name(endian) as usize;
+            let starts = data.get(name..name + NAME.len()) == Some(NAME);
+            if starts && sh.sh_type(endian) == object::elf::SHT_INIT_ARRAY {
+                patches.push((shoff + i * entsize, name));
+            }
+        }
+    }
+    let little = obj.get(5) == Some(&1);
+    for &(hdr, name) in &patches {
+        obj[name..name + NEW.len()].copy_from_slice(NEW);
+        // sh_type at +4 (u32), sh_flags at +8 (u64) in an Elf64_Shdr.
+        let ty: u32 = object::elf::SHT_PROGBITS.0;
+        let flags_at = hdr + 8..hdr + 16;
+        let mut flags = [0u8; 8];
+        flags.copy_from_slice(&obj[flags_at.clone()]);
+        let flags = if little {
+            u64::from_le_bytes(flags)
+        } else {
+            u64::from_be_bytes(flags)
+        } | object::elf::SHF_GNU_RETAIN.0;
+        let (t, f) = if little {
+            (ty.to_le_bytes(), flags.to_le_bytes())
+        } else {
+            (ty.to_be_bytes(), flags.to_be_bytes())
+        };
+        obj[hdr + 4..hdr + 8].copy_from_slice(&t);
+        obj[flags_at].copy_from_slice(&f);
+    }
+    Ok(patches.len())
+}
+
+/// How an object defines the kernel entry point.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EntryPoint {
+    /// `trax_main` with C linkage.
+    Defined,
+    /// Only a C++ function `trax_main()` (mangled `_Z9trax_mainv`): C++ linkage.
+    CppLinkage,
+    /// Neither.
+    Missing,
+}
+
+/// Whether the object `obj` (any ELF) defines `trax_main`.
+pub fn entry_point(obj: &[u8]) -> EntryPoint {
+    let mut found = EntryPoint::Missing;
+    for name in trax_runtime::exe::defined_global_symbols(obj) {
+        match name.as_str() {
+            "trax_main" => return EntryPoint::Defined,
+            "_Z9trax_mainv" => found = EntryPoint::CppLinkage,
+            _ => {}
+        }
+    }
+    found
+}
+
+/// The error for C and C++ sources of which none defines `trax_main` (`files` names
+/// them), with a hint when a C++ file has `trax_main` with C++ linkage.
+pub fn no_entry_message(files: &str, cpp_linkage: bool) -> String {
+    let mut m = format!(
+        "{files}: no `trax_main`, the kernel entry point every hardware thread runs: define `void trax_main(void)` (C) or `extern \"C\" void trax_main()` (C++)"
+    );
+    if cpp_linkage {
+        m += "; a C++ `trax_main()` was found, but with C++ linkage (mangled `_Z9trax_mainv`): declare it `extern \"C\"` or include <trax.h>, which does";
+    }
+    m
 }

@@ -341,6 +341,29 @@ pub fn build_executable_of(files: &[PathBuf], opt_level: u8) -> Result<Vec<u8>, 
                     bytes,
                 });
             }
+            Err(trax_assembler::link::LinkError::UndefinedSymbol { symbol, .. })
+                if symbol == "trax_main"
+                    && files
+                        .iter()
+                        .all(|f| matches!(KernelFile::of(f), KernelFile::C(_))) =>
+            {
+                // C and C++ sources without an entry point: say what to write.
+                let cpp = inputs
+                    .iter()
+                    .any(|i| clang::entry_point(&i.bytes) == clang::EntryPoint::CppLinkage);
+                return Err(PrepareError::Flag(clang::no_entry_message(&name, cpp)));
+            }
+            Err(trax_assembler::link::LinkError::UndefinedSymbol { symbol, file, .. })
+                if symbol != "trax_main"
+                    && files
+                        .iter()
+                        .any(|f| matches!(KernelFile::of(f), KernelFile::C(_))) =>
+            {
+                // A libc call (`malloc`, `printf`, ...) in C code: say there is no libc.
+                return Err(PrepareError::Flag(format!(
+                    "linking {name}: undefined symbol `{symbol}`, referenced from `{file}`: TRaX kernels have no C library (no heap, no stdio, no system calls); define it in one of the linked files, or use trax.h (`trax_print_*` for printf, `trax_sinf`, `trax_powf`, ... for <math.h>)"
+                )));
+            }
             Err(source) => {
                 return Err(PrepareError::Link {
                     path: name,
@@ -399,7 +422,7 @@ pub fn lay_out(
 pub fn scene_image(req: &Request) -> Result<(SceneImage, Vec<String>), PrepareError> {
     let scene = load_scene(&req.scene, &req.load)?;
     let mut warnings = scene.warnings.clone();
-    let referenced = match build_executable(&req.kernel, DEFAULT_OPT_LEVEL)
+    let referenced = match build_executable_of(&req.files(), DEFAULT_OPT_LEVEL)
         .map_err(|e| e.to_string())
         .and_then(|elf| Executable::parse("program ELF", &elf).map_err(|e| e.to_string()))
     {

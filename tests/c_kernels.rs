@@ -197,9 +197,10 @@ fn rust_and_c_objects_link_together() {
     assert_eq!(out, "from C: 42\n");
 }
 
-/// The C++ layer: primary rays through the Cornell box's camera (`trax::primary_ray`),
-/// shaded by direction, against the same arithmetic on the host (the camera from the
-/// scene loader, `1/sqrt` from the runtime's `fops::invsqrt`, the machine's semantics).
+/// The C++ layer: primary rays through the Cornell box's camera (`trax::primary_ray`, the
+/// prelude's `Camera::pixel_ray`), shaded by direction, against the same arithmetic on the
+/// host (the camera from the scene loader, `1/sqrt` from the runtime's `fops::invsqrt`,
+/// the machine's semantics).
 #[test]
 fn cpp_kernel_with_trax_hpp_matches_the_host() {
     let dir = scratch("cpp");
@@ -224,8 +225,9 @@ void trax_main() {
     let (iw, ih) = (1.0f32 / w as f32, 1.0f32 / h as f32);
     for y in 0..h {
         for x in 0..w {
-            let s = c.left + (c.right - c.left) * (x as f32 + 0.5) * iw;
-            let t = c.bottom + (c.top - c.bottom) * (y as f32 + 0.5) * ih;
+            // The prelude's `Camera::pixel_ray`: row 0 at the top.
+            let s = c.left + (c.right - c.left) * ((x as f32 + 0.5) * iw);
+            let t = c.top - (c.top - c.bottom) * ((y as f32 + 0.5) * ih);
             let d: Vec<f32> = (0..3)
                 .map(|k| c.w[k] * c.distance + c.u[k] * s + c.v[k] * t)
                 .collect();
@@ -662,4 +664,251 @@ extern "C" void trax_main(void) { trax_printi(k::run(4)); }
     assert!(gdb_out.contains("exited normally"), "{gdb_out}");
     // 3 * (1 + 2 + 3 + 4)
     assert_eq!(stdout.trim(), "30", "{stdout}");
+}
+
+/// A TRaX-Rust kernel and a C file calling each other: Rust declares the C functions in an
+/// `extern "C"` block, C calls Rust's `#[no_mangle] pub extern "C" fn`s. Narrow integers
+/// cross the boundary in registers with upper bits the callee relies on (clang's
+/// `signext`/`zeroext`): `rust_wrap_add` wraps past `i8` (a callee that did not re-extend
+/// its return value would hand C 200 + id instead of -56 + id) and `c_widen16` returns its
+/// `unsigned short` argument as it finds it. Expected lines are computed here; functional,
+/// timing and `trax native` agree.
+const CALLS_RS: &str = r#"extern "C" {
+    fn c_shade(id: u32, x: f32) -> f32;
+    fn c_widen16(x: u16) -> u32;
+    fn c_widen8(x: i8) -> i32;
+    fn c_is_odd(x: i32) -> bool;
+    fn c_neg16(x: i16) -> i16;
+}
+
+#[no_mangle]
+pub extern "C" fn rust_scale(x: f32, k: i64) -> f32 {
+    x * k as f32
+}
+
+#[no_mangle]
+pub extern "C" fn rust_wrap_add(a: i8, b: i8) -> i8 {
+    a.wrapping_add(b)
+}
+
+#[no_mangle]
+pub extern "C" fn rust_is_big(x: u16) -> bool {
+    x > 300
+}
+
+fn trax_main() {
+    let id = trax::global_id();
+    while trax::global_read(1) != id {}
+    let s = unsafe { c_shade(id, 1.5) };
+    let a = unsafe { c_widen16(0xFFF0u16.wrapping_add(id as u16 * 8)) };
+    let b = unsafe { c_widen8((id as i8).wrapping_mul(50)) };
+    let o = unsafe { c_is_odd(id as i32) };
+    let n = unsafe { c_neg16(-(id as i16) - 1) };
+    println!("thread {id}: shade {s} w16 {a} w8 {b} odd {o} neg {n}");
+    trax::atomic_inc(1);
+}
+"#;
+
+const CALLS_C: &str = r#"#include <trax.h>
+
+float rust_scale(float x, long long k);
+signed char rust_wrap_add(signed char a, signed char b);
+_Bool rust_is_big(unsigned short x);
+
+float c_shade(unsigned id, float x) {
+    int w = rust_wrap_add((signed char)(100 + id), 100);
+    return rust_scale(x, (long long)id - 3) + (float)w + (rust_is_big(250 + 20 * id) ? 1000.0f : 0.0f);
+}
+unsigned c_widen16(unsigned short x) { return x; }
+int c_widen8(signed char x) { return x; }
+_Bool c_is_odd(int x) { return x & 1; }
+short c_neg16(short x) { return -x; }
+"#;
+
+#[test]
+fn rust_and_c_call_each_other() {
+    let dir = scratch("calls");
+    let (k, c) = (dir.join("k.rs"), dir.join("lib.c"));
+    std::fs::write(&k, CALLS_RS).unwrap();
+    std::fs::write(&c, CALLS_C).unwrap();
+    let mut want = String::new();
+    for id in 0..8u32 {
+        let w = (200 + id) as u8 as i8 as i32;
+        let big = if 250 + 20 * id > 300 { 1000.0 } else { 0.0 };
+        let s = 1.5f32 * (id as i64 - 3) as f32 + w as f32 + big;
+        let a = 0xFFF0u16.wrapping_add(id as u16 * 8) as u32;
+        let b = (id as i8).wrapping_mul(50) as i32;
+        let n = id + 1;
+        want += &format!(
+            "thread {id}: shade {s} w16 {a} w8 {b} odd {} neg {n}\n",
+            id % 2 == 1
+        );
+    }
+    let files = [k.clone(), c.clone()];
+    for opt in [0, 2] {
+        let (out, _, _) = emulate(&files, opt, Mode::Functional, 4, 4);
+        assert_eq!(out, want, "functional -O{opt}");
+    }
+    let (out, _, cycles) = emulate(&files, 2, Mode::Timing, 4, 4);
+    assert_eq!(out, want, "timing");
+    assert!(cycles > 0);
+    let out = trax(&[
+        "native",
+        k.to_str().unwrap(),
+        c.to_str().unwrap(),
+        "--width",
+        "4",
+        "--height",
+        "4",
+        "--tms",
+        "2",
+        "--threads",
+        "4",
+    ]);
+    assert!(out.status.success(), "native: {}", text(&out.stderr));
+    assert_eq!(text(&out.stdout), want, "native");
+}
+
+/// The attributes of the C boundary against clang's own (the oracle for the ABI): every
+/// integer width, `bool`, floats and pointers, as exports and as `extern "C"` imports,
+/// carry the `signext`/`zeroext` attributes clang-14 gives the same C prototypes.
+#[test]
+fn c_boundary_attributes_match_clangs() {
+    use trax_compiler::{compile_source, CompileOptions, Emit};
+    let types = [
+        ("bool", "_Bool"),
+        ("i8", "signed char"),
+        ("u8", "unsigned char"),
+        ("i16", "short"),
+        ("u16", "unsigned short"),
+        ("i32", "int"),
+        ("u32", "unsigned"),
+        ("i64", "long long"),
+        ("u64", "unsigned long long"),
+        ("usize", "unsigned long"),
+        ("f32", "float"),
+        ("f64", "double"),
+        ("*const f32", "const float *"),
+    ];
+    let mut rs = String::from("extern \"C\" {\n");
+    let mut c = String::new();
+    for (i, (r, ct)) in types.iter().enumerate() {
+        rs += &format!("    fn imp{i}(a: {r}, b: {r}) -> {r};\n");
+        c += &format!("{ct} imp{i}({ct} a, {ct} b);\n{ct} exp{i}({ct} a, {ct} b) {{ return imp{i}(a, b); }}\n");
+    }
+    rs += "}\n";
+    for (i, (r, _)) in types.iter().enumerate() {
+        rs += &format!(
+            "#[no_mangle]\npub extern \"C\" fn exp{i}(a: {r}, b: {r}) -> {r} {{\n    let _ = b;\n    unsafe {{ imp{i}(a, a) }}\n}}\n"
+        );
+    }
+    rs += "fn trax_main() {}\n";
+    let opts = CompileOptions {
+        opt_level: 0,
+        emit: Emit::LlvmIr,
+        ..Default::default()
+    };
+    let ours = compile_source("abi", &rs, &opts).unwrap_or_else(|e| panic!("{e}"));
+    let ours = String::from_utf8(ours.bytes).unwrap();
+    let dir = scratch("abi");
+    let src = dir.join("abi.c");
+    std::fs::write(&src, &c).unwrap();
+    let theirs = trax::clang::compile(&src, trax::clang::Lang::C, 0, Emit::LlvmIr)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let theirs = String::from_utf8(theirs).unwrap();
+    // `signext`/`zeroext` of the return value and each parameter, per function.
+    let sig = |ir: &str, name: &str| -> Vec<String> {
+        let line = ir
+            .lines()
+            .find(|l| {
+                (l.starts_with("define") || l.starts_with("declare"))
+                    && l.contains(&format!("@{name}("))
+            })
+            .unwrap_or_else(|| panic!("no {name} in\n{ir}"));
+        let (head, rest) = line.split_once(&format!("@{name}(")).unwrap();
+        let params = rest.rsplit_once(')').unwrap().0;
+        let exts = |s: &str| {
+            let mut e: Vec<&str> = s
+                .split_whitespace()
+                .filter(|w| *w == "signext" || *w == "zeroext")
+                .collect();
+            e.sort();
+            e.join(" ")
+        };
+        std::iter::once(exts(head))
+            .chain(params.split(',').map(exts))
+            .collect()
+    };
+    for (i, (r, _)) in types.iter().enumerate() {
+        for name in [format!("imp{i}"), format!("exp{i}")] {
+            assert_eq!(sig(&ours, &name), sig(&theirs, &name), "{name} ({r})");
+        }
+    }
+}
+
+/// A C kernel calling a TRaX-Rust file that only exports functions (no `trax_main`):
+/// `trax run` and `trax native` link it either way round.
+#[test]
+fn c_kernel_calls_a_rust_library() {
+    let dir = scratch("rust-lib");
+    let (main, lib) = (dir.join("main.c"), dir.join("lib.rs"));
+    std::fs::write(
+        &main,
+        "#include <trax.h>\nfloat rust_twice(float x);\nvoid trax_main(void) {\n    if (trax_global_id() == 0) {\n        trax_print_float(rust_twice(1.25f));\n        trax_print_char('\\n');\n    }\n}\n",
+    )
+    .unwrap();
+    std::fs::write(
+        &lib,
+        "#[no_mangle]\npub extern \"C\" fn rust_twice(x: f32) -> f32 {\n    x * 2.0\n}\n",
+    )
+    .unwrap();
+    let (m, l) = (main.to_str().unwrap(), lib.to_str().unwrap());
+    for cmd in [["run", "--functional"].as_slice(), &["native"]] {
+        for files in [[m, l], [l, m]] {
+            let mut args = cmd.to_vec();
+            args.extend(files);
+            args.extend(["--width", "4", "--height", "4"]);
+            let out = trax(&args);
+            assert!(out.status.success(), "{args:?}: {}", text(&out.stderr));
+            assert_eq!(text(&out.stdout), "2.5\n", "{args:?}");
+        }
+    }
+}
+
+/// `long double` is `double` on o32 (clang's mipsel target); `trax native` builds with
+/// `-mlong-double-64` so x86's 80-bit format does not give other digits: 1/3 rounded to
+/// double loses the 1e-17 that the 80-bit format keeps.
+#[test]
+fn long_double_is_double_on_the_machine_and_natively() {
+    let dir = scratch("long-double");
+    let k = dir.join("ld.c");
+    std::fs::write(
+        &k,
+        "#include <trax.h>\nvoid trax_main(void) {\n    if (trax_global_id()) return;\n    long double x = 1.0L / 3.0L;\n    trax_print_uint(sizeof(long double));\n    trax_print_char(' ');\n    trax_print_double((double)(x + 1e-17L - x));\n    trax_print_char('\\n');\n}\n",
+    )
+    .unwrap();
+    let (run, _) = raw_framebuffer(&["run", "--functional"], &k, "run");
+    let (native, _) = raw_framebuffer(&["native"], &k, "native");
+    assert_eq!(run, "8 0\n");
+    assert_eq!(native, run);
+}
+
+/// A libc call has no implementation on the machine: the link error says so and points
+/// to trax.h, exit 1.
+#[test]
+fn libc_calls_get_a_clear_message() {
+    let dir = scratch("libc");
+    let k = dir.join("heap.c");
+    std::fs::write(
+        &k,
+        "#include <trax.h>\nvoid *malloc(unsigned long n);\nvoid trax_main(void) {\n    char *p = malloc(4);\n    trax_print_int(p[0]);\n}\n",
+    )
+    .unwrap();
+    let out = trax(&["run", k.to_str().unwrap()]);
+    let err = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("undefined symbol `malloc`") && err.contains("no C library"),
+        "{err}"
+    );
 }

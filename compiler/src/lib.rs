@@ -12,9 +12,12 @@
 //!   body per instance of a generic function (monomorphised before lowering). Rejects
 //!   everything the lowering cannot handle. [`builtins`] is the catalogue of builtin
 //!   methods shared with the lowering; [`ops`] the operators.
-//! - [`lower`]: LLVM IR via inkwell, on demand from `trax_main` (only reachable code is
-//!   emitted), with DWARF (subprograms, lexical blocks, 1-based line/column, typed
-//!   parameters and locals). TRaX instructions are `.word`s in inline asm.
+//! - [`lower`]: LLVM IR via inkwell, on demand from `trax_main` and the `#[no_mangle]
+//!   extern "C"` functions C code calls (only reachable code is emitted), with DWARF
+//!   (subprograms, lexical blocks, 1-based line/column, typed parameters and locals).
+//!   Functions of `extern "C"` blocks are declarations for the linker. Both sides of the
+//!   C boundary carry clang's extension attributes. TRaX instructions are `.word`s in
+//!   inline asm.
 //! - [`target`]: `mipsel-unknown-none-elf`, `mips32r6`, `+msa,+fp64,+noabicalls`, static
 //!   relocations, no `$gp`-relative data; LLVM's `default<On>` pipeline; object emission.
 //!   [`memfns`] and [`rtlib`] add `memset`/`memcpy`/`memmove` and 64-bit division and
@@ -301,23 +304,55 @@ fn compile_parsed(
         Some(resolve::PathRes::Fn(f)) => Some(f),
         _ => None,
     };
-    let Some(main) = main else {
+    // `#[no_mangle] extern "C"` functions C code calls (resolve admits `extern` only there).
+    let exports: Vec<resolve::FnId> = (0..program.fns.len())
+        .filter(|&f| program.fns[f].sig.abi.is_some() && Some(f) != main)
+        .collect();
+    let roots: Vec<resolve::FnId> = main.into_iter().chain(exports.iter().copied()).collect();
+    if main.is_none() && exports.is_empty() {
         errs.push(Diagnostic::file_level(
             &sources.get(root).display,
             "missing-entry-point",
-            "the kernel has no `fn trax_main()` at its root",
+            "the kernel has no `fn trax_main()` at its root (nor `#[no_mangle] extern \"C\"` functions for C code to call)",
         ));
         return Err(CompileError::Diagnostics(errs));
-    };
-    let mf = &program.fns[main];
-    if !mf.params.is_empty() || mf.ret != ty::Ty::Unit || !mf.generics.is_empty() {
-        errs.push(Diagnostic::new(
-            sources,
-            mf.file,
-            mf.sig.ident.span(),
-            "invalid-entry-point",
-            "`trax_main` must be declared as `fn trax_main()`",
-        ));
+    }
+    if let Some(main) = main {
+        let mf = &program.fns[main];
+        if !mf.params.is_empty() || mf.ret != ty::Ty::Unit || !mf.generics.is_empty() {
+            errs.push(Diagnostic::new(
+                sources,
+                mf.file,
+                mf.sig.ident.span(),
+                "invalid-entry-point",
+                "`trax_main` must be declared as `fn trax_main()`",
+            ));
+        }
+    }
+    // One function per C name, exported or declared in an `extern "C"` block (LLVM would
+    // rename a second one silently).
+    let foreign = (0..program.fns.len()).filter(|&f| program.fns[f].foreign);
+    let mut seen: std::collections::HashMap<&str, resolve::FnId> = Default::default();
+    for f in roots.iter().copied().chain(foreign) {
+        let fd = &program.fns[f];
+        if let Some(&first) = seen.get(fd.symbol.as_str()) {
+            let other = &program.fns[first];
+            let at = sources.get(other.file).display.display().to_string();
+            let line = other.sig.ident.span().start().line;
+            errs.push(Diagnostic::new(
+                sources,
+                fd.file,
+                fd.sig.ident.span(),
+                "duplicate-c-symbol",
+                format!(
+                    "`{}` is already {} at {at}:{line}",
+                    fd.symbol,
+                    if other.foreign { "declared" } else { "defined" }
+                ),
+            ));
+        } else {
+            seen.insert(&fd.symbol, f);
+        }
     }
     if !errs.is_empty() {
         return Err(CompileError::Diagnostics(errs));
@@ -337,7 +372,7 @@ fn compile_parsed(
         opts.opt_level > 0,
         &empty,
     );
-    let module = match lowerer.run(main) {
+    let module = match lowerer.run(&roots) {
         Ok(m) => m,
         Err(lower::LowerError::Internal(s)) => return Err(CompileError::Internal(s)),
     };

@@ -94,6 +94,31 @@ pub fn report(
             s,
             "  (no debug information: build with -g for source locations)"
         );
+    } else if let Some((d, frames)) = dbg.and_then(|d| {
+        // Code without debug information (a runtime function such as
+        // `__cxa_pure_virtual`): the innermost call into it that has a location.
+        crash
+            .calls
+            .iter()
+            .rev()
+            .map(|c| d.frames(c.call_pc))
+            .find(|f| !f.is_empty())
+            .map(|f| (d, f))
+    }) {
+        let f0 = &frames[0];
+        let callee = sym.trim_start().trim_start_matches('<');
+        let callee = callee.split('+').next().unwrap_or(callee);
+        let _ = writeln!(
+            s,
+            "  at:   {} in {}, calling {callee} (no debug information)",
+            f0.location(),
+            fname(f0)
+        );
+        if let Some(file) = &f0.file {
+            if let Some(line) = d.source_line(file, f0.line) {
+                let _ = writeln!(s, "  {:>5} | {}", f0.line, line.trim_end());
+            }
+        }
     }
     let _ = writeln!(s, "backtrace:");
     let mut n = 0;

@@ -181,6 +181,10 @@ impl std::fmt::Display for Fault {
             Fault::Trap { code: 7 } => write!(f, "integer divide by zero (trap code 7)"),
             Fault::Trap { code: 6 } => write!(f, "integer overflow (trap code 6)"),
             Fault::Trap { code } => write!(f, "conditional trap (code {code})"),
+            Fault::Break(0) => write!(
+                f,
+                "break instruction (code 0): a trap, such as C's `__builtin_trap()`"
+            ),
             Fault::Break(c) => write!(f, "break instruction (code {c})"),
             Fault::Syscall(c) => write!(f, "syscall (code {c}): there is no operating system"),
             Fault::DebugBreakpoint(c) => write!(f, "sdbbp (code {c})"),

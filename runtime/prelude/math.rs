@@ -283,9 +283,12 @@ impl std::ops::DivAssign for Vec3 {
 /// `pipes::pow2_scale`, which the fused triangle pipeline uses).
 #[inline(always)]
 pub fn pow2_scale(m: f32) -> f32 {
-    let m = super::min(m, 8.507_059e37); // 2^126
+    let m = super::min(m, POW2_126);
     f32::from_bits(0x7F00_0000 - (m.to_bits() & 0x7F80_0000))
 }
+
+/// 2^126, the largest magnitude [`pow2_scale`] scales (to 2^-126, a normal f32).
+pub const POW2_126: f32 = 8.507_059e37;
 
 /// True if `x` lies between the smallest
 /// positive normal f32 and the largest finite one (false for zero, subnormals, infinities

@@ -1,6 +1,7 @@
 //! Renders `trax_isa.h`, the TRaX extension for C/C++ kernels built with clang: one
-//! `static inline` function per instruction (a macro for instructions with an immediate),
-//! each emitting the real instruction word, generated from [`TRAX_INSTRUCTIONS`].
+//! `TRAX_INLINE` function (always inlined, without debug information) per instruction (a
+//! macro for instructions with an immediate), each emitting the real instruction word,
+//! generated from [`TRAX_INSTRUCTIONS`].
 //!
 //! The words are built by the assembler: a file-scope assembler macro turns the register
 //! name the allocator picked for an operand (`$2`, `$sp`, `$f12`...) into its number, and
@@ -132,7 +133,7 @@ fn render_instr(out: &mut String, i: &TraxInstr) {
     } else {
         params.join(", ")
     };
-    let _ = writeln!(out, "static inline {ret} {name}({params}) {{");
+    let _ = writeln!(out, "TRAX_INLINE {ret} {name}({params}) {{");
     if let Some(d) = def {
         let _ = writeln!(out, "    {ret} {};", field_name(d.field));
     }
@@ -161,9 +162,15 @@ fn render_instr(out: &mut String, i: &TraxInstr) {
         .iter()
         .map(|o| format!("\"{}\"({})", constraint(o), field_name(o.field)))
         .collect();
+    // Pure operations may be merged and moved like arithmetic; the rest are effects.
+    let (volatile, clobber) = if i.op.is_pure() {
+        ("", "")
+    } else {
+        (" volatile", " : \"memory\"")
+    };
     let _ = writeln!(
         out,
-        "    __asm__ volatile(\"{asm}\" : {outputs} : {} : \"memory\");",
+        "    __asm__{volatile}(\"{asm}\" : {outputs} : {}{clobber});",
         inputs.join(", ")
     );
     if let Some(d) = def {
@@ -172,6 +179,12 @@ fn render_instr(out: &mut String, i: &TraxInstr) {
     out.push_str("}\n\n");
 }
 
+/// `TRAX_INLINE`, the storage class of the headers' functions: always inlined and without
+/// debug information of their own, so their instructions belong to the caller's source
+/// line (a `trax_panic` is reported, profiled and annotated where it is called, like a
+/// TRaX-Rust builtin, and the wrappers add no frames).
+const TRAX_INLINE_DEF: &str = "#ifndef TRAX_INLINE\n#define TRAX_INLINE static inline __attribute__((always_inline, nodebug))\n#endif\n\n";
+
 /// The complete text of `trax_isa.h`.
 pub fn render_c_header() -> String {
     let mut out = String::new();
@@ -179,6 +192,7 @@ pub fn render_c_header() -> String {
     out.push_str(" * Generated from trax_runtime::isa::TRAX_INSTRUCTIONS; do not edit.\n");
     out.push_str(" * Target: clang --target=mipsel-linux-gnu -march=mips32r6 -mfp64. */\n");
     out.push_str("#ifndef TRAX_ISA_H\n#define TRAX_ISA_H\n\n");
+    out.push_str(TRAX_INLINE_DEF);
     regnum_macros(&mut out);
     for i in TRAX_INSTRUCTIONS {
         render_instr(&mut out, i);
@@ -319,42 +333,43 @@ fn render_struct(out: &mut String, name: &str, doc: &str, fields: &[(String, Str
 /// Friendly wrappers with the Rust prelude's names, over the generated instruction
 /// functions of `trax_isa.h`.
 const C_API: &str = r#"/* ---- Threads and time (the Rust prelude's names) ---- */
-static inline unsigned int trax_thread_id(void) { return trax_tid(); }
-static inline unsigned int trax_tm_id(void) { return trax_tmid(); }
-static inline unsigned int trax_global_id(void) { return trax_gid(); }
-static inline unsigned int trax_num_threads(void) { return trax_nthreads(); }
-static inline unsigned int trax_num_tms(void) { return trax_ntms(); }
+TRAX_INLINE unsigned int trax_thread_id(void) { return trax_tid(); }
+TRAX_INLINE unsigned int trax_tm_id(void) { return trax_tmid(); }
+TRAX_INLINE unsigned int trax_global_id(void) { return trax_gid(); }
+TRAX_INLINE unsigned int trax_num_threads(void) { return trax_nthreads(); }
+TRAX_INLINE unsigned int trax_num_tms(void) { return trax_ntms(); }
 
 /* ---- Global registers: atomics, barriers, semaphores ---- */
-static inline unsigned int trax_atomic_inc(unsigned int reg) { return trax_atominc(reg); }
-static inline unsigned int trax_atomic_dec(unsigned int reg) { return trax_atomdec(reg); }
-static inline unsigned int trax_atomic_add(unsigned int reg, unsigned int v) { return trax_atomadd(reg, v); }
-static inline unsigned int trax_global_read(unsigned int reg) { return trax_gread(reg); }
-static inline void trax_global_write(unsigned int reg, unsigned int v) { trax_gwrite(reg, v); }
-static inline unsigned int trax_inc_reset(unsigned int reg) { return trax_increset(reg); }
-static inline void trax_sem_acquire(unsigned int reg) { trax_semacq(reg); }
-static inline void trax_sem_release(unsigned int reg) { trax_semrel(reg); }
+TRAX_INLINE unsigned int trax_atomic_inc(unsigned int reg) { return trax_atominc(reg); }
+TRAX_INLINE unsigned int trax_atomic_dec(unsigned int reg) { return trax_atomdec(reg); }
+TRAX_INLINE unsigned int trax_atomic_add(unsigned int reg, unsigned int v) { return trax_atomadd(reg, v); }
+TRAX_INLINE unsigned int trax_global_read(unsigned int reg) { return trax_gread(reg); }
+TRAX_INLINE void trax_global_write(unsigned int reg, unsigned int v) { trax_gwrite(reg, v); }
+TRAX_INLINE unsigned int trax_inc_reset(unsigned int reg) { return trax_increset(reg); }
+TRAX_INLINE void trax_sem_acquire(unsigned int reg) { trax_semacq(reg); }
+TRAX_INLINE void trax_sem_release(unsigned int reg) { trax_semrel(reg); }
 
 /* ---- Arithmetic ---- */
-static inline float trax_min(float a, float b) { return trax_fmin(a, b); }
-static inline float trax_max(float a, float b) { return trax_fmax(a, b); }
-static inline float trax_sqrt(float x) { return __builtin_sqrtf(x); }
-static inline void trax_count_ray(void) { trax_stat(0); }
+TRAX_INLINE float trax_min(float a, float b) { return trax_fmin(a, b); }
+TRAX_INLINE float trax_max(float a, float b) { return trax_fmax(a, b); }
+TRAX_INLINE float trax_sqrt(float x) { return __builtin_sqrtf(x); }
+TRAX_INLINE void trax_count_ray(void) { trax_stat(0); }
 
-/* ---- Printing (one instruction per value; the machine buffers lines per thread) ---- */
-static inline void trax_print_int(int v) { trax_printi((unsigned int)v); }
-static inline void trax_print_uint(unsigned int v) { trax_printu(v); }
-static inline void trax_print_float(float v) { trax_printf(v); }
-static inline void trax_print_double(double v) { trax_printd(v); }
-static inline void trax_print_char(unsigned int c) { trax_printc(c); }
-static inline void trax_print_bool(int b) { trax_printb(b != 0); }
-static inline void trax_print_i64(long long v) {
+/* ---- Printing: one instruction per value, printed as it runs (a line printed piece by
+ * piece by several threads at once interleaves; trax native buffers lines per thread) ---- */
+TRAX_INLINE void trax_print_int(int v) { trax_printi((unsigned int)v); }
+TRAX_INLINE void trax_print_uint(unsigned int v) { trax_printu(v); }
+TRAX_INLINE void trax_print_float(float v) { trax_printf(v); }
+TRAX_INLINE void trax_print_double(double v) { trax_printd(v); }
+TRAX_INLINE void trax_print_char(unsigned int c) { trax_printc(c); }
+TRAX_INLINE void trax_print_bool(int b) { trax_printb(b != 0); }
+TRAX_INLINE void trax_print_i64(long long v) {
     trax_printl((unsigned int)v, (unsigned int)((unsigned long long)v >> 32));
 }
-static inline void trax_print_u64(unsigned long long v) {
+TRAX_INLINE void trax_print_u64(unsigned long long v) {
     trax_printul((unsigned int)v, (unsigned int)(v >> 32));
 }
-static inline void trax_print_str(const char *s) {
+TRAX_INLINE void trax_print_str(const char *s) {
     unsigned int n = 0;
     while (s[n]) n++;
 #ifdef TRAX_HOST
@@ -366,7 +381,7 @@ static inline void trax_print_str(const char *s) {
 
 /* Stops the whole program with MESSAGE, reported like a Rust panic (with the PC's
  * source line and a backtrace). */
-static inline __attribute__((noreturn)) void trax_panic(const char *message) {
+TRAX_INLINE __attribute__((noreturn)) void trax_panic(const char *message) {
     unsigned int n = 0;
     while (message[n]) n++;
 #ifdef TRAX_HOST
@@ -389,11 +404,11 @@ static inline __attribute__((noreturn)) void trax_panic(const char *message) {
     __asm__ volatile("mfc2 %0, $" #n : "=r"(__trax_b) :: "memory"); \
     __builtin_memcpy(&__trax_x, &__trax_b, 4); __trax_x; })
 #endif
-static inline void trax_set_pipe_general(void) { trax_setpipe(0); }
-static inline void trax_set_pipe_box(void) { trax_setpipe(1); }
-static inline void trax_set_pipe_tri(void) { trax_setpipe(2); }
+TRAX_INLINE void trax_set_pipe_general(void) { trax_setpipe(0); }
+TRAX_INLINE void trax_set_pipe_box(void) { trax_setpipe(1); }
+TRAX_INLINE void trax_set_pipe_tri(void) { trax_setpipe(2); }
 /* Entry distance of the ray (origin o, inverse direction inv) into the box [lo, hi]. */
-static inline float trax_pipe_box_test(const float o[3], const float inv[3],
+TRAX_INLINE float trax_pipe_box_test(const float o[3], const float inv[3],
                                        const float lo[3], const float hi[3]) {
     trax_mtc2(0, o[0]); trax_mtc2(1, o[1]); trax_mtc2(2, o[2]);
     trax_mtc2(3, inv[0]); trax_mtc2(4, inv[1]); trax_mtc2(5, inv[2]);
@@ -403,7 +418,7 @@ static inline float trax_pipe_box_test(const float o[3], const float inv[3],
 }
 /* Hit distance of the ray (o, d) with triangle (a, b, c); barycentrics by
  * trax_pipe_tri_u/v. */
-static inline float trax_pipe_tri_test(const float o[3], const float d[3], const float a[3],
+TRAX_INLINE float trax_pipe_tri_test(const float o[3], const float d[3], const float a[3],
                                        const float b[3], const float c[3]) {
     trax_mtc2(0, o[0]); trax_mtc2(1, o[1]); trax_mtc2(2, o[2]);
     trax_mtc2(3, d[0]); trax_mtc2(4, d[1]); trax_mtc2(5, d[2]);
@@ -412,8 +427,8 @@ static inline float trax_pipe_tri_test(const float o[3], const float d[3], const
     trax_mtc2(18, c[0]); trax_mtc2(19, c[1]); trax_mtc2(20, c[2]);
     return trax_tritest();
 }
-static inline float trax_pipe_tri_u(void) { return trax_mfc2(21); }
-static inline float trax_pipe_tri_v(void) { return trax_mfc2(22); }
+TRAX_INLINE float trax_pipe_tri_u(void) { return trax_mfc2(21); }
+TRAX_INLINE float trax_pipe_tri_v(void) { return trax_mfc2(22); }
 
 /* ---- Ray streams (STRaTA; the Rust prelude's trax::stream) ----
  * trax_stream_write(b, rec) writes a ray record to buffer b (LIFO per buffer; a full
@@ -423,21 +438,21 @@ static inline float trax_pipe_tri_v(void) { return trax_mfc2(22); }
  * the newest ray of that buffer (0 when it is empty). */
 #define TRAX_STREAM_DONE 0xFFFFFFFFu
 typedef unsigned int trax_stream_record_t[TRAX_STREAM_RECORD_WORDS];
-static inline unsigned int trax_stream_capacity(void) { return trax_strcap(); }
-static inline unsigned int trax_stream_buffers(void) { return trax_scene_stream_buffers(); }
-static inline void trax_stream_write(unsigned int buffer, const unsigned int rec[TRAX_STREAM_RECORD_WORDS]) {
+TRAX_INLINE unsigned int trax_stream_capacity(void) { return trax_strcap(); }
+TRAX_INLINE unsigned int trax_stream_buffers(void) { return trax_scene_stream_buffers(); }
+TRAX_INLINE void trax_stream_write(unsigned int buffer, const unsigned int rec[TRAX_STREAM_RECORD_WORDS]) {
     trax_strwstart(buffer);
     for (unsigned int i = 0; i < TRAX_STREAM_RECORD_WORDS; i++) trax_strw(rec[i]);
     trax_strwend();
 }
-static inline int trax_stream_read(unsigned int rec[TRAX_STREAM_RECORD_WORDS]) {
+TRAX_INLINE int trax_stream_read(unsigned int rec[TRAX_STREAM_RECORD_WORDS]) {
     if (!trax_strrstart()) return 0;
     for (unsigned int i = 0; i < TRAX_STREAM_RECORD_WORDS; i++) rec[i] = trax_strr();
     trax_strrend();
     return 1;
 }
-static inline unsigned int trax_stream_schedule(void) { return trax_strsched(); }
-static inline unsigned int trax_stream_size(unsigned int buffer) { return trax_strsize(buffer); }
+TRAX_INLINE unsigned int trax_stream_schedule(void) { return trax_strsched(); }
+TRAX_INLINE unsigned int trax_stream_size(unsigned int buffer) { return trax_strsize(buffer); }
 "#;
 
 /// The complete text of `trax.h`: the instruction functions (`trax_isa.h`), the scene
@@ -450,6 +465,7 @@ pub fn render_trax_h() -> String {
     out.push_str(" * Generated from trax_runtime (isa.rs, abi.rs, cheader.rs) by `trax header`;\n");
     out.push_str(" * `trax build` puts it on the include path itself. Do not edit. */\n");
     out.push_str("#ifndef TRAX_H\n#define TRAX_H\n\n");
+    out.push_str(TRAX_INLINE_DEF);
     out.push_str(
         "/* TRAX_HOST: the same API on the host (`trax native`), over trax_host.h. */\n\
          #ifdef TRAX_HOST\n#include \"trax_host.h\"\n\
@@ -546,41 +562,50 @@ pub fn render_trax_h() -> String {
                 let cst = if f == "framebuffer" { "" } else { "const " };
                 let _ = writeln!(
                     out,
-                    "static inline {cst}{el} *trax_scene_{f}(void) {{ return TRAX_PTR({cst}{el}, {p}{f}.addr); }}"
+                    "TRAX_INLINE {cst}{el} *trax_scene_{f}(void) {{ return TRAX_PTR({cst}{el}, {p}{f}.addr); }}"
                 );
                 let _ = writeln!(
                     out,
-                    "static inline unsigned int trax_scene_{f}_count(void) {{ return {p}{f}.count; }}"
+                    "TRAX_INLINE unsigned int trax_scene_{f}_count(void) {{ return {p}{f}.count; }}"
                 );
             }
             (_, 0) if f == "camera" => {
                 let _ = writeln!(
                     out,
-                    "static inline const trax_camera_t *trax_scene_camera(void) {{ return TRAX_PTR(const trax_camera_t, {p}camera); }}"
+                    "TRAX_INLINE const trax_camera_t *trax_scene_camera(void) {{ return TRAX_PTR(const trax_camera_t, {p}camera); }}"
                 );
             }
             (_, 0) => {
                 let _ = writeln!(
                     out,
-                    "static inline {t} trax_scene_{f}(void) {{ return {p}{f}; }}"
+                    "TRAX_INLINE {t} trax_scene_{f}(void) {{ return {p}{f}; }}"
                 );
             }
             _ if f == "reserved" => {}
             _ => {
                 let _ = writeln!(
                     out,
-                    "static inline const {t} *trax_scene_{f}(void) {{ return {p}{f}; }}"
+                    "TRAX_INLINE const {t} *trax_scene_{f}(void) {{ return {p}{f}; }}"
                 );
             }
         }
     }
     out.push_str(
         "/* Writes pixel (x, y), linear RGB; row 0 is the top of the image. */\n\
-         static inline void trax_set_pixel(unsigned int x, unsigned int y, float r, float g, float b) {\n\
+         TRAX_INLINE void trax_set_pixel(unsigned int x, unsigned int y, float r, float g, float b) {\n\
          \x20   trax_pixel_t *p = trax_scene_framebuffer() + y * trax_scene_width() + x;\n\
          \x20   p->r = r;\n    p->g = g;\n    p->b = b;\n}\n\n",
     );
     out.push_str(C_API);
+    out.push_str(
+        "\n/* ---- Elementary functions: the prelude's libm (trax::libm), one implementation\n\
+         \x20* for Rust and C, so trax_sinf(x) gives the bits of Rust's x.sin() on the machine\n\
+         \x20* and natively (f32 within 0.51 ULP, f64 within 1 ULP, C99 Annex F special\n\
+         \x20* values). Linked when called. */\n",
+    );
+    for f in libm_functions() {
+        let _ = writeln!(out, "{}", f.c_decl());
+    }
     out.push_str("\n#ifdef __cplusplus\n}\n#endif\n\n#endif /* TRAX_H */\n");
     out
 }
@@ -652,58 +677,292 @@ pub fn rust_signature(i: &TraxInstr) -> (String, String) {
     (params.join(", "), ret)
 }
 
-/// The complete text of `trax.hpp`: a small C++ layer over `trax.h` (`trax::Vec3` with
-/// operators, `trax::Ray`, primary rays from the camera).
+/// A type in the signature of a `trax::libm` function.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LibmTy {
+    /// `f32` / `float`.
+    F32,
+    /// `f64` / `double`.
+    F64,
+    /// `i32` / `int`.
+    I32,
+    /// `&mut f32` / `float *`.
+    MutF32,
+    /// `&mut f64` / `double *`.
+    MutF64,
+}
+
+impl LibmTy {
+    fn parse(t: &str) -> Option<LibmTy> {
+        Some(match t.trim() {
+            "f32" => LibmTy::F32,
+            "f64" => LibmTy::F64,
+            "i32" => LibmTy::I32,
+            "&mut f32" => LibmTy::MutF32,
+            "&mut f64" => LibmTy::MutF64,
+            _ => return None,
+        })
+    }
+
+    /// The C type.
+    pub fn c(self) -> &'static str {
+        match self {
+            LibmTy::F32 => "float",
+            LibmTy::F64 => "double",
+            LibmTy::I32 => "int",
+            LibmTy::MutF32 => "float *",
+            LibmTy::MutF64 => "double *",
+        }
+    }
+
+    /// The Rust type of an `extern "C"` function (raw pointers for references).
+    pub fn rust_ffi(self) -> &'static str {
+        match self {
+            LibmTy::F32 => "f32",
+            LibmTy::F64 => "f64",
+            LibmTy::I32 => "i32",
+            LibmTy::MutF32 => "*mut f32",
+            LibmTy::MutF64 => "*mut f64",
+        }
+    }
+}
+
+/// A public function of the prelude's `libm.rs`, as C kernels call it: `trax_<name>`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct LibmFn {
+    /// The Rust (and C library) name: `sinf`, `atan2`, `sincosf`, ...
+    pub name: String,
+    /// Parameters (name, type).
+    pub params: Vec<(String, LibmTy)>,
+    /// Result type (`None`: nothing).
+    pub ret: Option<LibmTy>,
+}
+
+impl LibmFn {
+    /// The C declaration in `trax.h`: `float trax_sinf(float x);`.
+    pub fn c_decl(&self) -> String {
+        let params: Vec<String> = self
+            .params
+            .iter()
+            .map(|(n, t)| format!("{} {n}", t.c()).replace("* ", "*"))
+            .collect();
+        let ret = self.ret.map(LibmTy::c).unwrap_or("void");
+        format!("{ret} trax_{}({});", self.name, params.join(", "))
+    }
+
+    /// The Rust definition that exports it under its C name (see [`libm_c_exports`]).
+    pub fn rust_export(&self) -> String {
+        let params: Vec<String> = self
+            .params
+            .iter()
+            .map(|(n, t)| format!("{n}: {}", t.rust_ffi()))
+            .collect();
+        let args: Vec<String> = self
+            .params
+            .iter()
+            .map(|(n, t)| match t {
+                LibmTy::MutF32 | LibmTy::MutF64 => format!("&mut *{n}"),
+                _ => n.clone(),
+            })
+            .collect();
+        let ret = self
+            .ret
+            .map(|t| format!(" -> {}", t.rust_ffi()))
+            .unwrap_or_default();
+        let call = format!("trax::libm::{}({})", self.name, args.join(", "));
+        if self
+            .params
+            .iter()
+            .any(|(_, t)| matches!(t, LibmTy::MutF32 | LibmTy::MutF64))
+        {
+            format!(
+                "/// `trax::libm::{n}` for C.\n///\n/// # Safety\n/// The pointers must be valid for writes (C passes its own variables).\n#[no_mangle]\npub unsafe extern \"C\" fn trax_{n}({}){ret} {{\n    // SAFETY: the caller passes writable pointers (see above).\n    unsafe {{ {call} }}\n}}\n",
+                params.join(", "),
+                n = self.name
+            )
+        } else {
+            format!(
+                "/// `trax::libm::{n}` for C.\n#[no_mangle]\npub extern \"C\" fn trax_{n}({}){ret} {{\n    {call}\n}}\n",
+                params.join(", "),
+                n = self.name
+            )
+        }
+    }
+}
+
+/// The public functions of the prelude's `libm.rs` (`pub fn name(params) -> ret {` on one
+/// line each), read from its source: C kernels get each as `trax_<name>` (`trax.h`
+/// declares them; [`libm_c_exports`] defines them over `trax::libm`), so there is one
+/// implementation for Rust and C, on the machine and natively.
+pub fn libm_functions() -> Vec<LibmFn> {
+    let src = crate::prelude::file("libm.rs").expect("libm.rs is a prelude file");
+    let mut out = Vec::new();
+    for line in src.lines() {
+        let Some(rest) = line.strip_prefix("pub fn ") else {
+            continue;
+        };
+        let parsed = (|| {
+            let (name, rest) = rest.split_once('(')?;
+            let (params, rest) = rest.split_once(')')?;
+            let ret = match rest.trim().trim_end_matches('{').trim() {
+                "" => None,
+                r => Some(LibmTy::parse(r.strip_prefix("->")?)?),
+            };
+            let params = params
+                .split(',')
+                .filter(|p| !p.trim().is_empty())
+                .map(|p| {
+                    let (n, t) = p.split_once(':')?;
+                    Some((n.trim().to_string(), LibmTy::parse(t)?))
+                })
+                .collect::<Option<Vec<_>>>()?;
+            Some(LibmFn {
+                name: name.trim().to_string(),
+                params,
+                ret,
+            })
+        })();
+        // A signature this reader does not know is a test failure
+        // (`libm_functions_cover_every_public_function`), not a silent gap.
+        if let Some(f) = parsed {
+            out.push(f);
+        }
+    }
+    out
+}
+
+/// TRaX-Rust (and Rust) source defining every [`libm_functions`] entry under its C name
+/// `trax_<name>` over `trax::libm`: the trax compiler builds it for C kernels on the
+/// machine, rustc into `trax native`'s host program.
+pub fn libm_c_exports() -> String {
+    let mut s = String::from(
+        "// The prelude's libm under trax.h's C names (trax_runtime::cheader::libm_c_exports).\n\n",
+    );
+    for f in libm_functions() {
+        s += &f.rust_export();
+        s.push('\n');
+    }
+    s
+}
+
+/// The complete text of `trax.hpp`: the C++ layer over `trax.h` (`runtime/cxx/trax.hpp.in`:
+/// the prelude's `Vec3`, rays, hits, surface points, camera, scene access, `pixel_share`,
+/// triangle and box tests, BVH traversal and sampling, operation for operation), with the
+/// prelude's constants ([`HPP_CONSTANTS`]) read from its sources.
 pub fn render_trax_hpp() -> String {
-    TRAX_HPP.to_string()
+    let mut consts = String::new();
+    for &(file, name) in HPP_CONSTANTS {
+        let c = prelude_const(file, name)
+            .unwrap_or_else(|e| panic!("trax.hpp: prelude constant {file}::{name}: {e}"));
+        let _ = writeln!(consts, "{}", c.to_cpp());
+    }
+    TRAX_HPP_IN.replace("@CONSTANTS@\n", &consts)
 }
 
-const TRAX_HPP: &str = r#"/* trax.hpp: a small C++ layer over trax.h. Generated by `trax header --cpp`; do not edit. */
-#ifndef TRAX_HPP
-#define TRAX_HPP
-#include "trax.h"
+/// The C++ layer, with `@CONSTANTS@` where the constants go.
+const TRAX_HPP_IN: &str = include_str!("../cxx/trax.hpp.in");
 
-namespace trax {
+/// The prelude constants `trax.hpp` uses: (prelude file, name).
+pub const HPP_CONSTANTS: &[(&str, &str)] = &[
+    ("math.rs", "POW2_126"),
+    ("ray.rs", "NO_HIT"),
+    ("ray.rs", "POINT_ERROR"),
+    ("scene.rs", "NO_PIXEL"),
+    ("layout.rs", "PIXEL_COUNTER_REG"),
+    ("scene.rs", "PIXEL_BLOCK"),
+    ("bvh.rs", "STACK_SIZE"),
+    ("bvh.rs", "SLAB_FAR_SCALE"),
+    ("bvh.rs", "ERR_T"),
+    ("bvh.rs", "ERR_XY"),
+    ("bvh.rs", "ERR_Z"),
+];
 
-struct Vec3 {
-    float x, y, z;
-    constexpr Vec3() : x(0), y(0), z(0) {}
-    constexpr Vec3(float x_, float y_, float z_) : x(x_), y(y_), z(z_) {}
-    static Vec3 load(const float v[3]) { return Vec3(v[0], v[1], v[2]); }
-    Vec3 operator+(Vec3 o) const { return Vec3(x + o.x, y + o.y, z + o.z); }
-    Vec3 operator-(Vec3 o) const { return Vec3(x - o.x, y - o.y, z - o.z); }
-    Vec3 operator*(Vec3 o) const { return Vec3(x * o.x, y * o.y, z * o.z); }
-    Vec3 operator*(float s) const { return Vec3(x * s, y * s, z * s); }
-    Vec3 operator/(float s) const { return Vec3(x / s, y / s, z / s); }
-    Vec3 operator-() const { return Vec3(-x, -y, -z); }
-    Vec3 &operator+=(Vec3 o) { x += o.x; y += o.y; z += o.z; return *this; }
-    float dot(Vec3 o) const { return x * o.x + y * o.y + z * o.z; }
-    Vec3 cross(Vec3 o) const { return Vec3(y * o.z - z * o.y, z * o.x - x * o.z, x * o.y - y * o.x); }
-    float length() const { return trax_sqrt(dot(*this)); }
-    Vec3 normalized() const { return *this * trax_invsqrt(dot(*this)); }
-};
-inline Vec3 operator*(float s, Vec3 v) { return v * s; }
-
-struct Ray {
-    Vec3 origin, dir;
-    Vec3 at(float t) const { return origin + dir * t; }
-};
-
-/* The primary ray through the centre of pixel (x, y) (runtime::abi::Camera semantics). */
-inline Ray primary_ray(unsigned int x, unsigned int y) {
-    trax_camera_t const *c = trax_scene_camera();
-    float s = c->left + (c->right - c->left) * ((float)x + 0.5f) * trax_scene_inv_width();
-    float t = c->bottom + (c->top - c->bottom) * ((float)y + 0.5f) * trax_scene_inv_height();
-    Vec3 d = Vec3::load(c->w) * c->distance + Vec3::load(c->u) * s + Vec3::load(c->v) * t;
-    return Ray{Vec3::load(c->eye), d.normalized()};
+/// A constant of the prelude, evaluated as rustc does.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum PreludeConst {
+    /// `const NAME: u32 = ...`.
+    U32(&'static str, u32),
+    /// `const NAME: f32 = ...`.
+    F32(&'static str, f32),
 }
 
-inline void set_pixel(unsigned int x, unsigned int y, Vec3 c) { trax_set_pixel(x, y, c.x, c.y, c.z); }
+impl PreludeConst {
+    /// The C++ definition: `constexpr unsigned int NAME = 0x...u;` or `constexpr float
+    /// NAME = <hexadecimal float>f;` (exact: no decimal rounding between the languages).
+    pub fn to_cpp(self) -> String {
+        match self {
+            PreludeConst::U32(n, v) => format!("constexpr unsigned int {n} = {v:#x}u;"),
+            PreludeConst::F32(n, v) => {
+                format!("constexpr float {n} = {}f; /* {v:e} */", hex_float(v))
+            }
+        }
+    }
+}
 
-} // namespace trax
+/// `x` (finite) as a C hexadecimal floating literal without suffix, exactly.
+pub fn hex_float(x: f32) -> String {
+    let b = x.to_bits();
+    let sign = if b >> 31 != 0 { "-" } else { "" };
+    let exp = ((b >> 23) & 0xFF) as i32;
+    let frac = b & 0x7F_FFFF;
+    if exp == 0 && frac == 0 {
+        return format!("{sign}0x0p+0");
+    }
+    // Subnormals as 0x0.fffffep-126, normals as 0x1.fffffep(e).
+    let (lead, e) = if exp == 0 { (0, -126) } else { (1, exp - 127) };
+    format!("{sign}0x{lead}.{:06x}p{e:+}", frac << 1)
+}
 
-#endif /* TRAX_HPP */
-"#;
+/// Reads `const NAME: TYPE = EXPR;` from prelude file `file` and evaluates it: EXPR is a
+/// literal or `literal / literal` (f32 division, as rustc's constant evaluation does it);
+/// TYPE is `u32` or `f32`.
+pub fn prelude_const(file: &str, name: &'static str) -> Result<PreludeConst, String> {
+    let src = crate::prelude::file(file).ok_or("no such prelude file")?;
+    let key = format!("const {name}: ");
+    let at = src
+        .lines()
+        .map(str::trim_start)
+        .find_map(|l| {
+            l.strip_prefix("pub ")
+                .unwrap_or(l)
+                .strip_prefix(key.as_str())
+        })
+        .ok_or("not found as `const NAME: TYPE = VALUE;` on one line")?;
+    let (ty, rest) = at.split_once(" = ").ok_or("no `=`")?;
+    let expr = rest
+        .split_once(';')
+        .map(|(e, _)| e.trim())
+        .ok_or("no `;` on the line")?;
+    let lit = |t: &str| t.trim().replace('_', "");
+    match ty {
+        "u32" => {
+            let t = lit(expr);
+            let v = match t.strip_prefix("0x") {
+                Some(h) => u32::from_str_radix(h, 16),
+                None => t.parse(),
+            }
+            .map_err(|e| format!("`{expr}`: {e}"))?;
+            Ok(PreludeConst::U32(name, v))
+        }
+        "f32" => {
+            let parse = |t: &str| {
+                lit(t)
+                    .trim_end_matches("f32")
+                    .parse::<f32>()
+                    .map_err(|e| format!("`{expr}`: {e}"))
+            };
+            let v = match expr.split_once(" / ") {
+                Some((a, b)) => parse(a)? / parse(b)?,
+                None => parse(expr)?,
+            };
+            if !v.is_finite() {
+                return Err(format!("`{expr}` is not finite"));
+            }
+            Ok(PreludeConst::F32(name, v))
+        }
+        t => Err(format!("type `{t}` (only u32 and f32 are read)")),
+    }
+}
 
 #[cfg(test)]
 mod tests {
@@ -723,10 +982,23 @@ mod tests {
             );
         }
         assert!(!h.contains("not available from C"));
-        assert!(h.contains("static inline unsigned int trax_atominc(unsigned int rs)"));
-        assert!(h.contains("static inline float trax_fmin(float rs, float rt)"));
-        assert!(h.contains("static inline void trax_printd(double rs)"));
+        assert!(h.contains("TRAX_INLINE unsigned int trax_atominc(unsigned int rs)"));
+        assert!(h.contains("TRAX_INLINE float trax_fmin(float rs, float rt)"));
+        assert!(h.contains("TRAX_INLINE void trax_printd(double rs)"));
         assert!(h.contains("#define trax_stat(n)"));
+        // Pure operations are ordinary values to the compiler; the rest are effects.
+        let body = |name: &str| {
+            let at = h.find(&format!(" {name}(")).unwrap();
+            h[at..].split("}\n").next().unwrap().to_string()
+        };
+        for pure in ["trax_fmin", "trax_gid", "trax_invsqrt"] {
+            assert!(body(pure).contains("__asm__(\""), "{pure}: {}", body(pure));
+            assert!(!body(pure).contains("memory"), "{pure}");
+        }
+        for effect in ["trax_rand", "trax_atominc", "trax_printu"] {
+            assert!(body(effect).contains("__asm__ volatile(\""), "{effect}");
+            assert!(body(effect).contains("\"memory\""), "{effect}");
+        }
     }
 
     /// Compiles a C file that calls every instruction with clang-14 for MIPS32r6 and
@@ -748,6 +1020,7 @@ mod tests {
         let mut c = String::from("#include \"trax_isa.h\"\n");
         c.push_str("unsigned int inc(unsigned int r) { return trax_atominc(r); }\n");
         c.push_str("float mn(float a, float b) { return trax_fmin(a, b); }\n");
+        c.push_str("volatile unsigned int usink;\nvolatile float fsink;\n");
         c.push_str("void all(unsigned int a, unsigned int b, unsigned int d, float x, float y, double z) {\n");
         for i in TRAX_INSTRUCTIONS {
             let n = c_name(i);
@@ -768,7 +1041,14 @@ mod tests {
                     _ => "d",
                 })
                 .collect();
-            let _ = writeln!(c, "    {n}({});", args.join(", "));
+            // Results go to volatile sinks: a pure operation whose result is unused is
+            // (rightly) dropped.
+            let sink = match i.operands.iter().find(|o| o.kind.is_def()).map(|d| d.kind) {
+                Some(OperandKind::FprDef) => "fsink = ",
+                Some(_) => "usink = ",
+                None => "",
+            };
+            let _ = writeln!(c, "    {sink}{n}({});", args.join(", "));
         }
         c.push_str("}\n");
         std::fs::write(dir.join("t.c"), c).unwrap();

@@ -14,6 +14,19 @@ use object::{
 use crate::abi;
 use crate::image::{Perms, Segment};
 
+/// The global symbols an ELF object or executable of any target defines (for the
+/// entry-point check of C and C++ objects, the machine's and the host's alike); empty if
+/// `data` is not an ELF file.
+pub fn defined_global_symbols(data: &[u8]) -> Vec<String> {
+    let Ok(file) = object::File::parse(data) else {
+        return Vec::new();
+    };
+    file.symbols()
+        .filter(|s| !s.is_undefined() && s.is_global())
+        .filter_map(|s| s.name().ok().map(str::to_string))
+        .collect()
+}
+
 /// Why an executable is unusable. Every message names the file.
 #[derive(Debug, thiserror::Error)]
 pub enum ExeError {

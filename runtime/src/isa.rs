@@ -181,6 +181,26 @@ pub enum TraxOp {
     TriTest,
 }
 
+impl TraxOp {
+    /// True for operations whose result depends only on their operands and the thread
+    /// (ids, thread counts, `fmin`/`fmax`/`invsqrt`): no effect, no memory access, so a
+    /// compiler may merge, hoist or drop them (`trax_isa.h` emits them without `volatile`
+    /// and without a memory clobber). Everything else is an effect in program order.
+    pub fn is_pure(self) -> bool {
+        matches!(
+            self,
+            TraxOp::ThreadId
+                | TraxOp::TmId
+                | TraxOp::GlobalId
+                | TraxOp::NumThreads
+                | TraxOp::NumTms
+                | TraxOp::FMin
+                | TraxOp::FMax
+                | TraxOp::InvSqrt
+        )
+    }
+}
+
 /// Static description of one extension instruction.
 #[derive(Clone, Copy, Debug)]
 pub struct TraxInstr {

@@ -225,3 +225,146 @@ fn cpp_layer_compiles() {
         &["-x", "c++", "-std=c++17", "-fno-exceptions"],
     );
 }
+
+/// `trax.hpp`'s constants are the prelude's: each C++ value, as clang reads the generated
+/// literal, has the bits rustc gives the prelude's constant (evaluated here by the same
+/// reader, and checked against the values the Rust sources mean).
+#[test]
+fn cpp_constants_are_the_preludes() {
+    use cheader::{prelude_const, PreludeConst, HPP_CONSTANTS};
+    let dir = scratch("consts");
+    let mut probe = String::from("#include <trax.hpp>\n");
+    for &(file, name) in HPP_CONSTANTS {
+        let c = prelude_const(file, name).unwrap_or_else(|e| panic!("{file}::{name}: {e}"));
+        let (bits, ty) = match c {
+            PreludeConst::U32(_, v) => (v, "unsigned int"),
+            PreludeConst::F32(_, v) => (v.to_bits(), "unsigned int"),
+        };
+        writeln!(
+            probe,
+            "static_assert(__builtin_bit_cast({ty}, trax::{name}) == {bits}u, \"{name}\");"
+        )
+        .unwrap();
+    }
+    std::fs::write(dir.join("consts.cpp"), &probe).unwrap();
+    compile(&dir, "consts.cpp", &["-x", "c++", "-std=c++17"]);
+    // The reader against values written out here from the prelude's sources.
+    let f = |file, name| match prelude_const(file, name).unwrap() {
+        PreludeConst::F32(_, v) => v,
+        c => panic!("{c:?}"),
+    };
+    assert_eq!(f("ray.rs", "POINT_ERROR"), 1.0 / 1_048_576.0);
+    assert_eq!(f("bvh.rs", "ERR_Z"), 3.576_280_3e-6);
+    assert_eq!(f("math.rs", "POW2_126"), 2f32.powi(126));
+    assert_eq!(
+        prelude_const("ray.rs", "NO_HIT"),
+        Ok(PreludeConst::U32("NO_HIT", u32::MAX))
+    );
+    assert!(prelude_const("bvh.rs", "NO_SUCH").is_err());
+    // The literal form: exact, subnormals and negative values included.
+    for x in [
+        1.0f32,
+        -2.5,
+        1e-45,
+        f32::MIN_POSITIVE,
+        f32::MAX,
+        1.072_884e-6,
+    ] {
+        let lit = cheader::hex_float(x);
+        std::fs::write(
+            dir.join("hex.cpp"),
+            format!(
+                "static_assert(__builtin_bit_cast(unsigned int, {lit}f) == {}u, \"{lit}\");\n",
+                x.to_bits()
+            ),
+        )
+        .unwrap();
+        compile(&dir, "hex.cpp", &["-x", "c++", "-std=c++17"]);
+    }
+}
+
+/// Every public function of the prelude's `libm.rs` is in `trax.h` as `trax_<name>`,
+/// with the C types of its Rust signature.
+#[test]
+fn libm_functions_cover_every_public_function() {
+    let src = trax_runtime::prelude::file("libm.rs").unwrap();
+    let public = src.lines().filter(|l| l.starts_with("pub fn ")).count();
+    let fns = cheader::libm_functions();
+    assert_eq!(
+        fns.len(),
+        public,
+        "a libm signature the reader does not know"
+    );
+    assert!(public >= 30, "{public}");
+    let h = cheader::render_trax_h();
+    for f in &fns {
+        assert!(
+            h.contains(&f.c_decl()),
+            "{} missing from trax.h",
+            f.c_decl()
+        );
+    }
+    assert!(h.contains("float trax_sinf(float x);"));
+    assert!(h.contains("void trax_sincosf(float x, float *s, float *c);"));
+    assert!(h.contains("float trax_powif(float x, int n);"));
+    assert!(h.contains("double trax_atan2(double y, double x);"));
+}
+
+/// The whole C++ layer compiles cleanly (`-Wall -Wextra -Werror`) for the machine and,
+/// with `TRAX_HOST`, for the host, every inline function instantiated.
+#[test]
+fn cpp_layer_compiles_warning_free_for_both_sides() {
+    let dir = scratch("cpp-all");
+    std::fs::write(dir.join("trax_host.h"), cheader::render_host_h()).unwrap();
+    std::fs::write(
+        dir.join("all.cpp"),
+        r#"#include <trax.hpp>
+using namespace trax;
+extern "C" void trax_main() {
+    Camera cam = Camera::load();
+    Ray r = cam.jittered_ray(1, 2);
+    Hit h = bvh::intersect(r, 0.0f, INFINITY_F);
+    bool o = bvh::occluded(r, 0.0f, h.t);
+    Triangle t = scene::triangle(h.tri);
+    SurfacePoint sp(r, h, t);
+    Vec3 v = sp.origin() + sp.origin_below() + sampling::cosine_hemisphere(sp.n) +
+             sampling::unit_sphere() + sampling::triangle_point(t) +
+             scene::shading_normal(h.tri, h.u, h.v) + scene::get_pixel(0, 0);
+    sampling::EmitterGeometry eg = sampling::emitter_geometry(t, v, sp.p);
+    Material m = scene::triangle_material(h.tri);
+    PointLight l = scene::point_light(0);
+    v += m.diffuse.lerp(l.color, eg.dist).reflect(eg.normal).clamp(0, 1).min(v).max(v);
+    v -= v.cross(v) / v * (2.0f * v) / 3.0f;
+    v *= Vec3::splat(v.luminance() + v.length() + v.min_component() + v.max_component());
+    v /= v.normalize().abs() + Vec3::splat(t.area() + t.area_scaled(2.0f) + bvh::scene_bound());
+    scene::PixelShare share = scene::pixel_share();
+    unsigned int i = share.next_pixel();
+    scene::set_pixel_index(i, o ? -v : v + scene::background());
+    set_pixel(0, 0, primary_ray(0, 0).at(scene::epsilon()));
+    (void)(scene::normals_count() + scene::material_count() + scene::spp() + scene::seed());
+}
+"#,
+    )
+    .unwrap();
+    let cxx = [
+        "-x",
+        "c++",
+        "-std=c++17",
+        "-fno-exceptions",
+        "-fno-rtti",
+        "-Wextra",
+    ];
+    compile(&dir, "all.cpp", &cxx);
+    let out = Command::new("clang-14")
+        .args(cxx)
+        .args(["-DTRAX_HOST", "-Wall", "-Werror", "-fsyntax-only", "-I"])
+        .arg(&dir)
+        .arg(dir.join("all.cpp"))
+        .output()
+        .expect("clang-14 is installed");
+    assert!(
+        out.status.success(),
+        "host:\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}

@@ -12,7 +12,11 @@
 //! Steps: (1) the prelude is written out from `trax_runtime::prelude::FILES` and built as
 //! an rlib named `trax`; (2) the kernel is compiled from stdin with the current directory
 //! set to the kernel's directory (so `mod x;` files resolve), with
-//! `fn main() { trax::host::host_main(trax_main) }` appended; (3) a memory image (format:
+//! `fn main() { trax::host::host_main(trax_main) }` appended (or the C kernel's entry when
+//! the Rust crate only exports `#[no_mangle] extern "C"` functions) — C and C++ sources are
+//! compiled by clang for the host (`trax::clang::compile_host`, constructors moved so they
+//! run on every kernel thread) and linked in, with `trax::clang::host_shim()` (and, for a
+//! C/C++ kernel alone, `HOST_MAIN_C` as the whole program); (3) a memory image (format:
 //! `trax_runtime::image`, segments with permissions) is written, the program runs over it and writes the framebuffer
 //! back; (4) the framebuffer becomes a PNG. Builds are cached in `$TRAX_CACHE_DIR` (default
 //! `~/.cache/trax`) keyed by a hash of the sources and the rustc version. Diagnostics
@@ -37,6 +41,10 @@ pub struct NativeArgs {
     /// The kernel source: TRaX-Rust (`fn trax_main()`), or C/C++ (`void trax_main(void)`,
     /// compiled for the host by clang with `trax.h`'s host side).
     pub kernel: PathBuf,
+    /// Further C and C++ sources linked with the kernel (as for `trax run`); their
+    /// constructors run on every kernel thread before `trax_main`, as on the machine.
+    #[arg(value_name = "MORE")]
+    pub more: Vec<PathBuf>,
     /// Scene and image parameters.
     #[command(flatten)]
     pub render: RenderArgs,
@@ -68,6 +76,8 @@ pub enum NativeError {
     PreludeBuild(String),
     #[error("{kernel}: no `fn trax_main()` (the kernel entry point) found")]
     NoEntry { kernel: String },
+    #[error("{0}")]
+    Files(String),
     #[error("{kernel}: compilation failed")]
     KernelBuild { kernel: String },
     #[error("{0}")]
@@ -126,11 +136,10 @@ fn native(a: &NativeArgs) -> Result<(), NativeError> {
     let cache = cache_dir();
     let rustc = Rustc::find()?;
     let rlib = build_prelude(&rustc, &cache)?;
-    let exe = match trax::clang::lang_of(&a.kernel) {
-        Some(lang) => build_c_kernel(&rustc, &a.kernel, lang, &rlib, &cache)?,
-        None => build_kernel(&rustc, &a.kernel, &rlib, &cache)?,
-    };
-    let request = a.render.request(&a.kernel, DEFAULT_OPT_LEVEL, &chip);
+    let files = NativeFiles::of(&a.kernel, &a.more)?;
+    let exe = build(&rustc, &files, &rlib, &cache)?;
+    let mut request = a.render.request(&a.kernel, DEFAULT_OPT_LEVEL, &chip);
+    request.more = a.more.clone();
     let (scene_image, warnings) = pipeline::scene_image(&request)?;
     for w in &warnings {
         eprintln!("warning: {w}");
@@ -330,21 +339,145 @@ fn kernel_dir(kernel: &Path) -> PathBuf {
 /// The text appended to a kernel to make it a host program.
 const MAIN_SHIM: &str = "\nfn main() {\n    trax::host::host_main(trax_main)\n}\n";
 
-/// Builds (or finds in the cache) the kernel executable; returns its path.
+/// The files of one `trax native` program: at most one TRaX-Rust crate root and any
+/// number of C and C++ sources.
+struct NativeFiles {
+    /// The TRaX-Rust kernel, if any.
+    rust: Option<PathBuf>,
+    /// C and C++ sources.
+    c: Vec<(PathBuf, trax::clang::Lang)>,
+}
+
+impl NativeFiles {
+    fn of(kernel: &Path, more: &[PathBuf]) -> Result<NativeFiles, NativeError> {
+        let mut f = NativeFiles {
+            rust: None,
+            c: Vec::new(),
+        };
+        for p in std::iter::once(kernel).chain(more.iter().map(PathBuf::as_path)) {
+            if let Some(lang) = trax::clang::lang_of(p) {
+                f.c.push((p.to_path_buf(), lang));
+            } else if p.extension().is_some_and(|e| e == "rs") {
+                if let Some(first) = &f.rust {
+                    return Err(NativeError::Files(format!(
+                        "{}: `trax native` builds one TRaX-Rust crate (here {}); give further Rust code as `mod` files of it",
+                        p.display(),
+                        first.display()
+                    )));
+                }
+                f.rust = Some(p.to_path_buf());
+            } else {
+                return Err(NativeError::Files(format!(
+                    "{}: `trax native` builds sources (.rs, .c, .cpp, .cc); objects and executables are for the machine",
+                    p.display()
+                )));
+            }
+        }
+        Ok(f)
+    }
+}
+
+/// Builds the host program of `files`: a TRaX-Rust kernel (with any C/C++ objects
+/// linked in) or C/C++ sources alone.
+fn build(
+    rustc: &Rustc,
+    files: &NativeFiles,
+    rlib: &Path,
+    cache: &Path,
+) -> Result<PathBuf, NativeError> {
+    let tmp = scratch_dir(cache, "cobjs")?;
+    let result = (|| {
+        let objs = compile_c_objects(files, &tmp)?;
+        match &files.rust {
+            Some(k) => build_kernel(rustc, k, &objs, rlib, cache),
+            None => build_c_kernel(rustc, files, &objs, rlib, cache),
+        }
+    })();
+    let _ = std::fs::remove_dir_all(&tmp);
+    result
+}
+
+/// Compiles the C and C++ sources for the host into `dir` (constructors moved to
+/// `trax_inits`, see `trax::clang::move_constructors`), plus the constructor runner
+/// when there are any; returns the objects.
+fn compile_c_objects(files: &NativeFiles, dir: &Path) -> Result<Vec<PathBuf>, NativeError> {
+    let mut objs = Vec::new();
+    let clang_err = |e: trax::clang::ClangError, kernel: &Path| match e {
+        trax::clang::ClangError::Diagnostics { diagnostics } => {
+            eprint!("{diagnostics}");
+            NativeError::KernelBuild {
+                kernel: kernel.display().to_string(),
+            }
+        }
+        e => NativeError::Clang(e),
+    };
+    for (i, (src, lang)) in files.c.iter().enumerate() {
+        let obj = dir.join(format!("{i}.o"));
+        trax::clang::compile_host(src, *lang, &obj).map_err(|e| clang_err(e, src))?;
+        let mut bytes = std::fs::read(&obj).map_err(io_err(&obj))?;
+        trax::clang::move_constructors(&mut bytes)
+            .map_err(|e| NativeError::Files(format!("{}: {e}", src.display())))?;
+        std::fs::write(&obj, &bytes).map_err(io_err(&obj))?;
+        objs.push(obj);
+    }
+    if !objs.is_empty() {
+        let src = dir.join("trax_inits.c");
+        std::fs::write(&src, trax::clang::HOST_INITS_C).map_err(io_err(&src))?;
+        let obj = dir.join("trax_inits.o");
+        trax::clang::compile_host(&src, trax::clang::Lang::C, &obj)
+            .map_err(|e| clang_err(e, &src))?;
+        objs.push(obj);
+    }
+    Ok(objs)
+}
+
+/// Hashes the bytes of `objs` into `h`.
+fn hash_objects(h: &mut Fnv1a, objs: &[PathBuf]) -> Result<(), NativeError> {
+    for o in objs {
+        h.write(&std::fs::read(o).map_err(io_err(o))?);
+        h.write(&[0xff]);
+    }
+    Ok(())
+}
+
+/// Builds (or finds in the cache) the kernel executable, linked with `objs` (C/C++
+/// objects; then with `trax::clang::host_shim()`); returns its path.
 fn build_kernel(
     rustc: &Rustc,
     kernel: &Path,
+    objs: &[PathBuf],
     rlib: &Path,
     cache: &Path,
 ) -> Result<PathBuf, NativeError> {
     let src = std::fs::read_to_string(kernel).map_err(io_err(kernel))?;
-    if !src.contains("fn trax_main") {
+    // The entry point is the Rust kernel's, or a C file's when the Rust crate only
+    // exports functions to C (`#[no_mangle] extern "C" fn`).
+    let rust_entry = src.contains("fn trax_main");
+    let mut c_entry = false;
+    for o in objs {
+        let bytes = std::fs::read(o).map_err(io_err(o))?;
+        c_entry |= trax::clang::entry_point(&bytes) == trax::clang::EntryPoint::Defined;
+    }
+    if !rust_entry && !c_entry {
         return Err(NativeError::NoEntry {
             kernel: kernel.display().to_string(),
         });
     }
+    let tail = if objs.is_empty() {
+        MAIN_SHIM.to_string()
+    } else if rust_entry {
+        format!(
+            "{}{}",
+            trax::clang::HOST_MAIN_RUST_WITH_C,
+            trax::clang::host_shim()
+        )
+    } else {
+        format!("{}{}", trax::clang::HOST_MAIN_C, trax::clang::host_shim())
+    };
     let mut h = Fnv1a::new();
     h.write(&kernel_hash(kernel, &src)?.to_le_bytes());
+    h.write(tail.as_bytes());
+    hash_objects(&mut h, objs)?;
     h.write(rlib.to_string_lossy().as_bytes());
     h.write(rustc.version.as_bytes());
     let dir = cache.join(format!("kernel-{:016x}", h.finish()));
@@ -353,11 +486,14 @@ fn build_kernel(
         return Ok(exe);
     }
     let tmp = scratch_dir(cache, "kernel")?;
-    let mut child = rustc
-        .command()
-        .args(["--crate-type", "bin", "--crate-name", "trax_kernel", "-"])
+    let mut cmd = rustc.command();
+    cmd.args(["--crate-type", "bin", "--crate-name", "trax_kernel", "-"])
         .arg("--extern")
-        .arg(format!("trax={}", rlib.display()))
+        .arg(format!("trax={}", rlib.display()));
+    for o in objs {
+        cmd.arg("-C").arg(format!("link-arg={}", o.display()));
+    }
+    let mut child = cmd
         .arg("-o")
         .arg(tmp.join("kernel"))
         .current_dir(kernel_dir(kernel))
@@ -369,7 +505,7 @@ fn build_kernel(
             rustc: rustc.program.to_string_lossy().into_owned(),
             source,
         })?;
-    let full = format!("{src}{MAIN_SHIM}");
+    let full = format!("{src}{tail}");
     if let Some(mut stdin) = child.stdin.take() {
         // A write error shows up as a compile failure below.
         let _ = stdin.write_all(full.as_bytes());
@@ -388,49 +524,60 @@ fn build_kernel(
     Ok(exe)
 }
 
-/// Builds (or finds in the cache) the host program of a C or C++ kernel: clang compiles
-/// the kernel with `trax.h`'s host side, rustc links it with `trax::clang::host_shim()`
-/// over the host prelude.
+/// Builds (or finds in the cache) the host program of C and C++ sources: clang compiled
+/// them with `trax.h`'s host side (`objs`), rustc links them with
+/// `trax::clang::host_shim()` over the host prelude.
 fn build_c_kernel(
     rustc: &Rustc,
-    kernel: &Path,
-    lang: trax::clang::Lang,
+    files: &NativeFiles,
+    objs: &[PathBuf],
     rlib: &Path,
     cache: &Path,
 ) -> Result<PathBuf, NativeError> {
-    let tmp = scratch_dir(cache, "ckernel")?;
-    let obj = tmp.join("kernel.o");
-    if let Err(e) = trax::clang::compile_host(kernel, lang, &obj) {
-        let _ = std::fs::remove_dir_all(&tmp);
-        return Err(match e {
-            trax::clang::ClangError::Diagnostics { diagnostics } => {
-                eprint!("{diagnostics}");
-                NativeError::KernelBuild {
-                    kernel: kernel.display().to_string(),
-                }
-            }
-            e => NativeError::Clang(e),
-        });
+    let names = || {
+        files
+            .c
+            .iter()
+            .map(|(p, _)| p.display().to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    // The entry point: a clear error here instead of the system linker's.
+    let mut cpp_linkage = false;
+    let mut defined = false;
+    for o in objs {
+        match trax::clang::entry_point(&std::fs::read(o).map_err(io_err(o))?) {
+            trax::clang::EntryPoint::Defined => defined = true,
+            trax::clang::EntryPoint::CppLinkage => cpp_linkage = true,
+            trax::clang::EntryPoint::Missing => {}
+        }
     }
-    let shim = trax::clang::host_shim();
+    if !defined {
+        return Err(NativeError::Files(trax::clang::no_entry_message(
+            &names(),
+            cpp_linkage,
+        )));
+    }
+    let shim = format!("{}{}", trax::clang::HOST_MAIN_C, trax::clang::host_shim());
     let mut h = Fnv1a::new();
-    h.write(&std::fs::read(&obj).map_err(io_err(&obj))?);
+    hash_objects(&mut h, objs)?;
     h.write(shim.as_bytes());
     h.write(rlib.to_string_lossy().as_bytes());
     h.write(rustc.version.as_bytes());
     let dir = cache.join(format!("ckernel-{:016x}", h.finish()));
     let exe = dir.join("kernel");
     if exe.is_file() {
-        let _ = std::fs::remove_dir_all(&tmp);
         return Ok(exe);
     }
+    let tmp = scratch_dir(cache, "ckernel")?;
     let mut cmd = rustc.command();
     cmd.args(["--crate-type", "bin", "--crate-name", "trax_kernel", "-"])
         .arg("--extern")
-        .arg(format!("trax={}", rlib.display()))
-        .arg("-C")
-        .arg(format!("link-arg={}", obj.display()))
-        .arg("-o")
+        .arg(format!("trax={}", rlib.display()));
+    for o in objs {
+        cmd.arg("-C").arg(format!("link-arg={}", o.display()));
+    }
+    cmd.arg("-o")
         .arg(tmp.join("kernel"))
         .stdin(Stdio::piped())
         .stdout(Stdio::null())
@@ -443,15 +590,12 @@ fn build_c_kernel(
         // A write error shows up as a build failure below.
         let _ = stdin.write_all(shim.as_bytes());
     }
-    let out = child.wait_with_output().map_err(io_err(kernel))?;
+    let out = child.wait_with_output().map_err(io_err(&tmp))?;
     if !out.status.success() {
         eprint!("{}", String::from_utf8_lossy(&out.stderr));
         let _ = std::fs::remove_dir_all(&tmp);
-        return Err(NativeError::KernelBuild {
-            kernel: kernel.display().to_string(),
-        });
+        return Err(NativeError::KernelBuild { kernel: names() });
     }
-    let _ = std::fs::remove_file(&obj);
     publish(&tmp, &dir)?;
     Ok(exe)
 }

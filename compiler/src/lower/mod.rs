@@ -213,10 +213,13 @@ impl<'ctx, 'p, 'a> Lowerer<'ctx, 'p, 'a> {
         }
     }
 
-    /// Lowers `root` and everything it reaches; returns the finished module.
-    pub fn run(mut self, root: FnId) -> LResult<Module<'ctx>> {
-        let f = self.declare_fn(root, &[]);
-        f.set_linkage(Linkage::External);
+    /// Lowers `roots` (`trax_main` and the functions exported to C) and everything they
+    /// reach; returns the finished module.
+    pub fn run(mut self, roots: &[FnId]) -> LResult<Module<'ctx>> {
+        for &root in roots {
+            let f = self.declare_fn(root, &[]);
+            f.set_linkage(Linkage::External);
+        }
         while let Some(w) = self.queue.pop() {
             match w {
                 Work::Fn(id, substs) => self.lower_fn(id, substs)?,
@@ -325,6 +328,15 @@ impl<'ctx, 'p, 'a> Lowerer<'ctx, 'p, 'a> {
             InlineHint::None => {}
         }
         add("nounwind");
+        if fd.sig.abi.is_some() || fd.foreign {
+            self.c_abi_attributes(f, &param_tys, &ret);
+        }
+        if fd.foreign {
+            // Defined by C code of the same link: a declaration only.
+            f.set_linkage(Linkage::External);
+            self.fns.insert(k, f);
+            return f;
+        }
         if !self.optimized {
             // Keep every call at -O0 so the debugger sees each function.
             if fd.inline != InlineHint::Always {
@@ -335,6 +347,32 @@ impl<'ctx, 'p, 'a> Lowerer<'ctx, 'p, 'a> {
         self.fns.insert(k.clone(), f);
         self.queue.push(Work::Fn(k.0, k.1));
         f
+    }
+
+    /// The extension attributes clang-14 gives a C function of these types on mipsel
+    /// (`MipsABIInfo`): a caller widens an argument to its register (unsigned 32-bit
+    /// values sign-extended, as MIPS keeps them) and a callee widens a return value
+    /// narrower than `int`; the other side relies on it.
+    fn c_abi_attributes(&self, f: FunctionValue<'ctx>, params: &[Ty], ret: &Ty) {
+        let ext = |t: &Ty, is_ret: bool| match t {
+            Ty::Bool => Some("zeroext"),
+            Ty::Int(i) if is_ret && i.bits() >= 32 => None,
+            Ty::Int(i) if i.signed() || i.bits() == 32 => Some("signext"),
+            Ty::Int(_) => Some("zeroext"),
+            _ => None,
+        };
+        let attr = |n: &str| {
+            self.ctx
+                .create_enum_attribute(Attribute::get_named_enum_kind_id(n), 0)
+        };
+        for (i, t) in params.iter().enumerate() {
+            if let Some(n) = ext(t, false) {
+                f.add_attribute(AttributeLoc::Param(i as u32), attr(n));
+            }
+        }
+        if let Some(n) = ext(ret, true) {
+            f.add_attribute(AttributeLoc::Return, attr(n));
+        }
     }
 
     fn lower_fn(&mut self, id: FnId, substs: Vec<Ty>) -> LResult<()> {

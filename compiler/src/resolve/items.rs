@@ -254,7 +254,10 @@ impl<'a> Collector<'a> {
         match item {
             Item::Fn(f) => {
                 let name = f.sig.ident.to_string();
-                let symbol = if name == "trax_main" && module == self.p.kernel_root {
+                // `trax_main` at the kernel's root and `#[no_mangle] extern "C"` exports
+                // keep their names (C code calls them); others get their path.
+                let export = f.sig.abi.is_some() && has_no_mangle(attrs);
+                let symbol = if export || (name == "trax_main" && module == self.p.kernel_root) {
                     name.clone()
                 } else {
                     format!("{}::{name}", self.p.modules[module].path)
@@ -275,6 +278,7 @@ impl<'a> Collector<'a> {
                     parent: FnParent::Free,
                     is_const: f.sig.constness.is_some(),
                     attrs: &f.attrs,
+                    foreign: false,
                 });
                 self.define(module, file, &f.sig.ident, Ns::Value, PathRes::Fn(id))?;
                 self.scan_body(pc, module, file, &name, &f.block);
@@ -509,12 +513,59 @@ impl<'a> Collector<'a> {
                 ))
             }
             Item::ForeignMod(e) => {
-                return Err(self.err(
-                    file,
-                    e.span(),
-                    "unsupported-extern-block",
-                    "`extern` blocks are not supported in TRaX-Rust",
-                ))
+                // `extern "C" { fn f(..); }`: functions C code of the same link defines.
+                let c_abi = e.abi.name.as_ref().is_none_or(|n| n.value() == "C");
+                let kernel = root == self.p.modules[self.p.kernel_root].crate_root;
+                if !c_abi || !kernel {
+                    return Err(self.err(
+                        file,
+                        e.abi.span(),
+                        "unsupported-extern-block",
+                        "TRaX-Rust supports `extern` blocks only as `extern \"C\" { fn name(..); }` in the kernel (functions the C or C++ files of the link define)",
+                    ));
+                }
+                for fi in &e.items {
+                    let syn::ForeignItem::Fn(f) = fi else {
+                        return Err(self.err(
+                            file,
+                            fi.span(),
+                            "unsupported-extern-block",
+                            "`extern \"C\"` blocks may declare only functions here (no statics or types)",
+                        ));
+                    };
+                    if !cfg_enabled(&f.attrs) {
+                        continue;
+                    }
+                    self.check_attrs(file, &f.attrs)?;
+                    if !f.sig.generics.params.is_empty() {
+                        return Err(self.err(
+                            file,
+                            f.sig.generics.span(),
+                            "unsupported-extern-block",
+                            "functions declared in `extern \"C\"` blocks cannot be generic",
+                        ));
+                    }
+                    let name = f.sig.ident.to_string();
+                    let id = self.add_fn(FnDef {
+                        name: name.clone(),
+                        symbol: name,
+                        module,
+                        file,
+                        sig: &f.sig,
+                        body: None,
+                        self_ty: None,
+                        receiver: None,
+                        params: Vec::new(),
+                        ret: Ty::Unit,
+                        inline: InlineHint::None,
+                        generics: super::Generics::default(),
+                        parent: FnParent::Free,
+                        is_const: false,
+                        attrs: &f.attrs,
+                        foreign: true,
+                    });
+                    self.define(module, file, &f.sig.ident, Ns::Value, PathRes::Fn(id))?;
+                }
             }
             other => {
                 return Err(self.err(
@@ -1211,6 +1262,7 @@ impl<'a> Collector<'a> {
                         parent: FnParent::Trait(t),
                         is_const: false,
                         attrs: &f.attrs,
+                        foreign: false,
                     });
                     if self.p.traits[t]
                         .methods
@@ -1386,6 +1438,7 @@ impl<'a> Collector<'a> {
                         parent: FnParent::Impl(id),
                         is_const: f.sig.constness.is_some(),
                         attrs: &f.attrs,
+                        foreign: false,
                     });
                     if self.p.impls[id]
                         .fns
@@ -1579,12 +1632,22 @@ impl<'a> Collector<'a> {
             ));
         }
         if let Some(abi) = &sig.abi {
-            return Err(self.err(
-                file,
-                abi.span(),
-                "unsupported-extern-fn",
-                "`extern` functions are not supported in TRaX-Rust",
-            ));
+            let c_abi = abi.name.as_ref().is_none_or(|n| n.value() == "C");
+            let kernel =
+                self.p.modules[module].crate_root == self.p.modules[self.p.kernel_root].crate_root;
+            if !(c_abi
+                && parent == FnParent::Free
+                && kernel
+                && sig.generics.params.is_empty()
+                && has_no_mangle(self.p.fns[id].attrs))
+            {
+                return Err(self.err(
+                    file,
+                    abi.span(),
+                    "unsupported-extern-fn",
+                    "TRaX-Rust supports `extern` only as `#[no_mangle] extern \"C\" fn` (a non-generic free function of the kernel that C code calls)",
+                ));
+            }
         }
         let mut params = Vec::new();
         let mut receiver = None;
@@ -1664,6 +1727,27 @@ impl<'a> Collector<'a> {
                 t2
             }
         };
+        if sig.abi.is_some() || self.p.fns[id].foreign {
+            // C passes scalars and pointers the same way; aggregates and slices it does not.
+            let spans = sig.inputs.iter().map(|a| a.span());
+            let ret_span = match &sig.output {
+                ReturnType::Type(_, t) => t.span(),
+                ReturnType::Default => sig.ident.span(),
+            };
+            for (t, span) in params.iter().zip(spans).chain([(&ret, ret_span)]) {
+                if !c_compatible(t) {
+                    return Err(self.err(
+                        file,
+                        span,
+                        "unsupported-extern-fn",
+                        format!(
+                            "`extern \"C\"` functions take and return integers, `bool`, floats and pointers or references to sized values (pass structs and slices by pointer); `{}` is not one",
+                            self.p.ty_str(t)
+                        ),
+                    ));
+                }
+            }
+        }
         let mut inline = InlineHint::None;
         for a in self.p.fns[id]
             .attrs
@@ -1765,5 +1849,22 @@ fn check_param_pat(p: &Program, file: FileId, pat: &Pat) -> DResult<()> {
             "unsupported-pattern",
             "this pattern is not supported as a parameter",
         )),
+    }
+}
+
+/// Whether `#[no_mangle]` is among `attrs`.
+fn has_no_mangle(attrs: &[syn::Attribute]) -> bool {
+    attrs.iter().any(|a| a.path().is_ident("no_mangle"))
+}
+
+/// Whether `t` has a C counterpart passed the same way: integers (with clang's
+/// extension attributes, see `Lowerer::c_abi_attributes`), `bool`, floats, the unit
+/// return, and pointers or references to sized values. Aggregates by value, slices,
+/// `str`, `char` and `!` do not.
+fn c_compatible(t: &Ty) -> bool {
+    match t {
+        Ty::Unit | Ty::Float(_) | Ty::Bool | Ty::Int(_) => true,
+        Ty::Ref(_, e) | Ty::Ptr(_, e) => !matches!(**e, Ty::Slice(_) | Ty::Str),
+        _ => false,
     }
 }

@@ -304,6 +304,8 @@ pub struct FnDef<'a> {
     pub is_const: bool,
     /// Attributes (for `#[inline]`).
     pub(crate) attrs: &'a [syn::Attribute],
+    /// Declared in an `extern "C"` block: C code defines it (no body, its own name).
+    pub foreign: bool,
 }
 
 /// A `const` or `static`.

@@ -384,8 +384,13 @@ fn symbol(pc: u32, exe: Option<&Executable>) -> String {
 }
 
 /// `a::b::Type::method` -> `Type::method`; a trailing `::h<hash>` is dropped; `<...>`
-/// groups are kept whole.
+/// groups are kept whole. Demangled C++ names (with a parameter list) are kept whole: their
+/// namespaces are part of the name (a Rust path's first part is just the crate), and the
+/// parameters tell overloads apart.
 pub fn short_name(name: &str) -> String {
+    if is_cpp_name(name) {
+        return name.to_string();
+    }
     let mut parts: Vec<&str> = Vec::new();
     let (mut depth, mut start) = (0i32, 0usize);
     let b = name.as_bytes();
@@ -415,6 +420,22 @@ pub fn short_name(name: &str) -> String {
     }
     let n = parts.len();
     parts[n.saturating_sub(2)..].join("::")
+}
+
+/// True for a demangled C++ function name: it ends in a parameter list `(...)`, maybe
+/// followed by qualifiers (`const`, `&`, `&&`, `volatile`).
+fn is_cpp_name(name: &str) -> bool {
+    let mut n = name.trim_end();
+    loop {
+        let before = n;
+        for q in ["const", "volatile", "&&", "&"] {
+            n = n.strip_suffix(q).unwrap_or(n).trim_end();
+        }
+        if n == before {
+            break;
+        }
+    }
+    n.ends_with(')') && !n.starts_with('(')
 }
 
 fn json_str(s: &str) -> String {
@@ -448,6 +469,15 @@ mod tests {
             short_name("<k::V as core::ops::Add>::add"),
             "<k::V as core::ops::Add>::add"
         );
+        // C++: namespaces and parameter lists stay.
+        for n in [
+            "outer::inner::S::go(int const*, unsigned int)",
+            "outer::(anonymous namespace)::pick(int const*, unsigned int)",
+            "trax::Vec3::dot(trax::Vec3) const",
+            "shade::Array<unsigned int, 4u>::operator[](unsigned int) &&",
+        ] {
+            assert_eq!(short_name(n), n);
+        }
     }
 
     #[test]

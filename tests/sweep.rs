@@ -601,15 +601,21 @@ fn a_killed_sweep_resumes_without_repeating_or_losing_points() {
             }
         }
     }
-    // pandas, where it is installed, loads it as is.
-    if Command::new("python3")
-        .args(["-c", "import pandas"])
-        .stderr(Stdio::null())
-        .status()
-        .is_ok_and(|s| s.success())
+    // pandas loads it as is (the issue's acceptance; .ci/run installs python3-pandas).
+    // The first python3 on PATH, else Debian's (a pyenv shim may come first on PATH).
+    let python = ["python3", "/usr/bin/python3"].into_iter().find(|p| {
+        Command::new(p)
+            .args(["-c", "import pandas"])
+            .stderr(Stdio::null())
+            .status()
+            .is_ok_and(|s| s.success())
+    });
+    let python = python.expect(
+        "python3 with pandas is needed to check results.csv: apt-get install python3-pandas (.ci/run does)",
+    );
     {
         let csv = out_dir.join("results.csv");
-        let o = Command::new("python3")
+        let o = Command::new(python)
             .args([
                 "-c",
                 "import sys, pandas; d = pandas.read_csv(sys.argv[1]); \

@@ -209,12 +209,13 @@ fn strata_draws_one_image_in_every_mode_on_every_chip_and_natively() {
         "pipelines used"
     );
     // Another chip: 3 TMs of 8 threads, no pipelines (the tests in software), 8 buffers (so
-    // treelet ids are folded).
+    // treelet ids are folded), the `claimed` scheduling policy.
     let other = chip(
         "strata",
         &[
             ("pipelines.enabled", false.into()),
             ("stream_memory.buffers", 8.into()),
+            ("stream_memory.schedule", "claimed".into()),
         ],
         3,
         Some(8),
@@ -222,7 +223,7 @@ fn strata_draws_one_image_in_every_mode_on_every_chip_and_natively() {
     let (_, fb, t) = machine(&k, &f, &other, Mode::Timing);
     assert!(
         fb == reference,
-        "3 TMs x 8 threads, no pipelines, 8 buffers"
+        "3 TMs x 8 threads, no pipelines, 8 buffers, claimed"
     );
     let t = t.unwrap();
     assert_eq!((t.pipelines.box_ops, t.pipelines.tri_ops), (0, 0));

@@ -737,7 +737,7 @@ fn a_drain_loop_reads_every_ray_and_ends_for_every_thread_in_both_modes() {
     let expect = [sum, 3 * n, n, 0, 0];
     let (_, f) = finished(&elf, &chip, Mode::Functional);
     assert_eq!(numbers(&f), expect, "functional");
-    for policy in ["fullest", "sticky", "round-robin"] {
+    for policy in ["fullest", "sticky", "round-robin", "claimed"] {
         let mut c = chip.clone();
         c.set_field("stream_memory.schedule", toml::Value::String(policy.into()))
             .unwrap();
@@ -804,6 +804,8 @@ fn schedule_policies_choose_as_documented() {
         ("sticky", [1, 1, 1, 2, 2, 0], 3),
         // The next non-empty buffer after the current one.
         ("round-robin", [0, 1, 2, 1, 2, 1], 6),
+        // One TM: its claim ends as it drains, so it chooses as `fullest`.
+        ("claimed", [1, 1, 2, 0, 1, 2], 5),
     ] {
         let mut chip = stream_chip(1, 4, 16, 4);
         chip.set_field("stream_memory.schedule", toml::Value::String(policy.into()))
@@ -829,7 +831,7 @@ fn schedule_policies_choose_as_documented() {
         .to_string();
     assert!(
         err.contains(
-            "unknown schedule policy `random` (expected one of fullest, sticky, round-robin)"
+            "unknown schedule policy `random` (expected one of fullest, sticky, round-robin, claimed)"
         ),
         "{err}"
     );

@@ -973,7 +973,7 @@ pub fn run_image_stats(
 }
 
 /// [`run_image_stats`] with the ray stream schedulers' policy (`stream_memory.schedule`
-/// of the chip config: `fullest`, `sticky` or `round-robin`) and, when the chip's stream
+/// of the chip config: `fullest`, `sticky`, `round-robin` or `claimed`) and, when the chip's stream
 /// memory spills (`stream_memory.overflow = "spill"`), its sentinel's shape in
 /// `SpillGeometry::to_arg`'s form (blocks move at once, as in a functional run).
 pub fn run_image_with(

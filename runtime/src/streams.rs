@@ -288,7 +288,8 @@ impl StreamMemory {
             return None;
         }
         match policy {
-            SchedulePolicy::Fullest => self.fullest(),
+            // Without claims (see `StreamScheduler::pick`), `claimed` is `fullest`.
+            SchedulePolicy::Fullest | SchedulePolicy::Claimed => self.fullest(),
             SchedulePolicy::Sticky if self.len(current as usize) > 0 => Some(current),
             SchedulePolicy::Sticky => self.fullest(),
             SchedulePolicy::RoundRobin => {
@@ -395,14 +396,22 @@ pub enum SchedulePolicy {
     Sticky,
     /// The next non-empty buffer after the current one, in id order, wrapping around.
     RoundRobin,
+    /// The buffer with the most *unclaimed* rays, lowest id on ties: a TM that takes a
+    /// buffer claims up to its thread count of the buffer's rays until its threads next
+    /// drain, so other TMs see only the rest; a written ray (or a claim ending) wakes an
+    /// idle TM only onto a buffer that still has unclaimed rays, one TM per thread-count of
+    /// them, in TM order. Beyond the thesis: under `fullest` every idle TM wakes onto the
+    /// buffer of a single written ray and all but one find it empty.
+    Claimed,
 }
 
 impl SchedulePolicy {
     /// Every policy, by config name.
-    pub const ALL: [(SchedulePolicy, &'static str); 3] = [
+    pub const ALL: [(SchedulePolicy, &'static str); 4] = [
         (SchedulePolicy::Fullest, "fullest"),
         (SchedulePolicy::Sticky, "sticky"),
         (SchedulePolicy::RoundRobin, "round-robin"),
+        (SchedulePolicy::Claimed, "claimed"),
     ];
 
     /// The config name.
@@ -411,6 +420,7 @@ impl SchedulePolicy {
             SchedulePolicy::Fullest => "fullest",
             SchedulePolicy::Sticky => "sticky",
             SchedulePolicy::RoundRobin => "round-robin",
+            SchedulePolicy::Claimed => "claimed",
         }
     }
 
@@ -462,6 +472,12 @@ pub struct StreamScheduler {
     /// Times every live thread waited with the memory empty (all resumed with
     /// [`NO_BUFFER`]).
     pub completions: u64,
+    /// Threads per TM (the rays a TM claims under [`SchedulePolicy::Claimed`]).
+    threads_per_tm: u32,
+    /// Per buffer, the TMs serving it (claims; [`SchedulePolicy::Claimed`] only).
+    serving: Vec<u32>,
+    /// Per TM, the buffer it claims, if any.
+    claim: Vec<Option<u32>>,
 }
 
 impl StreamScheduler {
@@ -480,6 +496,8 @@ impl StreamScheduler {
             policy,
             cost,
             tms: vec![tm; tms as usize],
+            threads_per_tm,
+            claim: vec![None; tms as usize],
             ..StreamScheduler::default()
         }
     }
@@ -498,6 +516,9 @@ impl StreamScheduler {
     pub fn halted(&mut self, tm: usize, mem: &StreamMemory, live: u32, clock: u64) {
         let s = &mut self.tms[tm];
         s.live = s.live.saturating_sub(1);
+        if s.live == 0 && self.unclaim(tm) {
+            self.pushed(mem, clock);
+        }
         self.settle(Some(tm), mem, live, clock);
     }
 
@@ -505,10 +526,45 @@ impl StreamScheduler {
     pub fn pushed(&mut self, mem: &StreamMemory, clock: u64) {
         for tm in 0..self.tms.len() {
             if self.tms[tm].idle {
-                if let Some(b) = mem.pick(self.policy, self.tms[tm].current) {
+                if let Some(b) = self.pick(mem, tm) {
                     self.release(tm, b, clock);
                 }
             }
+        }
+    }
+
+    /// TM `tm`'s next buffer by the policy (under `claimed`, the most unclaimed rays).
+    fn pick(&self, mem: &StreamMemory, tm: usize) -> Option<u32> {
+        if self.policy != SchedulePolicy::Claimed {
+            return mem.pick(self.policy, self.tms[tm].current);
+        }
+        let mut best: Option<(u32, u32)> = None;
+        for (b, &n) in self.serving.iter().enumerate() {
+            let free = mem
+                .len(b)
+                .saturating_sub(n.saturating_mul(self.threads_per_tm));
+            if free > 0 && best.is_none_or(|(_, f)| free > f) {
+                best = Some((b as u32, free));
+            }
+        }
+        // Buffers past the claims table have no claims.
+        for b in self.serving.len()..mem.counts.len() {
+            let free = mem.len(b);
+            if free > 0 && best.is_none_or(|(_, f)| free > f) {
+                best = Some((b as u32, free));
+            }
+        }
+        best.map(|(b, _)| b)
+    }
+
+    /// Ends TM `tm`'s claim; true if it had one.
+    fn unclaim(&mut self, tm: usize) -> bool {
+        match self.claim.get_mut(tm).and_then(Option::take) {
+            Some(b) => {
+                self.serving[b as usize] -= 1;
+                true
+            }
+            None => false,
         }
     }
 
@@ -518,13 +574,19 @@ impl StreamScheduler {
         if let Some(tm) = tm {
             let s = &self.tms[tm];
             if s.waiting > 0 && s.waiting >= s.live && !s.idle {
-                match mem.pick(self.policy, s.current) {
+                // Drained: its claim ends (it may take the same buffer again), and what it
+                // left unclaimed is offered to the idle TMs after it has chosen.
+                let had = self.unclaim(tm);
+                match self.pick(mem, tm) {
                     Some(b) => self.release(tm, b, clock),
                     None => {
                         let s = &mut self.tms[tm];
                         s.idle = true;
                         s.idle_since = clock;
                     }
+                }
+                if had {
+                    self.pushed(mem, clock);
                 }
             }
         }
@@ -552,6 +614,14 @@ impl StreamScheduler {
         if b != NO_BUFFER {
             self.schedules += 1;
             self.switches += u64::from(b != s.current);
+            if self.policy == SchedulePolicy::Claimed {
+                let b = b as usize;
+                if self.serving.len() <= b {
+                    self.serving.resize(b + 1, 0);
+                }
+                self.serving[b] += 1;
+                self.claim[tm] = Some(b as u32);
+            }
         }
         s.current = b;
     }
@@ -738,6 +808,106 @@ mod tests {
         assert_eq!((s.completions, s.schedules, s.waiting), (1, 1, 0));
         // TM 0 idled 140..150, TM 1 not at all.
         assert_eq!(s.idle_tm_cycles, 30 + 10);
+    }
+
+    /// Three idle TMs of 2 threads and one written ray: `fullest` wakes all three onto it,
+    /// `claimed` one; more rays wake one TM per 2 unclaimed.
+    #[test]
+    fn claimed_wakes_one_tm_per_threads_worth_of_unclaimed_rays() {
+        for (policy, woken_by_one) in [(SchedulePolicy::Fullest, 3), (SchedulePolicy::Claimed, 1)] {
+            let mut m = filled(&[0, 0]);
+            let mut s = StreamScheduler::new(3, 2, policy, 0);
+            let g: Vec<u64> = (0..3)
+                .flat_map(|tm| [s.arrive(tm, &m, 7, 0), s.arrive(tm, &m, 7, 0)])
+                .collect();
+            assert!((0..3).all(|tm| s.tms[tm].idle));
+            m.push(1, &[1]).unwrap();
+            s.pushed(&m, 10);
+            let woken = (0..3).filter(|&tm| s.released(tm, g[2 * tm], 10)).count();
+            assert_eq!(woken, woken_by_one, "{policy:?}");
+        }
+        // Claimed: 1 ray claimed by TM 0 (2 threads); 4 more in buffer 1 leave 3 unclaimed:
+        // TM 1 wakes (claims 2), 1 still unclaimed: TM 2 wakes too.
+        let mut m = filled(&[0, 0]);
+        let mut s = StreamScheduler::new(3, 2, SchedulePolicy::Claimed, 0);
+        for tm in 0..3 {
+            s.arrive(tm, &m, 7, 0);
+            s.arrive(tm, &m, 7, 0);
+        }
+        m.push(1, &[1]).unwrap();
+        s.pushed(&m, 1);
+        assert_eq!(s.claim, vec![Some(1), None, None]);
+        for _ in 0..2 {
+            m.push(1, &[2]).unwrap();
+            s.pushed(&m, 2);
+        }
+        // 3 rays, 2 claimed by TM 0: TM 1 takes the 1 unclaimed.
+        assert_eq!(s.claim, vec![Some(1), Some(1), None]);
+        m.push(0, &[3]).unwrap();
+        s.pushed(&m, 3);
+        assert_eq!(s.claim, vec![Some(1), Some(1), Some(0)]);
+        assert_eq!(s.serving, vec![1, 2]);
+    }
+
+    /// A TM that drains ends its claim and the idle TMs are offered what it left; rays only
+    /// in a claimed buffer keep the others idle without ending the frame; the last drain
+    /// ends it.
+    #[test]
+    fn claimed_releases_on_drain_and_still_ends_the_frame() {
+        let mut m = filled(&[0, 0]);
+        let mut s = StreamScheduler::new(2, 1, SchedulePolicy::Claimed, 0);
+        // `live` 3: a thread elsewhere still works (it writes the rays), so the frame goes on.
+        let g0 = s.arrive(0, &m, 3, 0);
+        let g1 = s.arrive(1, &m, 3, 0);
+        m.push(0, &[1]).unwrap();
+        s.pushed(&m, 5);
+        assert!(
+            s.released(0, g0, 5) && !s.released(1, g1, 5),
+            "TM 0 claims the one ray"
+        );
+        assert_eq!(s.claim, vec![Some(0), None]);
+        // TM 0 reads it and writes two rays into buffer 1 before draining: TM 1 wakes for
+        // the first (unclaimed), the second stays unclaimed for TM 0's next choice.
+        assert!(matches!(m.pop(0), Popped::Ray(_)));
+        m.push(1, &[2]).unwrap();
+        s.pushed(&m, 6);
+        assert!(s.released(1, g1, 6));
+        assert_eq!(s.claim, vec![Some(0), Some(1)]);
+        m.push(1, &[3]).unwrap();
+        s.pushed(&m, 7);
+        // TM 0 drains: its claim on 0 ends, buffer 1 has 2 rays, 1 claimed: it takes 1.
+        let g0 = s.arrive(0, &m, 3, 8);
+        assert!(s.released(0, g0, 8));
+        assert_eq!(
+            (s.claim.clone(), s.serving.clone()),
+            (vec![Some(1), Some(1)], vec![0, 2])
+        );
+        // Both read a ray, then drain with the memory empty (the writer has halted): the
+        // frame is done.
+        assert!(matches!(m.pop(1), Popped::Ray(_)));
+        assert!(matches!(m.pop(1), Popped::Ray(_)));
+        let g0 = s.arrive(0, &m, 2, 9);
+        assert!(!s.released(0, g0, u64::MAX), "TM 1 still works");
+        assert_eq!(s.claim, vec![None, Some(1)]);
+        let g1 = s.arrive(1, &m, 2, 10);
+        assert!(s.released(0, g0, 10) && s.released(1, g1, 10));
+        assert_eq!((s.completions, s.serving.clone()), (1, vec![0, 0]));
+    }
+
+    /// A TM whose last thread halts gives up its claim: an idle TM takes the rays.
+    #[test]
+    fn claimed_ends_with_the_tms_last_thread() {
+        let mut m = filled(&[0]);
+        let mut s = StreamScheduler::new(2, 1, SchedulePolicy::Claimed, 0);
+        s.arrive(0, &m, 3, 0);
+        let g1 = s.arrive(1, &m, 3, 0);
+        m.push(0, &[1]).unwrap();
+        s.pushed(&m, 1);
+        assert_eq!(s.claim, vec![Some(0), None]);
+        assert!(!s.released(1, g1, u64::MAX));
+        s.halted(0, &m, 2, 2);
+        assert!(s.released(1, g1, 2), "TM 1 takes the ray TM 0 left");
+        assert_eq!(s.claim, vec![None, Some(0)]);
     }
 
     #[test]

@@ -221,8 +221,10 @@ pub struct StreamMemoryConfig {
     /// How a TM's stream scheduler picks the buffer its threads work on next when
     /// `trax.strsched` has drained the TM: `fullest` (default: the non-empty buffer with
     /// the most rays, lowest id on ties), `sticky` (the current buffer while it has rays,
-    /// else the fullest) or `round-robin` (the next non-empty buffer after the current
-    /// one). The thesis names no rule (§3.2.2), so each is an assumption.
+    /// else the fullest), `round-robin` (the next non-empty buffer after the current
+    /// one) or `claimed` (the most rays not claimed by TMs already serving a buffer, a
+    /// serving TM claiming up to its thread count; a written ray wakes an idle TM only onto
+    /// unclaimed rays). The thesis names no rule (§3.2.2), so each is an assumption.
     #[serde(with = "schedule_policy")]
     pub schedule: crate::streams::SchedulePolicy,
     /// Cycles a scheduling decision takes before the TM's threads resume. Default 1 (an

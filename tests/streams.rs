@@ -285,7 +285,7 @@ fn native_takes_set_and_rejects_bad_fields() {
     let err = text(&out.stderr);
     assert!(
         err.contains(
-            "unknown schedule policy `random` (expected one of fullest, sticky, round-robin)"
+            "unknown schedule policy `random` (expected one of fullest, sticky, round-robin, claimed)"
         ),
         "{err}"
     );

@@ -894,6 +894,50 @@ mod tests {
         assert_eq!((s.completions, s.serving.clone()), (1, vec![0, 0]));
     }
 
+    /// Rays only in a buffer a TM claims: the other TMs stay idle (they would find it
+    /// empty), the frame does not end while the claimant works, the claimant takes the
+    /// buffer again when it drains, and the frame ends when it drains the memory empty.
+    #[test]
+    fn claimed_rays_keep_others_idle_without_deadlock() {
+        let mut m = filled(&[0, 0]);
+        let mut s = StreamScheduler::new(3, 2, SchedulePolicy::Claimed, 0);
+        // TMs 0 and 1 idle; one thread of TM 2 waits, the other works.
+        let g: Vec<u64> = [0, 0, 1, 1, 2]
+            .into_iter()
+            .map(|tm| s.arrive(tm, &m, 6, 0))
+            .collect();
+        assert!(s.tms[0].idle && s.tms[1].idle && !s.tms[2].idle);
+        // It writes a ray: TM 0 alone takes it. It halts: TM 2 drains and idles, as the
+        // one ray is claimed.
+        m.push(1, &[1]).unwrap();
+        s.pushed(&m, 1);
+        assert!(s.released(0, g[0], 1) && s.released(0, g[1], 1));
+        s.halted(2, &m, 5, 1);
+        assert!(s.tms[1].idle && s.tms[2].idle && !s.released(2, g[4], u64::MAX));
+        // TM 0 reads it and writes one more into its own buffer: still within its claim.
+        assert!(matches!(m.pop(1), Popped::Ray(_)));
+        m.push(1, &[2]).unwrap();
+        s.pushed(&m, 2);
+        assert!(s.tms[1].idle && s.tms[2].idle);
+        assert_eq!(s.completions, 0);
+        // TM 0 drains: its claim ends and it takes buffer 1 again; the others stay idle.
+        let g0 = [s.arrive(0, &m, 5, 3), s.arrive(0, &m, 5, 3)];
+        assert!(s.released(0, g0[0], 3));
+        assert_eq!(
+            (s.claim.clone(), s.schedules, s.completions),
+            (vec![Some(1), None, None], 2, 0)
+        );
+        // It reads the ray and drains with the memory empty: every thread resumes, done.
+        assert!(matches!(m.pop(1), Popped::Ray(_)));
+        let g0 = [s.arrive(0, &m, 5, 4), s.arrive(0, &m, 5, 4)];
+        assert!(s.released(0, g0[1], 4));
+        assert!([g[2], g[3], g[4]]
+            .iter()
+            .zip([1, 1, 2])
+            .all(|(&g, tm)| s.released(tm, g, 4) && s.tms[tm].current == NO_BUFFER));
+        assert_eq!((s.completions, s.serving.clone()), (1, vec![0, 0]));
+    }
+
     /// A TM whose last thread halts gives up its claim: an idle TM takes the rays.
     #[test]
     fn claimed_ends_with_the_tms_last_thread() {
@@ -923,5 +967,156 @@ mod tests {
         let mut s2 = s.clone();
         s2.finish(1000);
         assert_eq!(s2.idle_tm_cycles, s.idle_tm_cycles, "nothing left open");
+    }
+
+    /// A thread of [`run_random_frame`]'s model kernel.
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    enum Model {
+        /// Has not written its primary ray yet.
+        Start,
+        /// Reads its TM's current buffer until it is empty.
+        Working,
+        /// In `trax.strsched`, arrived under this generation.
+        Waiting(u64),
+        Halted,
+    }
+
+    /// Runs a frame of a model streaming kernel on `tms` TMs of `threads` threads, in an
+    /// order drawn from `seed`: each thread writes one ray of `depth` bounces to a random
+    /// buffer, then reads its TM's buffer until empty, each ray it reads writing up to two
+    /// rays of one bounce fewer to random buffers, and calls `trax.strsched`; a thread may
+    /// halt instead of writing its primary ray, or after a ray unless it is the chip's last
+    /// live thread (a TM may halt while claiming a buffer with rays). After every step: some thread can run (no deadlock) until every thread
+    /// has halted; under `claimed`, the claims table matches the TMs' claims and no TM
+    /// idles while a buffer has unclaimed rays. Returns the scheduler at the end.
+    fn run_random_frame(
+        policy: SchedulePolicy,
+        tms: u32,
+        threads: u32,
+        seed: u64,
+    ) -> StreamScheduler {
+        let mut rng = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
+        let mut next = |n: u64| {
+            rng ^= rng << 13;
+            rng ^= rng >> 7;
+            rng ^= rng << 17;
+            rng % n
+        };
+        let buffers = 5;
+        let mut m = StreamMemory::with_capacity_rays(10_000, 48, buffers, None);
+        let mut s = StreamScheduler::new(tms, threads, policy, 0);
+        let n = (tms * threads) as usize;
+        let mut th = vec![Model::Start; n];
+        let mut live = n as u32;
+        let mut rays_read = 0u64;
+        for clock in 0.. {
+            let runnable: Vec<usize> = (0..n)
+                .filter(|&t| match th[t] {
+                    Model::Start | Model::Working => true,
+                    Model::Waiting(g) => s.released(t / threads as usize, g, clock),
+                    Model::Halted => false,
+                })
+                .collect();
+            if runnable.is_empty() {
+                assert_eq!(
+                    live, 0,
+                    "{policy:?} seed {seed}: deadlock at step {clock}: {th:?}"
+                );
+                break;
+            }
+            let was_idle: Vec<bool> = s.tms.iter().map(|x| x.idle).collect();
+            let t = runnable[next(runnable.len() as u64) as usize];
+            let tm = t / threads as usize;
+            match th[t] {
+                Model::Start if next(8) == 0 => {
+                    live -= 1;
+                    s.halted(tm, &m, live, clock);
+                    th[t] = Model::Halted;
+                }
+                Model::Start => {
+                    m.push(next(u64::from(buffers)) as usize, &[3]).unwrap();
+                    s.pushed(&m, clock);
+                    th[t] = Model::Working;
+                }
+                Model::Working if s.tms[tm].current == NO_BUFFER => {
+                    th[t] = Model::Waiting(s.arrive(tm, &m, live, clock));
+                }
+                Model::Working => match m.pop(s.tms[tm].current as usize) {
+                    Popped::Ray(r) => {
+                        rays_read += 1;
+                        if r[0] > 0 {
+                            for _ in 0..next(3) {
+                                m.push(next(u64::from(buffers)) as usize, &[r[0] - 1])
+                                    .unwrap();
+                                s.pushed(&m, clock);
+                            }
+                        }
+                        if live > 1 && next(16) == 0 {
+                            live -= 1;
+                            s.halted(tm, &m, live, clock);
+                            th[t] = Model::Halted;
+                        }
+                    }
+                    Popped::Empty => th[t] = Model::Waiting(s.arrive(tm, &m, live, clock)),
+                    Popped::Wait => unreachable!("no spill"),
+                },
+                // Released: a buffer to read, or the frame's stream work is done.
+                Model::Waiting(_) if s.tms[tm].current == NO_BUFFER => {
+                    assert_eq!(
+                        m.in_flight, 0,
+                        "{policy:?} seed {seed}: ended with rays left"
+                    );
+                    live -= 1;
+                    s.halted(tm, &m, live, clock);
+                    th[t] = Model::Halted;
+                }
+                Model::Waiting(_) => th[t] = Model::Working,
+                Model::Halted => unreachable!(),
+            }
+            if policy == SchedulePolicy::Claimed {
+                // A TM woken in this step got rays beyond the other TMs' claims.
+                for (k, x) in s.tms.iter().enumerate() {
+                    if was_idle[k] && !x.idle && x.current != NO_BUFFER {
+                        let b = x.current as usize;
+                        let others = s.serving[b] - 1;
+                        assert!(
+                            m.len(b) > others * threads,
+                            "seed {seed} step {clock}: TM {k} woke onto buffer {b}'s {} rays, \
+                             all claimed by {others} TMs",
+                            m.len(b)
+                        );
+                    }
+                }
+                for b in 0..buffers as usize {
+                    let claims = s.claim.iter().filter(|&&c| c == Some(b as u32)).count();
+                    assert_eq!(s.serving.get(b).copied().unwrap_or(0) as usize, claims);
+                    let unclaimed = m.len(b).saturating_sub(claims as u32 * threads);
+                    assert!(
+                        unclaimed == 0 || !s.tms.iter().any(|x| x.idle),
+                        "seed {seed} step {clock}: a TM idles while buffer {b} has {unclaimed} unclaimed rays"
+                    );
+                }
+            }
+        }
+        assert_eq!((m.in_flight, m.reads), (0, rays_read));
+        assert_eq!(m.reads, m.writes, "{policy:?} seed {seed}");
+        assert!(
+            s.claim.iter().all(Option::is_none),
+            "{policy:?} seed {seed}: claims left"
+        );
+        s
+    }
+
+    /// Random frames under every policy: no deadlock, every ray read, the claims consistent
+    /// and never hiding rays from an idle TM.
+    #[test]
+    fn random_frames_finish_under_every_policy() {
+        for (policy, _) in SchedulePolicy::ALL {
+            for seed in 0..200 {
+                let (tms, threads) = (1 + seed as u32 % 4, 1 + (seed as u32 / 4) % 3);
+                let s = run_random_frame(policy, tms, threads, seed);
+                assert_eq!(s.waiting, 0);
+            }
+        }
     }
 }

@@ -19,14 +19,11 @@
 mod common;
 
 use std::path::Path;
-use std::time::Instant;
-
-use trax::pipeline::{prepare, Prepared, Request};
+use trax::pipeline::{prepare, Request};
 use trax_emulator::memsys::DramModel;
 use trax_emulator::timing::{ChipConfig, TimingStats};
-use trax_emulator::{run, Limits, Mode};
 
-use common::{env_u64, process_cpu_seconds, selected};
+use common::{env_u64, selected, simulate};
 
 /// Original simtrax, one simulation thread, raycast on the Cornell box, 4 TMs x 32 threads,
 /// USIMM GDDR5 (anchors.md): 1.09 M instructions per host second. (Its instruction counts
@@ -36,34 +33,6 @@ const SIMTRAX_MIPS: f64 = 1.09;
 const TARGET_PER_CORE: f64 = 20e6;
 /// Target: speedup with 2 host threads.
 const TARGET_SCALING: f64 = 1.8;
-
-/// One measured run: statistics, host wall seconds and CPU seconds (if known).
-fn simulate(
-    prepared: &Prepared,
-    chip: &ChipConfig,
-    host_threads: usize,
-    max_cycles: u64,
-    stats_interval: Option<u64>,
-) -> (TimingStats, f64, Option<f64>) {
-    let mut req = prepared.run_request(chip, Mode::Timing);
-    req.host_threads = Some(host_threads);
-    req.stats_interval = stats_interval;
-    req.limits = Limits {
-        max_cycles: Some(max_cycles),
-        ..Limits::default()
-    };
-    let cpu0 = process_cpu_seconds();
-    let t = Instant::now();
-    let r = run(req, &mut std::io::sink()).expect("timing run starts");
-    let secs = t.elapsed().as_secs_f64();
-    let cpu = cpu0.zip(process_cpu_seconds()).map(|(a, b)| b - a);
-    let stats = r.timing.clone().expect("timing statistics");
-    if !r.finished() {
-        println!("{}", stats.summary());
-        panic!("path tracer did not finish: {:?}", r.failure);
-    }
-    (stats, secs, cpu)
-}
 
 fn main() {
     if !selected("timing_pathtracer") {
@@ -105,7 +74,14 @@ fn main() {
     for _ in 0..repeat {
         let mut secs = Vec::new();
         for (b, &host_threads) in best.iter_mut().zip(&counts) {
-            let run = simulate(&prepared, &chip, host_threads, max_cycles, stats_interval);
+            let run = simulate(
+                "path tracer",
+                &prepared,
+                &chip,
+                host_threads,
+                max_cycles,
+                stats_interval,
+            );
             secs.push(run.1);
             if b.as_ref().is_none_or(|b| run.1 < b.1) {
                 *b = Some(run);

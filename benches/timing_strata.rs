@@ -17,43 +17,15 @@
 mod common;
 
 use std::path::Path;
-use std::time::Instant;
 
 use trax::pipeline::{prepare, Prepared, Request};
 use trax_emulator::timing::{ChipConfig, TimingStats};
-use trax_emulator::{run, Limits, Mode};
 
-use common::{env_u64, process_cpu_seconds, selected};
+use common::{env_u64, selected, simulate};
 
 /// Target: the streaming kernel's thread-instructions per host second over the plain
 /// path tracer's (issue 14).
 const TARGET_RATIO: f64 = 0.8;
-
-/// One measured run: statistics, host wall seconds and CPU seconds (if known).
-fn simulate(
-    name: &str,
-    prepared: &Prepared,
-    chip: &ChipConfig,
-    max_cycles: u64,
-) -> (TimingStats, f64, Option<f64>) {
-    let mut req = prepared.run_request(chip, Mode::Timing);
-    req.host_threads = Some(1);
-    req.limits = Limits {
-        max_cycles: Some(max_cycles),
-        ..Limits::default()
-    };
-    let cpu0 = process_cpu_seconds();
-    let t = Instant::now();
-    let r = run(req, &mut std::io::sink()).expect("timing run starts");
-    let secs = t.elapsed().as_secs_f64();
-    let cpu = cpu0.zip(process_cpu_seconds()).map(|(a, b)| b - a);
-    let stats = r.timing.clone().expect("timing statistics");
-    if !r.finished() {
-        println!("{}", stats.summary());
-        panic!("{name} did not finish: {:?}", r.failure);
-    }
-    (stats, secs, cpu)
-}
 
 fn main() {
     if !selected("timing_strata") {
@@ -93,7 +65,7 @@ fn main() {
     let mut best: Vec<Option<(TimingStats, f64, Option<f64>)>> = vec![None; kernels.len()];
     for _ in 0..repeat {
         for ((b, p), name) in best.iter_mut().zip(&prepared).zip(kernels) {
-            let run = simulate(name, p, &chip, max_cycles);
+            let run = simulate(name, p, &chip, 1, max_cycles, None);
             if b.as_ref().is_none_or(|b| run.1 < b.1) {
                 *b = Some(run);
             }

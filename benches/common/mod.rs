@@ -1,5 +1,42 @@
 //! Helpers shared by the timing benches (`timing_pathtracer`, `timing_strata`).
 
+use std::time::Instant;
+
+use trax::pipeline::Prepared;
+use trax_emulator::timing::{ChipConfig, TimingStats};
+use trax_emulator::{run, Limits, Mode};
+
+/// One measured timing run of `prepared` (`name` in the failure message) on `host_threads`
+/// host threads, capped at `max_cycles`: its statistics, host wall seconds and CPU seconds
+/// (if known). Panics, after printing the summary, if the run did not finish.
+pub fn simulate(
+    name: &str,
+    prepared: &Prepared,
+    chip: &ChipConfig,
+    host_threads: usize,
+    max_cycles: u64,
+    stats_interval: Option<u64>,
+) -> (TimingStats, f64, Option<f64>) {
+    let mut req = prepared.run_request(chip, Mode::Timing);
+    req.host_threads = Some(host_threads);
+    req.stats_interval = stats_interval;
+    req.limits = Limits {
+        max_cycles: Some(max_cycles),
+        ..Limits::default()
+    };
+    let cpu0 = process_cpu_seconds();
+    let t = Instant::now();
+    let r = run(req, &mut std::io::sink()).expect("timing run starts");
+    let secs = t.elapsed().as_secs_f64();
+    let cpu = cpu0.zip(process_cpu_seconds()).map(|(a, b)| b - a);
+    let stats = r.timing.clone().expect("timing statistics");
+    if !r.finished() {
+        println!("{}", stats.summary());
+        panic!("{name} did not finish: {:?}", r.failure);
+    }
+    (stats, secs, cpu)
+}
+
 /// `name` from the environment as a number, or `default` when unset.
 pub fn env_u64(name: &str, default: u64) -> u64 {
     match std::env::var(name) {

@@ -148,6 +148,8 @@ pub struct Prepared {
     pub image: SceneImage,
     /// Warnings from loading the scene (to show the user).
     pub warnings: Vec<String>,
+    /// The files the scene was loaded from (and looked for): `Scene::sources`.
+    pub scene_sources: Vec<trax_assembler::scene::Source>,
 }
 
 /// Why a program could not be prepared; the message names the file or flag at fault.
@@ -412,6 +414,7 @@ pub fn lay_out(
         elf,
         image,
         warnings: scene.warnings.clone(),
+        scene_sources: scene.sources.clone(),
     })
 }
 

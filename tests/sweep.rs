@@ -795,46 +795,200 @@ fn the_example_experiments_are_valid_sweeps() {
     assert!(n > 0);
 }
 
-#[test]
-fn a_changed_kernel_is_reported_and_rerun_on_request() {
-    let dir = scratch("stale");
-    let k = dir.join("gradient.rs");
-    let src = std::fs::read_to_string(root().join("examples/gradient.rs")).unwrap();
-    std::fs::write(&k, &src).unwrap();
-    let f = sweep_file(
-        &dir,
-        "kernel = \"gradient.rs\"\nwidth = 8\nheight = 8\nmode = \"functional\"\n[axes]\ntms = [1, 2]\n",
-    );
-    let out_dir = dir.join("results");
-    let args = [
+/// How often each point finished, by `events.log`.
+fn done_counts(out_dir: &Path) -> BTreeMap<String, usize> {
+    let log = std::fs::read_to_string(out_dir.join("events.log")).unwrap_or_default();
+    let mut done: BTreeMap<String, usize> = BTreeMap::new();
+    for l in log.lines() {
+        let w: Vec<&str> = l.split_whitespace().collect();
+        if w.get(1) == Some(&"done") {
+            *done.entry(w[2].to_string()).or_default() += 1;
+        }
+    }
+    done
+}
+
+/// Runs a sweep file in `dir` (results in `dir/results`) and returns its stderr; it must
+/// succeed.
+fn sweep_ok(dir: &Path, f: &Path) -> String {
+    let out = trax(&[
         "sweep",
         f.to_str().unwrap(),
         "-o",
-        out_dir.to_str().unwrap(),
-    ];
-    assert!(trax(&args).status.success());
-    let first = finished(&out_dir);
-    // Edit the kernel: the finished points ran the old build.
-    assert!(src.contains("0.25"));
-    std::fs::write(&k, src.replace("0.25", "0.75")).unwrap();
-    let out = trax(&args);
+        dir.join("results").to_str().unwrap(),
+        "-j",
+        "1",
+    ]);
     let err = text(&out.stderr);
     assert!(out.status.success(), "{err}");
-    assert!(
-        err.contains("warning: 2 finished point(s) ran a different build"),
-        "{err}"
+    err
+}
+
+/// `trax sweep status` of `dir/results`: its stdout and whether it said every point is
+/// done (exit 0).
+fn status(dir: &Path) -> (String, bool) {
+    let out = trax(&["sweep", "status", dir.join("results").to_str().unwrap()]);
+    assert!(!text(&out.stderr).contains("panicked"), "{}", text(&out.stderr));
+    (text(&out.stdout), out.status.success())
+}
+
+/// Edits `file` (replacing `from` by `to`), checks that `trax sweep status` reports the
+/// sweep's point stale naming `why`, and that the sweep runs it again, saying so.
+fn edit_and_see_stale(dir: &Path, f: &Path, file: &Path, from: &str, to: &str, why: &str) {
+    let old = std::fs::read_to_string(file).unwrap();
+    assert!(old.contains(from), "{} has no {from:?}", file.display());
+    std::fs::write(file, old.replacen(from, to, 1)).unwrap();
+    stale_then_rerun(dir, f, why);
+}
+
+/// `trax sweep status` reports the sweep's point stale naming `why`; the sweep runs it
+/// again (saying why) and then it is done.
+fn stale_then_rerun(dir: &Path, f: &Path, why: &str) {
+    let before = done_counts(&dir.join("results"));
+    let (st, all_done) = status(dir);
+    assert!(!all_done, "status: {st}");
+    assert!(st.contains("1 stale") && st.contains(why), "status should name {why:?}:\n{st}");
+    let err = sweep_ok(dir, f);
+    assert!(err.contains("inputs changed since they ran") && err.contains(why), "{err}");
+    let after = done_counts(&dir.join("results"));
+    assert_eq!(after.values().sum::<usize>(), before.values().sum::<usize>() + 1, "{err}");
+    let (st, all_done) = status(dir);
+    assert!(all_done && st.contains("1 done"), "{st}");
+    assert!(sweep_ok(dir, f).contains("1 of 1 points already done"));
+}
+
+/// The reproduction: a point names a chip TOML; edit it and run the sweep again.
+/// It used to say "1 of 1 points already done" and keep the old cycles.
+#[test]
+fn an_edited_chip_config_makes_the_result_stale() {
+    let dir = scratch("stale-config");
+    let k = gradient();
+    std::fs::write(dir.join("mychip.toml"), "preset = \"tiny\"\ntms = 1\n").unwrap();
+    let f = sweep_file(
+        &dir,
+        &format!("kernel = {k:?}\nconfig = \"mychip.toml\"\nwidth = 16\nheight = 16\n"),
     );
-    assert_eq!(finished(&out_dir), first, "kept unless asked");
-    let mut rerun = args.to_vec();
-    rerun.push("--rerun-stale");
-    let out = trax(&rerun);
+    sweep_ok(&dir, &f);
+    let (_, rows) = read_csv(&dir.join("results/results.csv"));
+    let cycles_1tm = rows[0]["cycles"].clone();
+    assert!(sweep_ok(&dir, &f).contains("1 of 1 points already done"));
+    edit_and_see_stale(
+        &dir,
+        &f,
+        &dir.join("mychip.toml"),
+        "tms = 1",
+        "tms = 2",
+        "mychip.toml changed (chip config: tms 1 -> 2",
+    );
+    let (_, rows) = read_csv(&dir.join("results/results.csv"));
+    assert_eq!(rows[0]["status"], "ok");
+    assert_ne!(rows[0]["cycles"], cycles_1tm, "the new chip's cycles");
+    // A comment changes the file, not the chip: still stale (by content), said so.
+    edit_and_see_stale(
+        &dir,
+        &f,
+        &dir.join("mychip.toml"),
+        "tms = 2",
+        "tms = 2 # two",
+        "the chip config it makes is the same",
+    );
+}
+
+/// A Rust kernel's `mod` file and a C kernel's header are inputs (through the executable
+/// the sweep builds: its SHA-256 covers every file the build read).
+#[test]
+fn an_edited_mod_file_or_header_makes_the_result_stale() {
+    let dir = scratch("stale-kernel");
+    std::fs::write(
+        dir.join("k.rs"),
+        "mod helper;\nfn trax_main() {\n    if trax::global_id() == 0 {\n        println!(\"{}\", helper::value());\n    }\n}\n",
+    )
+    .unwrap();
+    std::fs::write(dir.join("helper.rs"), "pub fn value() -> u32 {\n    1\n}\n").unwrap();
+    std::fs::write(
+        dir.join("c.c"),
+        "#include <trax.h>\n#include \"value.h\"\nvoid trax_main(void) {\n    if (trax_global_id() == 0) {\n        trax_print_uint(VALUE);\n        trax_print_str(\"\\n\");\n    }\n}\n",
+    )
+    .unwrap();
+    std::fs::write(dir.join("value.h"), "#define VALUE 10\n").unwrap();
+    let f = sweep_file(
+        &dir,
+        "mode = \"functional\"\nwidth = 4\nheight = 4\n[axes]\nkernel = [\"k.rs\"]\n",
+    );
+    sweep_ok(&dir, &f);
+    edit_and_see_stale(&dir, &f, &dir.join("helper.rs"), "1", "2", "k.rs builds differently now");
+    let out: Vec<String> = std::fs::read_dir(dir.join("results/output"))
+        .unwrap()
+        .map(|e| std::fs::read_to_string(e.unwrap().path()).unwrap())
+        .collect();
+    assert_eq!(out, ["2\n"], "the point ran the edited mod file");
+    let f = sweep_file(
+        &dir,
+        "mode = \"functional\"\nwidth = 4\nheight = 4\n[axes]\nkernel = [\"c.c\"]\n",
+    );
+    let _ = std::fs::remove_dir_all(dir.join("results"));
+    sweep_ok(&dir, &f);
+    edit_and_see_stale(&dir, &f, &dir.join("value.h"), "10", "11", "c.c builds differently now");
+}
+
+/// Scene files are inputs: the OBJ, its MTL library, the `.view`/`.light` beside it
+/// (also one that appears later), and the file inside `box:`/`subdivide:` wrappers.
+#[test]
+fn edited_scene_files_make_the_result_stale() {
+    let dir = scratch("stale-scene");
+    let k = gradient();
+    std::fs::write(
+        dir.join("tri.obj"),
+        "mtllib tri.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl red\nf 1 2 3\n",
+    )
+    .unwrap();
+    std::fs::write(dir.join("tri.mtl"), "newmtl red\nKd 1 0 0\n").unwrap();
+    let body = |scene: &str| {
+        format!("kernel = {k:?}\nmode = \"functional\"\nwidth = 4\nheight = 4\nscene = {scene:?}\n")
+    };
+    let f = sweep_file(&dir, &body("tri.obj"));
+    sweep_ok(&dir, &f);
+    assert!(sweep_ok(&dir, &f).contains("1 of 1 points already done"));
+    let obj = dir.join("tri.obj");
+    edit_and_see_stale(&dir, &f, &obj, "v 0 1 0", "v 0 2 0", "tri.obj changed");
+    edit_and_see_stale(&dir, &f, &dir.join("tri.mtl"), "Kd 1 0 0", "Kd 0 1 0", "tri.mtl changed");
+    // No .view beside it: the camera frames the scene. One appearing changes that.
+    let view = "0.2 0.2 3\n0 0 -1\n0 1 0\n0\n-0.5 0.5 -0.5 0.5\n1\n";
+    std::fs::write(dir.join("tri.view"), view).unwrap();
+    stale_then_rerun(&dir, &f, "tri.view exists now");
+    edit_and_see_stale(&dir, &f, &dir.join("tri.view"), "0.2 0.2 3", "0.3 0.2 3", "tri.view changed");
+    std::fs::write(dir.join("tri.light"), "0 0 2\n").unwrap();
+    stale_then_rerun(&dir, &f, "tri.light exists now");
+    edit_and_see_stale(&dir, &f, &dir.join("tri.light"), "0 0 2", "0 0 3", "tri.light changed");
+    // The file inside wrappers.
+    let f = sweep_file(&dir, &body("box:subdivide:1:tri.obj"));
+    let _ = std::fs::remove_dir_all(dir.join("results"));
+    sweep_ok(&dir, &f);
+    edit_and_see_stale(&dir, &f, &obj, "v 1 0 0", "v 1.5 0 0", "tri.obj changed");
+}
+
+/// The trax executable is an input: a point run by another build of trax is stale.
+#[test]
+fn another_trax_makes_the_result_stale() {
+    let dir = scratch("stale-trax");
+    let k = gradient();
+    let f = sweep_file(
+        &dir,
+        &format!("kernel = {k:?}\nmode = \"functional\"\nwidth = 4\nheight = 4\n"),
+    );
+    // "Another build": the same program with a byte appended (an ELF runs as before).
+    let other = dir.join("trax-other");
+    let mut bytes = std::fs::read(env!("CARGO_BIN_EXE_trax")).unwrap();
+    bytes.push(0);
+    std::fs::write(&other, bytes).unwrap();
+    std::fs::set_permissions(&other, std::os::unix::fs::PermissionsExt::from_mode(0o755)).unwrap();
+    let out = Command::new(&other)
+        .args(["sweep", f.to_str().unwrap(), "-o", dir.join("results").to_str().unwrap()])
+        .stdin(Stdio::null())
+        .output()
+        .unwrap();
     assert!(out.status.success(), "{}", text(&out.stderr));
-    let second = finished(&out_dir);
-    for (id, json) in &second {
-        assert_ne!(&first[id], json);
-        let v: serde_json::Value = serde_json::from_str(json).unwrap();
-        assert_eq!(v["kernel"]["source_sha256"], sha256sum(&k));
-    }
+    stale_then_rerun(&dir, &f, "trax changed");
 }
 
 #[test]

@@ -804,10 +804,11 @@ fn load_nested(spec: &str, opts: &LoadOptions, depth: usize) -> Result<Scene, Sc
         }
     };
     let file = Path::new(spec);
-    let view_path = opts
-        .view
-        .clone()
-        .or_else(|| is_file.then(|| companion(file, "view", &mut scene.sources)).flatten());
+    let view_path = opts.view.clone().or_else(|| {
+        is_file
+            .then(|| companion(file, "view", &mut scene.sources))
+            .flatten()
+    });
     let view_source = match view_path {
         Some(p) => {
             let text = read_source(&p, &mut scene.sources).map_err(|source| SceneError::Io {
@@ -827,10 +828,11 @@ fn load_nested(spec: &str, opts: &LoadOptions, depth: usize) -> Result<Scene, Sc
         }
         None => ViewSource::BuiltIn,
     };
-    let light_path = opts
-        .light
-        .clone()
-        .or_else(|| is_file.then(|| companion(file, "light", &mut scene.sources)).flatten());
+    let light_path = opts.light.clone().or_else(|| {
+        is_file
+            .then(|| companion(file, "light", &mut scene.sources))
+            .flatten()
+    });
     if let Some(p) = light_path {
         let text = read_source(&p, &mut scene.sources).map_err(|source| SceneError::Io {
             path: p.clone(),

@@ -313,7 +313,10 @@ fn sweep(a: &SweepArgs) -> Result<ExitCode, String> {
             eprintln!("{l}");
         }
         if stale > stale_lines.len() as u64 {
-            eprintln!("  ... and {} more (`trax sweep status` lists them)", stale - stale_lines.len() as u64);
+            eprintln!(
+                "  ... and {} more (`trax sweep status` lists them)",
+                stale - stale_lines.len() as u64
+            );
         }
     }
     if a.slurm {
@@ -424,7 +427,10 @@ fn varying(plan: &Plan) -> Vec<String> {
             break;
         }
     }
-    varies.into_iter().map(|c| plan.columns[c].clone()).collect()
+    varies
+        .into_iter()
+        .map(|c| plan.columns[c].clone())
+        .collect()
 }
 
 fn label(p: &PlanPoint, cols: &[String]) -> String {
@@ -485,13 +491,15 @@ fn run_local(
             if e.is_empty() {
                 return None;
             }
-            if let Some(k) = e
-                .iter()
-                .position(|(i, _)| runner::Claim::holder(&runner.dir, &plan.grid.point(*i).id).is_none())
-            {
+            if let Some(k) = e.iter().position(|(i, _)| {
+                runner::Claim::holder(&runner.dir, &plan.grid.point(*i).id).is_none()
+            }) {
                 return Some(e.remove(k).0);
             }
-            bar.set_message(format!("waiting for {} point(s) running elsewhere", e.len()));
+            bar.set_message(format!(
+                "waiting for {} point(s) running elsewhere",
+                e.len()
+            ));
             drop(e);
             std::thread::sleep(Duration::from_millis(500));
         }

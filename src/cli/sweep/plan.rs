@@ -430,13 +430,19 @@ pub fn build_kernels(plan: &mut Plan, exe: &Path, build_dir: &Path) -> Result<()
 }
 
 /// Builds one kernel ([`build_kernels`]); `quiet`: without saying so on stderr.
-pub fn build_kernel(k: &mut Kernel, exe: &Path, build_dir: &Path, quiet: bool) -> Result<(), String> {
+pub fn build_kernel(
+    k: &mut Kernel,
+    exe: &Path,
+    build_dir: &Path,
+    quiet: bool,
+) -> Result<(), String> {
     std::fs::create_dir_all(build_dir).map_err(|e| format!("{}: {e}", build_dir.display()))?;
     {
         let source = Path::new(&k.source);
-        let stem = source
-            .file_stem()
-            .map_or_else(|| "kernel".into(), |s| spec::safe_name(&s.to_string_lossy()));
+        let stem = source.file_stem().map_or_else(
+            || "kernel".into(),
+            |s| spec::safe_name(&s.to_string_lossy()),
+        );
         let tmp = build_dir.join(format!(".{stem}.{}.tmp", std::process::id()));
         let src = std::fs::read(source).map_err(|e| format!("{}: {e}", k.source))?;
         if KernelFile::of(source).is_source() {
@@ -462,9 +468,9 @@ pub fn build_kernel(k: &mut Kernel, exe: &Path, build_dir: &Path, quiet: bool) -
             }
         } else {
             // A linked executable: checked (a clear error now rather than in every point).
-            if let Err(e) = trax_runtime::exe::Executable::parse(&k.source, &src) {
+            if let Err(e) = trax_runtime::exe::Executable::parse("it", &src) {
                 return Err(format!(
-                    "{}: not a kernel source (.rs, .c, .cpp, .cc, .cxx) nor a TRaX executable: {e}",
+                    "{}: not a kernel source (.rs, .c, .cpp, .cc, .cxx) nor a TRaX executable ({e})",
                     k.source
                 ));
             }
@@ -473,7 +479,11 @@ pub fn build_kernel(k: &mut Kernel, exe: &Path, build_dir: &Path, quiet: bool) -
         let bin = std::fs::read(&tmp).map_err(|e| format!("{}: {e}", tmp.display()))?;
         k.source_sha256 = sha256_hex(&src);
         k.elf_sha256 = sha256_hex(&bin);
-        let elf = build_dir.join(format!("{stem}-O{}-{}.elf", k.opt_level, &k.elf_sha256[..16]));
+        let elf = build_dir.join(format!(
+            "{stem}-O{}-{}.elf",
+            k.opt_level,
+            &k.elf_sha256[..16]
+        ));
         std::fs::rename(&tmp, &elf).map_err(|e| format!("{}: {e}", elf.display()))?;
         k.elf = elf.display().to_string();
     }

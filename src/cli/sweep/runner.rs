@@ -535,7 +535,10 @@ impl Runner {
         };
         // A signal the sweep's user sent to the whole process group (Ctrl-C) reaches the
         // point and the sweep at once: give the sweep's handler a moment to see it.
-        if matches!(status.signal(), Some(libc::SIGINT | libc::SIGTERM | libc::SIGHUP)) {
+        if matches!(
+            status.signal(),
+            Some(libc::SIGINT | libc::SIGTERM | libc::SIGHUP)
+        ) {
             std::thread::sleep(Duration::from_millis(200));
         }
         // Why it died, if it did; `None` = it ran to its end (ok, or failed on its own).
@@ -563,10 +566,7 @@ impl Runner {
                 Some(cause) => death = Some(cause),
                 None => {
                     cleanup();
-                    log_event(
-                        &self.dir,
-                        &format!("interrupted {} ({status_text})", p.id),
-                    );
+                    log_event(&self.dir, &format!("interrupted {} ({status_text})", p.id));
                     return Ok((Outcome::Interrupted(status_text), wall));
                 }
             }
@@ -741,12 +741,13 @@ impl FileCheck {
     pub fn check(&mut self, files: &[Value]) -> Result<(), String> {
         for f in files {
             let key = f.to_string();
-            let r = self.seen.entry(key).or_insert_with(|| {
-                match trax::stats::source_from_json(f) {
-                    Some(s) => s.holds(),
-                    None => Err(format!("unreadable input record {f}")),
-                }
-            });
+            let r =
+                self.seen
+                    .entry(key)
+                    .or_insert_with(|| match trax::stats::source_from_json(f) {
+                        Some(s) => s.holds(),
+                        None => Err(format!("unreadable input record {f}")),
+                    });
             r.clone()?;
         }
         Ok(())

@@ -344,7 +344,9 @@ pub fn parse_duration(s: &str) -> Result<u64, String> {
 /// `4GiB`, `1.5G`, `65536K`; `B` for bytes); a bare number is MiB (Slurm's default).
 /// At least 1 MiB, at most 1 PiB.
 pub fn parse_memory(s: &str) -> Result<u64, String> {
-    let bad = || format!("{s:?} is not an amount of memory (e.g. \"512M\", \"4G\", \"4GiB\"; a bare number is MiB)");
+    let bad = || {
+        format!("{s:?} is not an amount of memory (e.g. \"512M\", \"4G\", \"4GiB\"; a bare number is MiB)")
+    };
     let t = s.trim();
     let split = t
         .find(|c: char| !(c.is_ascii_digit() || c == '.'))
@@ -352,7 +354,10 @@ pub fn parse_memory(s: &str) -> Result<u64, String> {
     let (num, unit) = t.split_at(split);
     let n: f64 = num.parse().map_err(|_| bad())?;
     let unit = unit.trim().to_ascii_uppercase();
-    let unit = unit.strip_suffix("IB").or_else(|| unit.strip_suffix('B').filter(|u| !u.is_empty())).unwrap_or(&unit);
+    let unit = unit
+        .strip_suffix("IB")
+        .or_else(|| unit.strip_suffix('B').filter(|u| !u.is_empty()))
+        .unwrap_or(&unit);
     let scale = match unit {
         "" | "M" => 1u64 << 20,
         "B" => 1,
@@ -394,20 +399,11 @@ fn parse_limits(src: &Src, item: &Item, kloc: Option<Loc>) -> Result<Limits, Spe
             }
         };
         match k {
-            "time" => {
-                l.time_s = Some(parse_duration(&text).map_err(|m| src.err(vloc, &field, m))?)
-            }
+            "time" => l.time_s = Some(parse_duration(&text).map_err(|m| src.err(vloc, &field, m))?),
             "memory" => {
-                l.memory_bytes =
-                    Some(parse_memory(&text).map_err(|m| src.err(vloc, &field, m))?)
+                l.memory_bytes = Some(parse_memory(&text).map_err(|m| src.err(vloc, &field, m))?)
             }
-            _ => {
-                return Err(src.err(
-                    loc,
-                    &field,
-                    "unknown field (expected time, memory)",
-                ))
-            }
+            _ => return Err(src.err(loc, &field, "unknown field (expected time, memory)")),
         }
     }
     Ok(l)
@@ -1164,7 +1160,10 @@ impl Grid {
             cases: if spec.cases.is_empty() {
                 vec![Vec::new()]
             } else {
-                spec.cases.iter().map(|c| c.iter().map(at).collect()).collect()
+                spec.cases
+                    .iter()
+                    .map(|c| c.iter().map(at).collect())
+                    .collect()
             },
             repetitions: spec.repetitions,
             merged: Vec::new(),

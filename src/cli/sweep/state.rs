@@ -101,9 +101,10 @@ impl<'a> Judge<'a> {
         }
         match self.record(&p.id) {
             None => (
-                State::Pending(Claim::leftover(self.dir, &p.id).map(|o| {
-                    format!("its last runner ({o}) ended without recording a result")
-                })),
+                State::Pending(
+                    Claim::leftover(self.dir, &p.id)
+                        .map(|o| format!("its last runner ({o}) ended without recording a result")),
+                ),
                 None,
             ),
             Some(Err(e)) => (State::Stale(vec![format!("unreadable record: {e}")]), None),
@@ -167,7 +168,11 @@ impl<'a> Judge<'a> {
         }
         let ran: Vec<String> = rec["command"]
             .as_array()
-            .map(|c| c.iter().filter_map(|v| v.as_str().map(str::to_string)).collect())
+            .map(|c| {
+                c.iter()
+                    .filter_map(|v| v.as_str().map(str::to_string))
+                    .collect()
+            })
             .unwrap_or_default();
         let now = p.command(self.plan);
         let ran_args = ran.get(1..ran.len().saturating_sub(4)).unwrap_or(&[]);
@@ -184,9 +189,11 @@ impl<'a> Judge<'a> {
 
 /// ` (field: old -> new, ...)`: how a point's chip config differs now from the recorded.
 fn config_diff(p: &PlanPoint, recorded: &Value) -> String {
-    let Ok(now) = p.chip().map_err(|e| e.to_string()).and_then(|c| {
-        serde_json::to_value(c).map_err(|e| e.to_string())
-    }) else {
+    let Ok(now) = p
+        .chip()
+        .map_err(|e| e.to_string())
+        .and_then(|c| serde_json::to_value(c).map_err(|e| e.to_string()))
+    else {
         return " (its chip config does not load now)".into();
     };
     let mut diffs = Vec::new();
@@ -214,7 +221,12 @@ fn diff_leaves(path: &str, a: &Value, b: &Value, out: &mut Vec<String>) {
                 } else {
                     format!("{path}.{k}")
                 };
-                diff_leaves(&sub, x.get(k).unwrap_or(&Value::Null), y.get(k).unwrap_or(&Value::Null), out);
+                diff_leaves(
+                    &sub,
+                    x.get(k).unwrap_or(&Value::Null),
+                    y.get(k).unwrap_or(&Value::Null),
+                    out,
+                );
             }
         }
         _ if a != b => out.push(format!("{path} {a} -> {b}")),
@@ -313,7 +325,10 @@ pub fn status(dir: &Path, all: bool) -> Result<ExitCode, String> {
             println!("{line}");
         }
         if n > l.len() as u64 {
-            println!("... and {} more (--all lists every one)", n - l.len() as u64);
+            println!(
+                "... and {} more (--all lists every one)",
+                n - l.len() as u64
+            );
         }
     }
     let copy = dir.join("sweep.toml");

@@ -1322,6 +1322,7 @@ fn the_record(out_dir: &Path) -> serde_json::Value {
 
 /// Starts a sweep in the background and waits (bounded) for its point's `trax run`: the
 /// sweep and the point's pid.
+#[allow(clippy::zombie_processes)] // the callers wait for it
 fn start_sweep(args: &[&str]) -> (std::process::Child, u32) {
     let child = Command::new(env!("CARGO_BIN_EXE_trax"))
         .args(args)

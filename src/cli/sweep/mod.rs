@@ -205,14 +205,14 @@ fn clean_stale(dir: &Path) {
     runner::clean_stale_tmp(dir);
 }
 
-/// Whether a point needs no run by a runner that started at `since`: its result is
-/// current, or it failed with current inputs in a run that began after `since` (another
-/// runner tried it meanwhile).
+/// Whether a point needs no run by a runner that started at `since` and holds its claim:
+/// its result is current, or it failed with current inputs in a run that began after
+/// `since` (another runner tried it meanwhile).
 fn settled(judge: &Mutex<Judge>, p: &PlanPoint, since: f64) -> bool {
     let Ok(mut j) = judge.lock() else {
         return false;
     };
-    match j.state(p) {
+    match j.recorded_state(p) {
         (State::Done, _) => true,
         (State::Failed(_), Some(rec)) => rec["started_unix"].as_f64().is_some_and(|t| t >= since),
         _ => false,

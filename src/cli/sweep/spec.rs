@@ -334,7 +334,7 @@ pub fn parse_duration(s: &str) -> Result<u64, String> {
         };
         n * scale
     };
-    if !(secs >= 1.0) || secs > MAX_TIME_S as f64 {
+    if !(1.0..=MAX_TIME_S as f64).contains(&secs) {
         return Err(format!("{s:?} must be from 1 second to a year"));
     }
     Ok(secs.round() as u64)
@@ -367,7 +367,7 @@ pub fn parse_memory(s: &str) -> Result<u64, String> {
         _ => return Err(bad()),
     };
     let bytes = n * scale as f64;
-    if !(bytes >= (1u64 << 20) as f64) || bytes > (1u64 << 50) as f64 {
+    if !((1u64 << 20) as f64..=(1u64 << 50) as f64).contains(&bytes) {
         return Err(format!("{s:?} must be from 1 MiB to 1 PiB"));
     }
     Ok(bytes as u64)

@@ -99,6 +99,11 @@ impl<'a> Judge<'a> {
         if let Some(owner) = Claim::holder(self.dir, &p.id) {
             return (State::Running(owner), None);
         }
+        self.recorded_state(p)
+    }
+
+    /// Where point `p` stands by its record alone, for the holder of its claim.
+    pub fn recorded_state(&mut self, p: &PlanPoint) -> (State, Option<Value>) {
         match self.record(&p.id) {
             None => (
                 State::Pending(

@@ -817,6 +817,18 @@ fn done_counts(out_dir: &Path) -> BTreeMap<String, usize> {
     done
 }
 
+/// `kernel` built into `dir` (an executable: a sweep of it builds nothing, so the tests
+/// that run a sweep many times take seconds).
+fn prebuilt(dir: &Path, kernel: &str) -> String {
+    let elf = dir.join(format!(
+        "{}.elf",
+        Path::new(kernel).file_stem().unwrap().to_string_lossy()
+    ));
+    let out = trax(&["build", kernel, "-o", elf.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    elf.display().to_string()
+}
+
 /// Runs a sweep file in `dir` (results in `dir/results`) and returns its stderr; it must
 /// succeed.
 fn sweep_ok(dir: &Path, f: &Path) -> String {
@@ -885,7 +897,7 @@ fn stale_then_rerun(dir: &Path, f: &Path, why: &str) {
 #[test]
 fn an_edited_chip_config_makes_the_result_stale() {
     let dir = scratch("stale-config");
-    let k = gradient();
+    let k = prebuilt(&dir, &gradient());
     std::fs::write(dir.join("mychip.toml"), "preset = \"tiny\"\ntms = 1\n").unwrap();
     let f = sweep_file(
         &dir,
@@ -973,7 +985,7 @@ fn an_edited_mod_file_or_header_makes_the_result_stale() {
 #[test]
 fn edited_scene_files_make_the_result_stale() {
     let dir = scratch("stale-scene");
-    let k = gradient();
+    let k = prebuilt(&dir, &gradient());
     std::fs::write(
         dir.join("tri.obj"),
         "mtllib tri.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl red\nf 1 2 3\n",
@@ -1029,7 +1041,7 @@ fn edited_scene_files_make_the_result_stale() {
 #[test]
 fn another_trax_makes_the_result_stale() {
     let dir = scratch("stale-trax");
-    let k = gradient();
+    let k = prebuilt(&dir, &gradient());
     let f = sweep_file(
         &dir,
         &format!("kernel = {k:?}\nmode = \"functional\"\nwidth = 4\nheight = 4\n"),
@@ -1349,13 +1361,10 @@ fn start_sweep(args: &[&str]) -> (std::process::Child, u32) {
 #[test]
 fn a_point_that_dies_is_a_failure_with_its_cause() {
     let dir = scratch("deaths");
-    let k = forever(&dir);
+    let k = prebuilt(&dir, forever(&dir).to_str().unwrap());
     let res = dir.join("results");
     let body = |extra: &str| {
-        format!(
-            "kernel = {:?}\nmode = \"functional\"\nwidth = 4\nheight = 4\n{extra}",
-            k.display().to_string()
-        )
+        format!("kernel = {k:?}\nmode = \"functional\"\nwidth = 4\nheight = 4\n{extra}")
     };
     let run = |f: &Path, extra: &[&str]| {
         let mut args = vec!["sweep", f.to_str().unwrap(), "-o", res.to_str().unwrap()];

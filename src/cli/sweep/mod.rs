@@ -15,12 +15,12 @@
 //! Slurm, `slurm/`.
 
 pub mod metrics;
-pub mod plan;
 pub mod runner;
 pub mod slurm;
-pub mod spec;
 pub mod state;
 pub mod table;
+
+pub use trax::sweep::{plan, spec};
 
 use std::collections::{BTreeSet, VecDeque};
 use std::fs::File;

@@ -7,9 +7,9 @@ use std::collections::{BTreeMap, HashMap, HashSet};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
+use crate::pipeline::{chip_config, KernelFile};
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
-use trax::pipeline::{chip_config, KernelFile};
 use trax_emulator::timing::ChipConfig;
 
 use super::spec::{self, Grid, Limits, PVal, PlotSpec, Point, SpecError, SweepSpec, KNOBS};

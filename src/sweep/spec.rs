@@ -1197,7 +1197,7 @@ impl Grid {
     }
 
     /// Points of the sweep.
-    pub fn len(&self) -> u64 {
+    pub fn point_count(&self) -> u64 {
         self.combinations() - self.merged.len() as u64
     }
 

@@ -255,7 +255,7 @@ fn sweep(a: &SweepArgs) -> Result<ExitCode, String> {
             use std::io::Write;
             writeln!(out, "{} {}", p.id, plan::describe(&p)).map_err(|e| e.to_string())?;
         }
-        eprintln!("{} points", plan.grid.len());
+        eprintln!("{} points", plan.grid.point_count());
         return Ok(ExitCode::SUCCESS);
     }
     std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
@@ -303,7 +303,7 @@ fn sweep(a: &SweepArgs) -> Result<ExitCode, String> {
             pending.push(p.index);
         }
     }
-    let total = plan.grid.len();
+    let total = plan.grid.point_count();
     let done = total - pending.len() as u64;
     if stale > 0 {
         eprintln!(

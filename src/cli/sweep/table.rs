@@ -84,7 +84,7 @@ pub fn collect_with(dir: &Path, plan: &Plan, judge: &mut Judge) -> Result<Collec
     let werr = |e: csv::Error| format!("{}: {e}", tmp.display());
     w.write_record(&header).map_err(werr)?;
     let mut c = Collected {
-        points: plan.grid.len(),
+        points: plan.grid.point_count(),
         ..Collected::default()
     };
     let mut ids: std::collections::HashSet<u64> = std::collections::HashSet::new();

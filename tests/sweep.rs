@@ -1030,6 +1030,16 @@ fn edited_scene_files_make_the_result_stale() {
         "0 0 3",
         "tri.light changed",
     );
+    // The points parsed the scene once per version of its files (trax run --scene-cache).
+    let cached: Vec<PathBuf> = std::fs::read_dir(dir.join("results/scenes"))
+        .unwrap()
+        .flat_map(|d| std::fs::read_dir(d.unwrap().path()).unwrap())
+        .map(|e| e.unwrap().path())
+        .collect();
+    assert!(
+        cached.len() == 1 && cached[0].extension().unwrap() == "scene",
+        "{cached:?}"
+    );
     // The file inside wrappers.
     let f = sweep_file(&dir, &body("box:subdivide:1:tri.obj"));
     let _ = std::fs::remove_dir_all(dir.join("results"));

@@ -3,6 +3,7 @@
 //! procedurally. Every loader ends in [`Scene::validate`], so a [`Scene`] handed to the BVH
 //! builder or the memory image has finite vertices and at least one triangle.
 
+pub mod cache;
 mod compose;
 mod cornell;
 mod obj;

@@ -481,6 +481,10 @@ impl Runner {
             stats_path.display().to_string(),
             "--host-threads".into(),
             self.host_threads.to_string(),
+            "--scene-cache".into(),
+            scene_cache(&self.dir, &self.exe_sha256)
+                .display()
+                .to_string(),
         ]);
         let started = unix_now();
         let clock = Instant::now();
@@ -697,6 +701,14 @@ impl Runner {
         log_event(&self.dir, &format!("done {} {word}", p.id));
         Ok((outcome, wall))
     }
+}
+
+/// The scene cache of the points a trax executable runs in a results directory:
+/// `DIR/scenes/<its SHA-256 prefix>` (points that share a scene parse it once; the cache
+/// file of a scene is checked against the scene's files before it is used).
+pub fn scene_cache(dir: &Path, exe_sha256: &str) -> PathBuf {
+    dir.join("scenes")
+        .join(&exe_sha256[..exe_sha256.len().min(16)])
 }
 
 /// The files a point names (its chip config file, scene file and `.view`/`.light`), with

@@ -179,9 +179,11 @@ impl<'a> Judge<'a> {
                     .collect()
             })
             .unwrap_or_default();
+        // The command after the executable: the point's own arguments, then the
+        // runner's (statistics file, host threads, scene cache).
         let now = p.command(self.plan);
-        let ran_args = ran.get(1..ran.len().saturating_sub(4)).unwrap_or(&[]);
-        if ran_args != now.as_slice() && why.is_empty() {
+        let ran_args = ran.get(1..).unwrap_or(&[]);
+        if !ran_args.starts_with(&now) && why.is_empty() {
             why.push(format!(
                 "it runs with other arguments now: `{}` (ran `{}`)",
                 now.join(" "),

@@ -559,7 +559,9 @@ impl Runner {
             Some(Stop::Interrupt) => None,
             None => None,
         };
-        let user_stop = matches!(stop, Some(Stop::Interrupt)) || interrupted();
+        // Interrupted, unless the point finished first (its result stands).
+        let user_stop = (matches!(stop, Some(Stop::Interrupt)) || interrupted())
+            && !(status.success() && stop.is_none());
         if user_stop && death.is_none() {
             // In a Slurm array task, SIGTERM also comes when Slurm ends the task for its
             // time limit: that is the point's failure, not the user's interrupt.

@@ -7,8 +7,12 @@
 //! - [`compare`]: image error metrics (RMSE, relative MSE, PSNR) of PNGs and raw
 //!   framebuffers (`trax compare`, `trax converge`).
 //! - [`stats`]: the statistics document of a run (`--stats-json`, schema 1).
+//! - [`sweep`]: sweep files and their plans (`trax sweep`).
+//! - [`fuzzing`]: the bodies of the fuzz targets of this crate.
 
 pub mod clang;
 pub mod compare;
+pub mod fuzzing;
 pub mod pipeline;
 pub mod stats;
+pub mod sweep;

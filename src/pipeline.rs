@@ -80,6 +80,9 @@ pub struct Request {
     pub render: RenderOptions,
     /// The chip the program will run on.
     pub chip: ChipConfig,
+    /// A directory of loaded scenes to read the scene from, or keep it in
+    /// (`trax_assembler::scene::cache`; `None`: load it).
+    pub scene_cache: Option<PathBuf>,
 }
 
 impl Request {
@@ -94,6 +97,7 @@ impl Request {
             load: LoadOptions::default(),
             render: RenderOptions::default(),
             chip: ChipConfig::preset(DEFAULT_CHIP).expect("the default chip is a preset"),
+            scene_cache: None,
         }
     }
 
@@ -148,6 +152,8 @@ pub struct Prepared {
     pub image: SceneImage,
     /// Warnings from loading the scene (to show the user).
     pub warnings: Vec<String>,
+    /// The files the scene was loaded from (and looked for): `Scene::sources`.
+    pub scene_sources: Vec<trax_assembler::scene::Source>,
 }
 
 /// Why a program could not be prepared; the message names the file or flag at fault.
@@ -232,7 +238,7 @@ pub fn prepare(req: &Request) -> Result<Prepared, PrepareError> {
         }
     }
     let elf = executable_of(&req.files(), req.opt_level)?;
-    let scene = load_scene(&req.scene, &req.load)?;
+    let scene = request_scene(req)?;
     lay_out(
         &req.kernel.display().to_string(),
         elf,
@@ -393,6 +399,19 @@ pub fn load_scene(scene: &str, opts: &LoadOptions) -> Result<Scene, PrepareError
     })
 }
 
+/// The scene of a request: loaded, or read from its scene cache.
+pub fn request_scene(req: &Request) -> Result<Scene, PrepareError> {
+    match &req.scene_cache {
+        None => load_scene(&req.scene, &req.load),
+        Some(dir) => trax_assembler::scene::cache::load_scene_cached(&req.scene, &req.load, dir)
+            .map(|(scene, _)| scene)
+            .map_err(|source| PrepareError::Scene {
+                scene: req.scene.clone(),
+                source,
+            }),
+    }
+}
+
 /// Lays out the memory image of the executable `elf` (named `name` in messages) with
 /// `scene` for `chip` ([`image_options`]): only the components the program references.
 pub fn lay_out(
@@ -412,6 +431,7 @@ pub fn lay_out(
         elf,
         image,
         warnings: scene.warnings.clone(),
+        scene_sources: scene.sources.clone(),
     })
 }
 
@@ -420,7 +440,7 @@ pub fn lay_out(
 /// compiler at the default level to read its references; if that fails, every component
 /// is laid out and the second value says why.
 pub fn scene_image(req: &Request) -> Result<(SceneImage, Vec<String>), PrepareError> {
-    let scene = load_scene(&req.scene, &req.load)?;
+    let scene = request_scene(req)?;
     let mut warnings = scene.warnings.clone();
     let referenced = match build_executable_of(&req.files(), DEFAULT_OPT_LEVEL)
         .map_err(|e| e.to_string())

@@ -8,6 +8,7 @@
 
 use serde::Serialize;
 use trax_assembler::image::SceneImage;
+use trax_assembler::scene::Source;
 use trax_emulator::timing::{ChipConfig, SampledStats, TimingStats};
 use trax_emulator::{Outcome, RunReport};
 
@@ -84,6 +85,50 @@ pub struct Inputs {
     pub max_instructions: Option<u64>,
     /// `--max-cycles` (`null`: none).
     pub max_cycles: Option<u64>,
+    /// The files the scene was loaded from, each `{"path", "sha256"}`, and those looked for
+    /// and not found (`{"path", "absent": true}`: a material library, a `.view`/`.light`
+    /// beside the scene file) or listed (`{"dir", "ext", "names"}`: the only `.view` of a
+    /// directory is the camera). Empty for built-in scenes. `trax sweep` compares them with
+    /// the files as they are now to tell a stale result.
+    pub scene_files: Vec<serde_json::Value>,
+}
+
+/// A scene source as JSON ([`Inputs::scene_files`]).
+pub fn source_json(s: &Source) -> serde_json::Value {
+    match s {
+        Source::Read { path, sha256 } => {
+            serde_json::json!({ "path": path.display().to_string(), "sha256": sha256 })
+        }
+        Source::Absent { path } => {
+            serde_json::json!({ "path": path.display().to_string(), "absent": true })
+        }
+        Source::Listing { dir, ext, names } => {
+            serde_json::json!({ "dir": dir.display().to_string(), "ext": ext, "names": names })
+        }
+    }
+}
+
+/// A scene source from its JSON ([`source_json`]); `None` if it is not one.
+pub fn source_from_json(v: &serde_json::Value) -> Option<Source> {
+    let s = |k: &str| v.get(k).and_then(serde_json::Value::as_str);
+    if let (Some(path), Some(sha256)) = (s("path"), s("sha256")) {
+        return Some(Source::Read {
+            path: path.into(),
+            sha256: sha256.to_string(),
+        });
+    }
+    if let (Some(path), Some(true)) = (s("path"), v.get("absent").and_then(|a| a.as_bool())) {
+        return Some(Source::Absent { path: path.into() });
+    }
+    let names = v.get("names")?.as_array()?;
+    Some(Source::Listing {
+        dir: s("dir")?.into(),
+        ext: s("ext")?.to_string(),
+        names: names
+            .iter()
+            .map(|n| n.as_str().map(str::to_string))
+            .collect::<Option<_>>()?,
+    })
 }
 
 /// The scene data of the memory image.
@@ -147,6 +192,7 @@ impl<'a> StatsDocument<'a> {
     pub fn new(
         req: &Request,
         image: &SceneImage,
+        scene_sources: &[Source],
         run: &'a RunReport,
         chip: &'a ChipConfig,
         quantum: u32,
@@ -182,6 +228,7 @@ impl<'a> StatsDocument<'a> {
                 quantum: functional.then_some(quantum),
                 max_instructions: limits.max_instructions,
                 max_cycles: limits.max_cycles,
+                scene_files: scene_sources.iter().map(source_json).collect(),
             },
             chip,
             threads: run.threads,

@@ -470,13 +470,19 @@ fn finished(dir: &Path) -> BTreeMap<String, String> {
 }
 
 /// `trax run` processes a sweep process started (found by the environment variable).
-fn children_of(pid: u32) -> usize {
+fn children_of(pid: u32) -> Vec<u32> {
     let want = format!("TRAX_SWEEP_PARENT={pid}");
     std::fs::read_dir("/proc")
         .unwrap()
-        .filter_map(|e| std::fs::read(e.ok()?.path().join("environ")).ok())
-        .filter(|env| env.split(|b| *b == 0).any(|v| v == want.as_bytes()))
-        .count()
+        .filter_map(|e| {
+            let e = e.ok()?;
+            let child: u32 = e.file_name().to_str()?.parse().ok()?;
+            let env = std::fs::read(e.path().join("environ")).ok()?;
+            env.split(|b| *b == 0)
+                .any(|v| v == want.as_bytes())
+                .then_some(child)
+        })
+        .collect()
 }
 
 #[test]
@@ -533,7 +539,7 @@ fn a_killed_sweep_resumes_without_repeating_or_losing_points() {
     child.wait().unwrap();
     // Its running points end by themselves (they watch their parent).
     let t = Instant::now();
-    while children_of(pid) > 0 {
+    while !children_of(pid).is_empty() {
         assert!(
             t.elapsed() < Duration::from_secs(10),
             "orphaned points still run"
@@ -565,6 +571,9 @@ fn a_killed_sweep_resumes_without_repeating_or_losing_points() {
     );
     let after = finished(&out_dir);
     assert_eq!(after.len(), 60, "no point lost");
+    // What the killed sweep's points left in tmp/ is gone (stale `ID.PID.*` files).
+    let left: Vec<_> = std::fs::read_dir(out_dir.join("tmp")).unwrap().collect();
+    assert!(left.is_empty(), "left in tmp/: {left:?}");
     for (id, json) in &before {
         assert_eq!(&after[id], json, "point {id} was run again");
     }
@@ -795,46 +804,276 @@ fn the_example_experiments_are_valid_sweeps() {
     assert!(n > 0);
 }
 
-#[test]
-fn a_changed_kernel_is_reported_and_rerun_on_request() {
-    let dir = scratch("stale");
-    let k = dir.join("gradient.rs");
-    let src = std::fs::read_to_string(root().join("examples/gradient.rs")).unwrap();
-    std::fs::write(&k, &src).unwrap();
-    let f = sweep_file(
-        &dir,
-        "kernel = \"gradient.rs\"\nwidth = 8\nheight = 8\nmode = \"functional\"\n[axes]\ntms = [1, 2]\n",
-    );
-    let out_dir = dir.join("results");
-    let args = [
+/// How often each point finished, by `events.log`.
+fn done_counts(out_dir: &Path) -> BTreeMap<String, usize> {
+    let log = std::fs::read_to_string(out_dir.join("events.log")).unwrap_or_default();
+    let mut done: BTreeMap<String, usize> = BTreeMap::new();
+    for l in log.lines() {
+        let w: Vec<&str> = l.split_whitespace().collect();
+        if w.get(1) == Some(&"done") {
+            *done.entry(w[2].to_string()).or_default() += 1;
+        }
+    }
+    done
+}
+
+/// `kernel` built into `dir` (an executable: a sweep of it builds nothing, so the tests
+/// that run a sweep many times take seconds).
+fn prebuilt(dir: &Path, kernel: &str) -> String {
+    let elf = dir.join(format!(
+        "{}.elf",
+        Path::new(kernel).file_stem().unwrap().to_string_lossy()
+    ));
+    let out = trax(&["build", kernel, "-o", elf.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    elf.display().to_string()
+}
+
+/// Runs a sweep file in `dir` (results in `dir/results`) and returns its stderr; it must
+/// succeed.
+fn sweep_ok(dir: &Path, f: &Path) -> String {
+    let out = trax(&[
         "sweep",
         f.to_str().unwrap(),
         "-o",
-        out_dir.to_str().unwrap(),
-    ];
-    assert!(trax(&args).status.success());
-    let first = finished(&out_dir);
-    // Edit the kernel: the finished points ran the old build.
-    assert!(src.contains("0.25"));
-    std::fs::write(&k, src.replace("0.25", "0.75")).unwrap();
-    let out = trax(&args);
+        dir.join("results").to_str().unwrap(),
+        "-j",
+        "1",
+    ]);
     let err = text(&out.stderr);
     assert!(out.status.success(), "{err}");
+    err
+}
+
+/// `trax sweep status` of `dir/results`: its stdout and whether it said every point is
+/// done (exit 0).
+fn status(dir: &Path) -> (String, bool) {
+    let out = trax(&["sweep", "status", dir.join("results").to_str().unwrap()]);
     assert!(
-        err.contains("warning: 2 finished point(s) ran a different build"),
+        !text(&out.stderr).contains("panicked"),
+        "{}",
+        text(&out.stderr)
+    );
+    (text(&out.stdout), out.status.success())
+}
+
+/// Edits `file` (replacing `from` by `to`), checks that `trax sweep status` reports the
+/// sweep's point stale naming `why`, and that the sweep runs it again, saying so.
+fn edit_and_see_stale(dir: &Path, f: &Path, file: &Path, from: &str, to: &str, why: &str) {
+    let old = std::fs::read_to_string(file).unwrap();
+    assert!(old.contains(from), "{} has no {from:?}", file.display());
+    std::fs::write(file, old.replacen(from, to, 1)).unwrap();
+    stale_then_rerun(dir, f, why);
+}
+
+/// `trax sweep status` reports the sweep's point stale naming `why`; the sweep runs it
+/// again (saying why) and then it is done.
+fn stale_then_rerun(dir: &Path, f: &Path, why: &str) {
+    let before = done_counts(&dir.join("results"));
+    let (st, all_done) = status(dir);
+    assert!(!all_done, "status: {st}");
+    assert!(
+        st.contains("1 stale") && st.contains(why),
+        "status should name {why:?}:\n{st}"
+    );
+    let err = sweep_ok(dir, f);
+    assert!(
+        err.contains("inputs changed since they ran") && err.contains(why),
         "{err}"
     );
-    assert_eq!(finished(&out_dir), first, "kept unless asked");
-    let mut rerun = args.to_vec();
-    rerun.push("--rerun-stale");
-    let out = trax(&rerun);
+    let after = done_counts(&dir.join("results"));
+    assert_eq!(
+        after.values().sum::<usize>(),
+        before.values().sum::<usize>() + 1,
+        "{err}"
+    );
+    let (st, all_done) = status(dir);
+    assert!(all_done && st.contains("1 done"), "{st}");
+    assert!(sweep_ok(dir, f).contains("1 of 1 points already done"));
+}
+
+/// The issue's reproduction: a point names a chip TOML; edit it and run the sweep again.
+/// It used to say "1 of 1 points already done" and keep the old cycles.
+#[test]
+fn an_edited_chip_config_makes_the_result_stale() {
+    let dir = scratch("stale-config");
+    let k = prebuilt(&dir, &gradient());
+    std::fs::write(dir.join("mychip.toml"), "preset = \"tiny\"\ntms = 1\n").unwrap();
+    let f = sweep_file(
+        &dir,
+        &format!("kernel = {k:?}\nconfig = \"mychip.toml\"\nwidth = 16\nheight = 16\n"),
+    );
+    sweep_ok(&dir, &f);
+    let (_, rows) = read_csv(&dir.join("results/results.csv"));
+    let cycles_1tm = rows[0]["cycles"].clone();
+    assert!(sweep_ok(&dir, &f).contains("1 of 1 points already done"));
+    edit_and_see_stale(
+        &dir,
+        &f,
+        &dir.join("mychip.toml"),
+        "tms = 1",
+        "tms = 2",
+        "mychip.toml changed (chip config: tms 1 -> 2",
+    );
+    let (_, rows) = read_csv(&dir.join("results/results.csv"));
+    assert_eq!(rows[0]["status"], "ok");
+    assert_ne!(rows[0]["cycles"], cycles_1tm, "the new chip's cycles");
+    // A comment changes the file, not the chip: still stale (by content), said so.
+    edit_and_see_stale(
+        &dir,
+        &f,
+        &dir.join("mychip.toml"),
+        "tms = 2",
+        "tms = 2 # two",
+        "the chip config it makes is the same",
+    );
+}
+
+/// A Rust kernel's `mod` file and a C kernel's header are inputs (through the executable
+/// the sweep builds: its SHA-256 covers every file the build read).
+#[test]
+fn an_edited_mod_file_or_header_makes_the_result_stale() {
+    let dir = scratch("stale-kernel");
+    std::fs::write(
+        dir.join("k.rs"),
+        "mod helper;\nfn trax_main() {\n    if trax::global_id() == 0 {\n        println!(\"{}\", helper::value());\n    }\n}\n",
+    )
+    .unwrap();
+    std::fs::write(dir.join("helper.rs"), "pub fn value() -> u32 {\n    1\n}\n").unwrap();
+    std::fs::write(
+        dir.join("c.c"),
+        "#include <trax.h>\n#include \"value.h\"\nvoid trax_main(void) {\n    if (trax_global_id() == 0) {\n        trax_print_uint(VALUE);\n        trax_print_str(\"\\n\");\n    }\n}\n",
+    )
+    .unwrap();
+    std::fs::write(dir.join("value.h"), "#define VALUE 10\n").unwrap();
+    let f = sweep_file(
+        &dir,
+        "mode = \"functional\"\nwidth = 4\nheight = 4\n[axes]\nkernel = [\"k.rs\"]\n",
+    );
+    sweep_ok(&dir, &f);
+    edit_and_see_stale(
+        &dir,
+        &f,
+        &dir.join("helper.rs"),
+        "1",
+        "2",
+        "k.rs builds differently now",
+    );
+    let out: Vec<String> = std::fs::read_dir(dir.join("results/output"))
+        .unwrap()
+        .map(|e| std::fs::read_to_string(e.unwrap().path()).unwrap())
+        .collect();
+    assert_eq!(out, ["2\n"], "the point ran the edited mod file");
+    let f = sweep_file(
+        &dir,
+        "mode = \"functional\"\nwidth = 4\nheight = 4\n[axes]\nkernel = [\"c.c\"]\n",
+    );
+    let _ = std::fs::remove_dir_all(dir.join("results"));
+    sweep_ok(&dir, &f);
+    edit_and_see_stale(
+        &dir,
+        &f,
+        &dir.join("value.h"),
+        "10",
+        "11",
+        "c.c builds differently now",
+    );
+}
+
+/// Scene files are inputs: the OBJ, its MTL library, the `.view`/`.light` beside it
+/// (also one that appears later), and the file inside `box:`/`subdivide:` wrappers.
+#[test]
+fn edited_scene_files_make_the_result_stale() {
+    let dir = scratch("stale-scene");
+    let k = prebuilt(&dir, &gradient());
+    std::fs::write(
+        dir.join("tri.obj"),
+        "mtllib tri.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl red\nf 1 2 3\n",
+    )
+    .unwrap();
+    std::fs::write(dir.join("tri.mtl"), "newmtl red\nKd 1 0 0\n").unwrap();
+    let body = |scene: &str| {
+        format!("kernel = {k:?}\nmode = \"functional\"\nwidth = 4\nheight = 4\nscene = {scene:?}\n")
+    };
+    let f = sweep_file(&dir, &body("tri.obj"));
+    sweep_ok(&dir, &f);
+    assert!(sweep_ok(&dir, &f).contains("1 of 1 points already done"));
+    let obj = dir.join("tri.obj");
+    edit_and_see_stale(&dir, &f, &obj, "v 0 1 0", "v 0 2 0", "tri.obj changed");
+    edit_and_see_stale(
+        &dir,
+        &f,
+        &dir.join("tri.mtl"),
+        "Kd 1 0 0",
+        "Kd 0 1 0",
+        "tri.mtl changed",
+    );
+    // No .view beside it: the camera frames the scene. One appearing changes that.
+    let view = "0.2 0.2 3\n0 0 -1\n0 1 0\n0\n-0.5 0.5 -0.5 0.5\n1\n";
+    std::fs::write(dir.join("tri.view"), view).unwrap();
+    stale_then_rerun(&dir, &f, "tri.view exists now");
+    edit_and_see_stale(
+        &dir,
+        &f,
+        &dir.join("tri.view"),
+        "0.2 0.2 3",
+        "0.3 0.2 3",
+        "tri.view changed",
+    );
+    std::fs::write(dir.join("tri.light"), "0 0 2\n").unwrap();
+    stale_then_rerun(&dir, &f, "tri.light exists now");
+    edit_and_see_stale(
+        &dir,
+        &f,
+        &dir.join("tri.light"),
+        "0 0 2",
+        "0 0 3",
+        "tri.light changed",
+    );
+    // The points parsed the scene once per version of its files (trax run --scene-cache).
+    let cached: Vec<PathBuf> = std::fs::read_dir(dir.join("results/scenes"))
+        .unwrap()
+        .flat_map(|d| std::fs::read_dir(d.unwrap().path()).unwrap())
+        .map(|e| e.unwrap().path())
+        .collect();
+    assert!(
+        cached.len() == 1 && cached[0].extension().unwrap() == "scene",
+        "{cached:?}"
+    );
+    // The file inside wrappers.
+    let f = sweep_file(&dir, &body("box:subdivide:1:tri.obj"));
+    let _ = std::fs::remove_dir_all(dir.join("results"));
+    sweep_ok(&dir, &f);
+    edit_and_see_stale(&dir, &f, &obj, "v 1 0 0", "v 1.5 0 0", "tri.obj changed");
+}
+
+/// The trax executable is an input: a point run by another build of trax is stale.
+#[test]
+fn another_trax_makes_the_result_stale() {
+    let dir = scratch("stale-trax");
+    let k = prebuilt(&dir, &gradient());
+    let f = sweep_file(
+        &dir,
+        &format!("kernel = {k:?}\nmode = \"functional\"\nwidth = 4\nheight = 4\n"),
+    );
+    // "Another build": the same program with a byte appended (an ELF runs as before).
+    let other = dir.join("trax-other");
+    let mut bytes = std::fs::read(env!("CARGO_BIN_EXE_trax")).unwrap();
+    bytes.push(0);
+    std::fs::write(&other, bytes).unwrap();
+    std::fs::set_permissions(&other, std::os::unix::fs::PermissionsExt::from_mode(0o755)).unwrap();
+    let out = Command::new(&other)
+        .args([
+            "sweep",
+            f.to_str().unwrap(),
+            "-o",
+            dir.join("results").to_str().unwrap(),
+        ])
+        .stdin(Stdio::null())
+        .output()
+        .unwrap();
     assert!(out.status.success(), "{}", text(&out.stderr));
-    let second = finished(&out_dir);
-    for (id, json) in &second {
-        assert_ne!(&first[id], json);
-        let v: serde_json::Value = serde_json::from_str(json).unwrap();
-        assert_eq!(v["kernel"]["source_sha256"], sha256sum(&k));
-    }
+    stale_then_rerun(&dir, &f, "trax changed");
 }
 
 #[test]
@@ -1083,4 +1322,281 @@ tms = 3
     assert!(!out.status.success());
     assert!(err.contains(":2:") && err.contains("`label`"), "{err}");
     assert!(err.contains("label.NAME"), "{err}");
+}
+
+/// A kernel that never ends.
+fn forever(dir: &Path) -> PathBuf {
+    let k = dir.join("forever.rs");
+    std::fs::write(
+        &k,
+        "fn trax_main() {\n    loop {\n        trax::atomic_inc(1);\n    }\n}\n",
+    )
+    .unwrap();
+    k
+}
+
+/// The one point record of a results directory.
+fn the_record(out_dir: &Path) -> serde_json::Value {
+    let recs = finished(out_dir);
+    assert_eq!(recs.len(), 1, "{recs:?}");
+    serde_json::from_str(recs.values().next().unwrap()).unwrap()
+}
+
+/// Starts a sweep in the background and waits (bounded) for its point's `trax run`: the
+/// sweep and the point's pid.
+#[allow(clippy::zombie_processes)] // the callers wait for it
+fn start_sweep(args: &[&str]) -> (std::process::Child, u32) {
+    let child = Command::new(env!("CARGO_BIN_EXE_trax"))
+        .args(args)
+        .current_dir(root())
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let t = Instant::now();
+    loop {
+        if let Some(&point) = children_of(child.id()).first() {
+            return (child, point);
+        }
+        assert!(t.elapsed() < Duration::from_secs(60), "no point started");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+/// Points that die are failures with their cause, recorded once (not "interrupted" and
+/// retried on every run): over the time limit, over the memory limit, killed with
+/// SIGKILL from outside. Interrupting the sweep itself is not a failure: nothing is
+/// recorded and the next run runs the point.
+#[test]
+fn a_point_that_dies_is_a_failure_with_its_cause() {
+    let dir = scratch("deaths");
+    let k = prebuilt(&dir, forever(&dir).to_str().unwrap());
+    let res = dir.join("results");
+    let body = |extra: &str| {
+        format!("kernel = {k:?}\nmode = \"functional\"\nwidth = 4\nheight = 4\n{extra}")
+    };
+    let run = |f: &Path, extra: &[&str]| {
+        let mut args = vec!["sweep", f.to_str().unwrap(), "-o", res.to_str().unwrap()];
+        args.extend_from_slice(extra);
+        trax(&args)
+    };
+    // Time limit (the sweep file's).
+    let f = sweep_file(&dir, &body("[limits]\ntime = \"1s\"\n"));
+    let out = run(&f, &[]);
+    assert_eq!(out.status.code(), Some(1), "{}", text(&out.stderr));
+    let rec = the_record(&res);
+    assert_eq!(rec["status"], "failed");
+    assert!(
+        rec["error"]
+            .as_str()
+            .unwrap()
+            .contains("time limit of 1 s exceeded"),
+        "{rec}"
+    );
+    let wall = rec["wall_seconds"].as_f64().unwrap();
+    assert!((1.0..10.0).contains(&wall), "stopped after {wall} s");
+    let again = run(&f, &[]);
+    assert!(
+        text(&again.stderr).contains("1 of 1 points already done"),
+        "{}",
+        text(&again.stderr)
+    );
+    let (st, _) = status(&dir);
+    assert!(
+        st.contains("1 failed") && st.contains("time limit of 1 s exceeded"),
+        "{st}"
+    );
+
+    // Memory limit (the command line's): a 2048x2048 frame needs more than 100 MiB.
+    let _ = std::fs::remove_dir_all(&res);
+    let f = sweep_file(
+        &dir,
+        &format!(
+            "kernel = {:?}\nmode = \"functional\"\nwidth = 2048\nheight = 2048\n",
+            gradient()
+        ),
+    );
+    let out = run(&f, &["--point-memory", "100M"]);
+    assert_eq!(out.status.code(), Some(1), "{}", text(&out.stderr));
+    let rec = the_record(&res);
+    assert!(
+        rec["error"]
+            .as_str()
+            .unwrap()
+            .contains("memory limit of 100M exceeded"),
+        "{rec}"
+    );
+    assert!(rec["max_rss_bytes"].as_u64().unwrap() > 100 << 20, "{rec}");
+    // Without the limit it runs.
+    let out = run(&f, &["--retry-failed"]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+
+    // SIGKILL from outside (kill -9, the OOM killer).
+    let _ = std::fs::remove_dir_all(&res);
+    let f = sweep_file(&dir, &body(""));
+    let (mut sweep, point) =
+        start_sweep(&["sweep", f.to_str().unwrap(), "-o", res.to_str().unwrap()]);
+    Command::new("kill")
+        .args(["-9", &point.to_string()])
+        .status()
+        .unwrap();
+    let status_ = sweep.wait().unwrap();
+    assert_eq!(status_.code(), Some(1));
+    let rec = the_record(&res);
+    assert_eq!(rec["status"], "failed");
+    assert!(
+        rec["error"].as_str().unwrap().contains("killed by SIGKILL"),
+        "{rec}"
+    );
+    assert!(run(&f, &[]).status.code() == Some(1), "kept, not retried");
+    assert_eq!(done_counts(&res).values().sum::<usize>(), 1);
+
+    // The user stops the sweep (SIGTERM to it; Ctrl-C is SIGINT to both): not a failure.
+    let _ = std::fs::remove_dir_all(&res);
+    let (sweep, _) = start_sweep(&["sweep", f.to_str().unwrap(), "-o", res.to_str().unwrap()]);
+    Command::new("kill")
+        .args(["-TERM", &sweep.id().to_string()])
+        .status()
+        .unwrap();
+    let out = sweep.wait_with_output().unwrap();
+    let err = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(130), "{err}");
+    assert!(err.contains("interrupted"), "{err}");
+    assert!(finished(&res).is_empty(), "nothing recorded");
+    let (st, _) = status(&dir);
+    assert!(st.contains("1 pending"), "{st}");
+    let left: Vec<_> = std::fs::read_dir(res.join("tmp")).unwrap().collect();
+    assert!(left.is_empty(), "left in tmp/: {left:?}");
+}
+
+/// Slurm job scripts ask for the points' limits: memory plus room for the task, and the
+/// time limit times the points per task plus a minute.
+#[test]
+fn slurm_scripts_ask_for_the_point_limits() {
+    let dir = scratch("slurm-limits");
+    let f = sweep_file(
+        &dir,
+        &format!("kernel = {:?}\n[limits]\ntime = \"10m\"\nmemory = \"1G\"\n[slurm]\nper_task = 2\n[axes]\ntms = [1, 2, 3]\n", gradient()),
+    );
+    let res = dir.join("results");
+    let out = trax(&[
+        "sweep",
+        f.to_str().unwrap(),
+        "--slurm",
+        "--no-submit",
+        "-o",
+        res.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let script = std::fs::read_to_string(res.join("slurm/sub-1.sbatch")).unwrap();
+    assert!(script.contains("#SBATCH --time=0-00:21:00"), "{script}");
+    assert!(script.contains("#SBATCH --mem=1280M"), "{script}");
+    let out = trax(&[
+        "sweep",
+        f.to_str().unwrap(),
+        "--slurm",
+        "--no-submit",
+        "-o",
+        res.to_str().unwrap(),
+        "--point-memory",
+        "2G",
+        "--time",
+        "5:00",
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let script = std::fs::read_to_string(res.join("slurm/sub-2.sbatch")).unwrap();
+    assert!(script.contains("#SBATCH --time=5:00"), "{script}");
+    assert!(script.contains("#SBATCH --mem=2304M"), "{script}");
+    for (bad, want) in [
+        ("time = \"soon\"", "limits.time"),
+        ("memory = \"4Q\"", "limits.memory"),
+    ] {
+        let f = sweep_file(
+            &dir,
+            &format!("kernel = {:?}\n[limits]\n{bad}\n", gradient()),
+        );
+        let out = trax(&["sweep", f.to_str().unwrap(), "--dry-run"]);
+        let err = text(&out.stderr);
+        assert!(
+            !out.status.success() && err.contains(":3:") && err.contains(want),
+            "{err}"
+        );
+    }
+}
+
+/// Sizes are computed without wrapping and refused against the cap, naming the file;
+/// names are names, never paths out of the results directory; a prebuilt executable is a
+/// kernel like a source file, and anything else is named for what it is.
+#[test]
+fn sizes_are_checked_names_are_names_and_executables_are_kernels() {
+    let dir = scratch("size-names");
+    let k = gradient();
+    let values = (1..=16)
+        .map(|i| i.to_string())
+        .collect::<Vec<_>>()
+        .join(", ");
+    let axes: String = (0..16)
+        .map(|a| format!("\"label.x{a}\" = [{values}]\n"))
+        .collect();
+    for (body, want) in [
+        (format!("kernel = {k:?}\n[axes]\n{axes}"), "more than 2^64 points"),
+        (
+            format!("kernel = {k:?}\nrepetitions = 1000000\n[axes]\n\"label.a\" = [1, 2]\n"),
+            "2000000 points (cases x axis values x repetitions: 1 x 2 x 1000000): a sweep may have at most 1000000",
+        ),
+    ] {
+        let f = sweep_file(&dir, &body);
+        let out = trax(&["sweep", f.to_str().unwrap(), "--dry-run"]);
+        let err = text(&out.stderr);
+        assert!(!out.status.success(), "accepted: {err}");
+        assert!(err.contains(&f.display().to_string()) && err.contains(want), "{err}");
+    }
+    for (body, at, field) in [
+        (format!("name = \"..\"\nkernel = {k:?}\n"), ":1:", "`name`"),
+        (format!("kernel = {k:?}\nname = \"../../x\"\n"), ":2:", "`name`"),
+        (format!("kernel = {k:?}\n[axes]\ntms = [1]\n[[plot]]\nx = \"tms\"\ny = \"fps\"\nname = \"/tmp/x\"\n"), ":7:", "`plot[0].name`"),
+    ] {
+        let f = sweep_file(&dir, &body);
+        let work = dir.join("work");
+        std::fs::create_dir_all(&work).unwrap();
+        let out = Command::new(env!("CARGO_BIN_EXE_trax"))
+            .args(["sweep", f.to_str().unwrap()])
+            .current_dir(&work)
+            .stdin(Stdio::null())
+            .output()
+            .unwrap();
+        let err = text(&out.stderr);
+        assert!(!out.status.success(), "accepted: {body}");
+        assert!(err.contains(at) && err.contains(field) && err.contains("is not a name"), "{err}");
+        assert_eq!(std::fs::read_dir(&work).unwrap().count(), 0, "wrote into {}", work.display());
+    }
+    // A prebuilt executable: it used to be "built", failing with "only sources ... can be
+    // linked together".
+    let elf = dir.join("gradient.elf");
+    assert!(trax(&["build", &k, "-o", elf.to_str().unwrap()])
+        .status
+        .success());
+    let (out, _, rows) = sweep_rows(
+        &dir,
+        "kernel = \"gradient.elf\"\nmode = \"functional\"\nwidth = 4\nheight = 4\n",
+    );
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert_eq!(rows[0]["status"], "ok");
+    std::fs::write(dir.join("notes.txt"), "not a kernel").unwrap();
+    let f = sweep_file(&dir, "kernel = \"notes.txt\"\n");
+    let out = trax(&[
+        "sweep",
+        f.to_str().unwrap(),
+        "-o",
+        dir.join("r2").to_str().unwrap(),
+    ]);
+    let err = text(&out.stderr);
+    assert!(!out.status.success());
+    assert!(
+        err.contains(
+            "notes.txt: not a kernel source (.rs, .c, .cpp, .cc, .cxx) nor a TRaX executable"
+        ),
+        "{err}"
+    );
 }

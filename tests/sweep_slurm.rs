@@ -200,3 +200,116 @@ fn slurm_sweep_collects_the_same_table_as_a_local_one() {
         text(&out.stderr)
     );
 }
+
+/// Waits (bounded) until Slurm has forgotten job `job` (it finished).
+fn wait_for_job(job: &str, logs: &Path) {
+    let start = Instant::now();
+    loop {
+        let q = bounded(
+            "squeue",
+            &["-h", "-j", job, "-o", "%i %T"],
+            Duration::from_secs(15),
+        );
+        let listed = q
+            .as_ref()
+            .filter(|o| o.status.success())
+            .map(|o| text(&o.stdout).trim().to_string());
+        if q.as_ref().is_some_and(|o| !o.status.success()) || listed.as_deref() == Some("") {
+            return;
+        }
+        if start.elapsed() > Duration::from_secs(300) {
+            let text: String = std::fs::read_dir(logs)
+                .map(|d| {
+                    d.filter_map(|e| std::fs::read_to_string(e.ok()?.path()).ok())
+                        .collect()
+                })
+                .unwrap_or_default();
+            let _ = bounded("scancel", &[job], Duration::from_secs(15));
+            panic!("job {job} still queued after 300 s: {listed:?}\nlogs:\n{text}");
+        }
+        std::thread::sleep(Duration::from_millis(500));
+    }
+}
+
+/// One writer per point: a local sweep run in the folder of a running Slurm array (which
+/// used to run every point a second time: the array tasks took no lock) shares the points
+/// with it through per-point claims; every point runs exactly once.
+#[test]
+fn a_local_sweep_beside_its_slurm_array_runs_each_point_once() {
+    require_cluster();
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("sweep-slurm-both");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let kernel = root().join("examples/mandelbrot.rs");
+    let f = dir.join("sweep.toml");
+    // 8 points of about a second each.
+    std::fs::write(
+        &f,
+        format!(
+            "name = \"both\"\nkernel = {:?}\nmode = \"functional\"\nwidth = 512\nheight = 512\n\n[axes]\n\"label.n\" = [1, 2, 3, 4, 5, 6, 7, 8]\n\n[slurm]\nmax_running = 2\ntime = \"10:00\"\n",
+            kernel.display().to_string()
+        ),
+    )
+    .unwrap();
+    let res = dir.join("res");
+    let out = trax(&[
+        "sweep",
+        f.to_str().unwrap(),
+        "--slurm",
+        "-o",
+        res.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let job = text(&out.stdout).trim().to_string();
+    // Once the array has started a point, run the same sweep here.
+    let start = Instant::now();
+    while !std::fs::read_to_string(res.join("events.log")).is_ok_and(|l| l.contains(" start ")) {
+        assert!(
+            start.elapsed() < Duration::from_secs(120),
+            "the array started no point"
+        );
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    let local = trax(&[
+        "sweep",
+        f.to_str().unwrap(),
+        "-o",
+        res.to_str().unwrap(),
+        "-j",
+        "1",
+    ]);
+    let err = text(&local.stderr);
+    assert!(local.status.success(), "{err}");
+    wait_for_job(&job, &res.join("slurm/logs"));
+    let log = std::fs::read_to_string(res.join("events.log")).unwrap();
+    let mut done: BTreeMap<&str, usize> = BTreeMap::new();
+    for l in log.lines() {
+        let w: Vec<&str> = l.split_whitespace().collect();
+        if w.get(1) == Some(&"done") {
+            *done.entry(w[2]).or_default() += 1;
+        }
+    }
+    assert_eq!(done.len(), 8, "{log}");
+    assert!(done.values().all(|&n| n == 1), "a point ran twice:\n{log}");
+    // Both ran points (the local sweep started while the array had 7 or more to go, and
+    // the array runs 2 at a time).
+    let mut by: BTreeMap<String, usize> = BTreeMap::new();
+    for id in done.keys() {
+        let rec: serde_json::Value = serde_json::from_str(
+            &std::fs::read_to_string(res.join(format!("points/{id}.json"))).unwrap(),
+        )
+        .unwrap();
+        assert_eq!(rec["status"], "ok", "{rec}");
+        *by.entry(
+            rec["runner"]["backend"]["backend"]
+                .as_str()
+                .unwrap()
+                .to_string(),
+        )
+        .or_default() += 1;
+    }
+    assert!(by.len() == 2, "runs by backend: {by:?}\n{err}");
+    let out = trax(&["sweep", "status", res.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", text(&out.stdout));
+    assert!(text(&out.stdout).contains("8 points: 8 done"));
+}

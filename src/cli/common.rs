@@ -132,6 +132,11 @@ pub struct RenderArgs {
     /// `trax::seed_pixel`).
     #[arg(long, default_value_t = 1)]
     pub seed: u32,
+    /// Keep the loaded scene in DIR and read it from there next time, unless a file it was
+    /// read from has changed since (checked by SHA-256): runs that share a large scene
+    /// parse it once. Keep one DIR per trax build (`trax sweep` does).
+    #[arg(long, value_name = "DIR")]
+    pub scene_cache: Option<PathBuf>,
 }
 
 impl RenderArgs {
@@ -145,6 +150,7 @@ impl RenderArgs {
             load: self.load_options(),
             render: self.render_options(),
             chip: chip.clone(),
+            scene_cache: self.scene_cache.clone(),
         }
     }
 

@@ -123,6 +123,7 @@ impl ConvergeArgs {
             spp,
             depth: self.depth,
             seed,
+            scene_cache: None,
         }
     }
 }

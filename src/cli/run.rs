@@ -419,7 +419,15 @@ pub fn execute(a: &ExecArgs, extras: &Extras) -> Result<Executed, String> {
         }
     }
     if let Some(path) = &a.stats_json {
-        let doc = StatsDocument::new(&request, &prepared.image, &r, &chip, a.quantum, limits);
+        let doc = StatsDocument::new(
+            &request,
+            &prepared.image,
+            &prepared.scene_sources,
+            &r,
+            &chip,
+            a.quantum,
+            limits,
+        );
         let text = serde_json::to_string_pretty(&doc).map_err(|e| e.to_string())?;
         std::fs::write(path, text + "\n").map_err(|e| format!("{}: {e}", path.display()))?;
     }

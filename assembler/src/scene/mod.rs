@@ -3,6 +3,7 @@
 //! procedurally. Every loader ends in [`Scene::validate`], so a [`Scene`] handed to the BVH
 //! builder or the memory image has finite vertices and at least one triangle.
 
+pub mod cache;
 mod compose;
 mod cornell;
 mod obj;
@@ -107,6 +108,115 @@ pub struct Scene {
     pub point_lights: Vec<PointLight>,
     /// Non-fatal problems met while loading (e.g. a missing MTL library).
     pub warnings: Vec<String>,
+    /// The files the scene was loaded from, and those looked for and not found, in the
+    /// order [`load_scene`] met them: loading again gives the same scene when every one
+    /// [`Source::holds`] (empty for built-in scenes).
+    pub sources: Vec<Source>,
+}
+
+/// A file a scene was loaded from, or looked for ([`Scene::sources`]).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Source {
+    /// A file read, and the SHA-256 of its bytes (lowercase hex).
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// SHA-256 of its bytes.
+        sha256: String,
+    },
+    /// A file looked for and not there (a material library, a `.view` or `.light` file with
+    /// the scene file's stem).
+    Absent {
+        /// The file.
+        path: PathBuf,
+    },
+    /// The names of the `*.EXT` files in a directory (looked for: the only `.view`/`.light`
+    /// file beside a scene file is its camera/lights).
+    Listing {
+        /// The directory.
+        dir: PathBuf,
+        /// The extension.
+        ext: String,
+        /// File names, sorted.
+        names: Vec<String>,
+    },
+}
+
+/// Lowercase hex SHA-256 of `bytes`.
+pub fn sha256_hex(bytes: &[u8]) -> String {
+    use sha2::Digest;
+    sha2::Sha256::digest(bytes)
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect()
+}
+
+impl Source {
+    /// `Ok` when the file system still answers as it did when the scene was loaded; else
+    /// what differs now (the file changed, appeared, is gone, ...).
+    pub fn holds(&self) -> Result<(), String> {
+        match self {
+            Source::Read { path, sha256 } => match std::fs::read(path) {
+                Ok(b) if sha256_hex(&b) == *sha256 => Ok(()),
+                Ok(_) => Err(format!("{} changed", path.display())),
+                Err(e) => Err(format!("{} can't be read now ({e})", path.display())),
+            },
+            Source::Absent { path } => match path.is_file() {
+                false => Ok(()),
+                true => Err(format!("{} exists now", path.display())),
+            },
+            Source::Listing { dir, ext, names } => {
+                let now = listing(dir, ext);
+                if now == *names {
+                    Ok(())
+                } else {
+                    Err(format!(
+                        "the .{ext} files in {} are now [{}] (were [{}])",
+                        dir.display(),
+                        now.join(", "),
+                        names.join(", ")
+                    ))
+                }
+            }
+        }
+    }
+}
+
+/// The names of the `*.ext` files in `dir`, sorted (none when it can't be read).
+fn listing(dir: &Path, ext: &str) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .map(|d| {
+            d.filter_map(|e| e.ok())
+                .map(|e| e.path())
+                .filter(|p| p.extension().and_then(|e| e.to_str()) == Some(ext))
+                .filter_map(|p| Some(p.file_name()?.to_string_lossy().into_owned()))
+                .collect()
+        })
+        .unwrap_or_default();
+    names.sort();
+    names
+}
+
+/// Reads a text file a scene is loaded from, noting it in `sources`.
+pub(crate) fn read_source(path: &Path, sources: &mut Vec<Source>) -> std::io::Result<String> {
+    match std::fs::read(path) {
+        Ok(bytes) => {
+            sources.push(Source::Read {
+                path: path.to_path_buf(),
+                sha256: sha256_hex(&bytes),
+            });
+            String::from_utf8(bytes)
+                .map_err(|e| std::io::Error::new(std::io::ErrorKind::InvalidData, e))
+        }
+        Err(e) => {
+            if e.kind() == std::io::ErrorKind::NotFound {
+                sources.push(Source::Absent {
+                    path: path.to_path_buf(),
+                });
+            }
+            Err(e)
+        }
+    }
 }
 
 /// An axis-aligned bounding box of a scene.
@@ -458,6 +568,7 @@ impl Scene {
             view,
             point_lights: Vec::new(),
             warnings: Vec::new(),
+            sources: Vec::new(),
         }
     }
 }
@@ -694,13 +805,18 @@ fn load_nested(spec: &str, opts: &LoadOptions, depth: usize) -> Result<Scene, Sc
         }
     };
     let file = Path::new(spec);
-    let view_path = opts
-        .view
-        .clone()
-        .or_else(|| is_file.then(|| companion(file, "view")).flatten());
+    let view_path = opts.view.clone().or_else(|| {
+        is_file
+            .then(|| companion(file, "view", &mut scene.sources))
+            .flatten()
+    });
     let view_source = match view_path {
         Some(p) => {
-            scene.view = parse_view(&p)?;
+            let text = read_source(&p, &mut scene.sources).map_err(|source| SceneError::Io {
+                path: p.clone(),
+                source,
+            })?;
+            scene.view = parse_view_str(&p, &text)?;
             ViewSource::File(p)
         }
         None if is_file => {
@@ -713,13 +829,18 @@ fn load_nested(spec: &str, opts: &LoadOptions, depth: usize) -> Result<Scene, Sc
         }
         None => ViewSource::BuiltIn,
     };
-    let light_path = opts
-        .light
-        .clone()
-        .or_else(|| is_file.then(|| companion(file, "light")).flatten());
+    let light_path = opts.light.clone().or_else(|| {
+        is_file
+            .then(|| companion(file, "light", &mut scene.sources))
+            .flatten()
+    });
     if let Some(p) = light_path {
+        let text = read_source(&p, &mut scene.sources).map_err(|source| SceneError::Io {
+            path: p.clone(),
+            source,
+        })?;
         scene.point_lights = vec![PointLight {
-            position: parse_light(&p)?,
+            position: parse_light_str(&p, &text)?,
             color: [1.0; 3],
         }];
     }
@@ -745,22 +866,24 @@ fn load_nested(spec: &str, opts: &LoadOptions, depth: usize) -> Result<Scene, Sc
     Ok(scene)
 }
 
-/// A `.view`/`.light` file for a scene file: same stem, else the only one in the directory.
-fn companion(file: &Path, ext: &str) -> Option<PathBuf> {
+/// A `.view`/`.light` file for a scene file: same stem, else the only one in the directory
+/// (what was looked for goes to `sources`).
+fn companion(file: &Path, ext: &str, sources: &mut Vec<Source>) -> Option<PathBuf> {
     let same = file.with_extension(ext);
     if same.is_file() {
         return Some(same);
     }
+    sources.push(Source::Absent { path: same });
     let dir = file.parent().filter(|d| !d.as_os_str().is_empty());
     let dir = dir.unwrap_or(Path::new("."));
-    let mut found: Vec<PathBuf> = std::fs::read_dir(dir)
-        .ok()?
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().and_then(|e| e.to_str()) == Some(ext))
-        .collect();
-    if found.len() == 1 {
-        found.pop()
-    } else {
-        None
+    let names = listing(dir, ext);
+    sources.push(Source::Listing {
+        dir: dir.to_path_buf(),
+        ext: ext.to_string(),
+        names: names.clone(),
+    });
+    match names.as_slice() {
+        [one] => Some(dir.join(one)),
+        _ => None,
     }
 }

@@ -12,13 +12,6 @@ use std::path::{Path, PathBuf};
 
 use super::{geometric_normal, Material, Scene, SceneError, View};
 
-fn read(path: &Path) -> Result<String, SceneError> {
-    std::fs::read_to_string(path).map_err(|source| SceneError::Io {
-        path: path.to_path_buf(),
-        source,
-    })
-}
-
 fn syntax(path: &Path, line: usize, message: impl Into<String>) -> SceneError {
     SceneError::Syntax {
         path: path.to_path_buf(),
@@ -279,6 +272,10 @@ fn append_obj_with(scene: &mut Scene, path: &Path, read_text: ReadText) -> Resul
         path: path.to_path_buf(),
         source,
     })?;
+    scene.sources.push(super::Source::Read {
+        path: path.to_path_buf(),
+        sha256: super::sha256_hex(text.as_bytes()),
+    });
     check_obj(path, &text)?;
     let text = if text.contains('\t') {
         text.replace('\t', " ")
@@ -289,6 +286,7 @@ fn append_obj_with(scene: &mut Scene, path: &Path, read_text: ReadText) -> Resul
     // Errors and warnings from MTL loading, collected from inside tobj's callback.
     let mtl_error: RefCell<Option<SceneError>> = RefCell::new(None);
     let warnings: RefCell<Vec<String>> = RefCell::new(Vec::new());
+    let sources: RefCell<Vec<super::Source>> = RefCell::new(Vec::new());
     let opts = tobj::LoadOptions {
         triangulate: true,
         single_index: true,
@@ -298,8 +296,19 @@ fn append_obj_with(scene: &mut Scene, path: &Path, read_text: ReadText) -> Resul
     let result = tobj::load_obj_buf(&mut Cursor::new(text.as_bytes()), &opts, |mtl: &Path| {
         let full: PathBuf = dir.join(mtl);
         let mtl_text = match read_text(&full) {
-            Ok(t) => t,
+            Ok(t) => {
+                sources.borrow_mut().push(super::Source::Read {
+                    path: full.clone(),
+                    sha256: super::sha256_hex(t.as_bytes()),
+                });
+                t
+            }
             Err(e) => {
+                if e.kind() == std::io::ErrorKind::NotFound {
+                    sources
+                        .borrow_mut()
+                        .push(super::Source::Absent { path: full.clone() });
+                }
                 warnings.borrow_mut().push(format!(
                     "{}: material library {} not loaded ({e}); its materials become grey",
                     path.display(),
@@ -324,6 +333,7 @@ fn append_obj_with(scene: &mut Scene, path: &Path, read_text: ReadText) -> Resul
     if let Some(e) = mtl_error.into_inner() {
         return Err(e);
     }
+    scene.sources.extend(sources.into_inner());
     scene.warnings.extend(warnings.into_inner());
     let (models, materials) = result.map_err(|e| SceneError::Obj {
         path: path.to_path_buf(),
@@ -433,9 +443,12 @@ pub fn load_objl(path: &Path) -> Result<Scene, SceneError> {
 
 /// [`load_objl`] without the framing camera and validation.
 pub(crate) fn read_objl(path: &Path) -> Result<Scene, SceneError> {
-    let text = read(path)?;
-    let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
     let mut scene = unframed(path);
+    let text = super::read_source(path, &mut scene.sources).map_err(|source| SceneError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
     let mut files = 0;
     for (i, line) in text.lines().enumerate() {
         let name = line.trim();

@@ -5,16 +5,22 @@
 //! (`--local -j N`, the default) or as a Slurm job array (`--slurm`, [`slurm`]); either way a
 //! re-run skips the points already done, and `trax sweep collect DIR` merges the results.
 //!
+//! A point's result stands only while its inputs are as they were ([`state`]): a changed
+//! kernel, chip config, scene file or trax runs it again, and `trax sweep status DIR` says
+//! which points are done, stale (and why), failed, running or pending.
+//!
 //! A results directory holds `plan.json` ([`plan`]), `sweep.toml` (a copy of the sweep file),
-//! `build/` (the kernels), `points/`, `output/` (kernel output, when any), `events.log`,
-//! `results.csv`, `plots/` and, for Slurm, `slurm/`.
+//! `build/` (the kernels), `points/`, `claims/` (one per running point, [`runner`]),
+//! `output/` (kernel output, when any), `events.log`, `results.csv`, `plots/` and, for
+//! Slurm, `slurm/`.
 
 pub mod metrics;
-pub mod plan;
 pub mod runner;
 pub mod slurm;
-pub mod spec;
+pub mod state;
 pub mod table;
+
+pub use trax::sweep::{plan, spec};
 
 use std::collections::{BTreeSet, VecDeque};
 use std::fs::File;
@@ -29,8 +35,9 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde_json::json;
 
 use super::run::fail;
-use plan::{sha256_hex, Plan};
-use runner::{Outcome, Runner};
+use plan::{sha256_hex, Plan, PlanPoint};
+use runner::{interrupted, Outcome, Runner};
+use state::{Judge, State};
 
 /// Arguments of `trax sweep`.
 #[derive(Args, Debug)]
@@ -57,7 +64,8 @@ pub struct SweepArgs {
     /// Slurm partition (default: the sweep file's [slurm] partition, else Slurm's default).
     #[arg(long, requires = "slurm")]
     partition: Option<String>,
-    /// Slurm time limit per array task (e.g. 30:00, 1-00:00:00).
+    /// Slurm time limit per array task (e.g. 30:00, 1-00:00:00; default: the points'
+    /// time limit times the points per task, plus a minute).
     #[arg(long, requires = "slurm")]
     time: Option<String>,
     /// Slurm account.
@@ -76,13 +84,19 @@ pub struct SweepArgs {
     /// Write the job script but do not submit it.
     #[arg(long, requires = "slurm")]
     no_submit: bool,
-    /// Run the points that failed before again (default: they keep their recorded error).
+    /// Wall-clock time a point may run (e.g. 90, 30m, 1.5h, 1:30:00; default: the sweep
+    /// file's [limits] time, else none); a point over it is stopped and recorded as failed.
+    #[arg(long, value_parser = spec::parse_duration, value_name = "TIME")]
+    point_time: Option<u64>,
+    /// Resident memory a point may use (e.g. 512M, 4G; a bare number is MiB; default: the
+    /// sweep file's [limits] memory, else none); a point over it is stopped and recorded
+    /// as failed. On Slurm also the array tasks' --mem.
+    #[arg(long, value_parser = spec::parse_memory, value_name = "SIZE")]
+    point_memory: Option<u64>,
+    /// Run the points that failed before again (default: they keep their recorded error,
+    /// unless an input changed since).
     #[arg(long)]
     retry_failed: bool,
-    /// Run the finished points whose kernel has changed since (its executable's SHA-256
-    /// differs from the one they ran) again.
-    #[arg(long)]
-    rerun_stale: bool,
     /// List the points (id and parameters) and run nothing.
     #[arg(long)]
     dry_run: bool,
@@ -95,17 +109,33 @@ enum SweepCmd {
         /// The results directory.
         dir: PathBuf,
     },
+    /// Where each point stands: done, stale (its inputs changed since: what changed),
+    /// failed (why), running (where) or pending. Exits 0 when every point is done.
+    Status {
+        /// The results directory.
+        dir: PathBuf,
+        /// List every point that is not done (default: the first 20 of each kind).
+        #[arg(long)]
+        all: bool,
+    },
     /// Run the points of one Slurm array task (used by the job script).
     #[command(hide = true)]
     Task {
         /// The results directory.
         dir: PathBuf,
+        /// The submission's plan.
+        #[arg(long)]
+        plan: PathBuf,
         /// The submission's task list.
         #[arg(long)]
         tasks: PathBuf,
         /// The array task index.
         #[arg(long)]
         index: usize,
+        /// When the submission was made (Unix seconds): a point that failed after it
+        /// (run by another runner) is not run again.
+        #[arg(long)]
+        since: f64,
     },
 }
 
@@ -116,7 +146,14 @@ pub fn run(a: SweepArgs) -> ExitCode {
             table::report(dir, &c);
             ExitCode::SUCCESS
         }),
-        Some(SweepCmd::Task { dir, tasks, index }) => run_task(dir, tasks, *index),
+        Some(SweepCmd::Status { dir, all }) => state::status(dir, *all),
+        Some(SweepCmd::Task {
+            dir,
+            plan,
+            tasks,
+            index,
+            since,
+        }) => run_task(dir, plan, tasks, *index, *since),
         None => sweep(&a),
     };
     r.unwrap_or_else(fail)
@@ -127,14 +164,16 @@ fn cores() -> usize {
     std::thread::available_parallelism().map_or(1, |n| n.get())
 }
 
-fn this_exe() -> Result<(PathBuf, String), String> {
+/// This executable and its SHA-256.
+pub fn this_exe() -> Result<(PathBuf, String), String> {
     let exe = std::env::current_exe().map_err(|e| format!("this executable: {e}"))?;
     let bytes = std::fs::read(&exe).map_err(|e| format!("{}: {e}", exe.display()))?;
     Ok((exe, sha256_hex(&bytes)))
 }
 
 /// Holds `DIR/.lock` while a sweep plans or runs points here (released when the process
-/// ends, however it ends).
+/// ends, however it ends): one planner at a time. Points themselves are claimed one by one
+/// ([`runner::Claim`]), so Slurm array tasks run beside it.
 fn lock(dir: &Path) -> Result<File, String> {
     let path = dir.join(".lock");
     let f = File::create(&path).map_err(|e| format!("{}: {e}", path.display()))?;
@@ -149,31 +188,52 @@ fn lock(dir: &Path) -> Result<File, String> {
     }
 }
 
+/// Removes what a killed planner left (temporary files of the plan, the table and kernel
+/// builds; only the holder of `DIR/.lock` writes those) and the temporary files of points
+/// no runner holds.
+fn clean_stale(dir: &Path) {
+    for d in [dir.to_path_buf(), dir.join("build")] {
+        if let Ok(entries) = std::fs::read_dir(&d) {
+            for e in entries.flatten() {
+                let name = e.file_name().to_string_lossy().into_owned();
+                if name.starts_with('.') && name.contains(".tmp") {
+                    let _ = std::fs::remove_file(e.path());
+                }
+            }
+        }
+    }
+    runner::clean_stale_tmp(dir);
+}
+
+/// Whether a point needs no run by a runner that started at `since` and holds its claim:
+/// its result is current, or it failed with current inputs in a run that began after
+/// `since` (another runner tried it meanwhile).
+fn settled(judge: &Mutex<Judge>, p: &PlanPoint, since: f64) -> bool {
+    let Ok(mut j) = judge.lock() else {
+        return false;
+    };
+    match j.recorded_state(p) {
+        (State::Done, _) => true,
+        (State::Failed(_), Some(rec)) => rec["started_unix"].as_f64().is_some_and(|t| t >= since),
+        _ => false,
+    }
+}
+
 fn sweep(a: &SweepArgs) -> Result<ExitCode, String> {
     let file = a.file.as_deref().ok_or("no sweep file given")?;
     let spec = spec::load(file).map_err(|e| e.to_string())?;
-    let (points, merged) = spec::expand(&spec).map_err(|e| e.to_string())?;
-    let dir = match &a.out {
-        Some(d) => d.clone(),
-        None => {
-            let safe: String = spec
-                .name
-                .chars()
-                .map(|c| {
-                    if c.is_alphanumeric() || "-_.".contains(c) {
-                        c
-                    } else {
-                        '_'
-                    }
-                })
-                .collect();
-            PathBuf::from("results").join(safe)
-        }
-    };
-    std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-    let dir = std::path::absolute(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-    let mut plan =
-        plan::make_plan(&spec, &points, &dir.join("build")).map_err(|e| e.to_string())?;
+    let dir = a
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("results").join(&spec.name));
+    let mut plan = Plan::new(&spec).map_err(|e| e.to_string())?;
+    if let Some(t) = a.point_time {
+        plan.limits.time_s = Some(t);
+    }
+    if let Some(m) = a.point_memory {
+        plan.limits.memory_bytes = Some(m);
+    }
+    let merged = plan.grid.merged.len();
     if merged > 0 {
         eprintln!("note: {merged} point(s) repeat another's parameters and run once");
     }
@@ -189,49 +249,84 @@ fn sweep(a: &SweepArgs) -> Result<ExitCode, String> {
         })?;
     }
     if a.dry_run {
-        for (p, pt) in plan.points.iter().zip(&points) {
-            println!("{} {}", p.id, plan::describe(pt));
+        let mut out = std::io::BufWriter::new(std::io::stdout().lock());
+        for i in plan.grid.indices() {
+            let p = plan.grid.point(i);
+            use std::io::Write;
+            writeln!(out, "{} {}", p.id, plan::describe(&p)).map_err(|e| e.to_string())?;
         }
-        eprintln!("{} points", plan.points.len());
+        eprintln!("{} points", plan.grid.point_count());
         return Ok(ExitCode::SUCCESS);
     }
+    std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    let dir = std::path::absolute(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     runner::make_dirs(&dir)?;
     let guard = lock(&dir)?;
+    clean_stale(&dir);
+    runner::catch_interrupts()?;
+    let since = runner::unix_now();
     let (exe, exe_sha256) = this_exe()?;
-    plan::build_kernels(&mut plan, &exe)?;
+    plan::build_kernels(&mut plan, &exe, &dir.join("build"))?;
     plan.save(&dir)?;
     let copy = dir.join("sweep.toml");
     let same = |a: &Path, b: &Path| matches!((a.canonicalize(), b.canonicalize()), (Ok(a), Ok(b)) if a == b);
     if !same(file, &copy) {
         std::fs::copy(file, &copy).map_err(|e| format!("{}: {e}", file.display()))?;
     }
-    // Points to run: not run yet; failed (with --retry-failed); run with another build of
-    // their kernel (with --rerun-stale; otherwise they are only counted and reported).
-    let mut stale = 0;
-    let mut pending: Vec<usize> = Vec::new();
-    for (i, p) in plan.points.iter().enumerate() {
-        let run = match runner::recorded(&dir, &p.id) {
-            None => true,
-            Some(r) => {
-                let old = r.elf_sha256 != plan.kernels[p.kernel].elf_sha256;
-                stale += usize::from(old);
-                (r.status == "failed" && a.retry_failed) || (old && a.rerun_stale)
+    // Points to run: not run yet; stale (an input changed since their result); failed
+    // (with --retry-failed). Points another runner has now are waited for.
+    let judge = Mutex::new(Judge::new(&plan, &dir, &exe_sha256));
+    let mut pending: Vec<u64> = Vec::new();
+    let mut stale_lines: Vec<String> = Vec::new();
+    let mut stale = 0u64;
+    let mut running = 0u64;
+    for p in plan.points() {
+        let p = p?;
+        let (state, _) = judge.lock().map_err(|e| e.to_string())?.state(&p);
+        let run = match state {
+            State::Done => false,
+            State::Failed(_) => a.retry_failed,
+            State::Stale(why) => {
+                stale += 1;
+                if stale_lines.len() < 5 {
+                    stale_lines.push(format!("  {}: {}", p.id, why.join("; ")));
+                }
+                true
             }
+            State::Running(_) => {
+                running += 1;
+                true
+            }
+            State::Pending(_) => true,
         };
         if run {
-            pending.push(i);
+            pending.push(p.index);
         }
     }
-    if stale > 0 && !a.rerun_stale {
+    let total = plan.grid.point_count();
+    let done = total - pending.len() as u64;
+    if stale > 0 {
         eprintln!(
-            "warning: {stale} finished point(s) ran a different build of their kernel (the source or compiler changed since); --rerun-stale runs them again"
+            "{stale} point(s) have results whose inputs changed since they ran; running them again:"
         );
+        for l in &stale_lines {
+            eprintln!("{l}");
+        }
+        if stale > stale_lines.len() as u64 {
+            eprintln!(
+                "  ... and {} more (`trax sweep status` lists them)",
+                stale - stale_lines.len() as u64
+            );
+        }
     }
-    let done = plan.points.len() - pending.len();
     if a.slurm {
-        let ids: Vec<String> = pending.iter().map(|&i| plan.points[i].id.clone()).collect();
+        let ids: Vec<(u64, String)> = pending
+            .iter()
+            .map(|&i| (i, plan.grid.point(i).id))
+            .collect();
+        let r = submit_slurm(a, &dir, &plan, &exe, &ids, done, since);
         drop(guard);
-        return submit_slurm(a, &dir, &plan, &exe, &ids, done);
+        return r;
     }
     let jobs = a.jobs.unwrap_or_else(cores).max(1);
     let runner = Runner {
@@ -240,19 +335,30 @@ fn sweep(a: &SweepArgs) -> Result<ExitCode, String> {
         exe_sha256,
         host_threads: (cores() / jobs).max(1),
         backend: json!({ "backend": "local", "jobs": jobs }),
+        limits: plan.limits.clone(),
     };
     if done > 0 {
         eprintln!(
-            "{done} of {} points already done in {}; running the other {}",
-            plan.points.len(),
+            "{done} of {total} points already done in {}; running the other {}",
             dir.display(),
             pending.len()
         );
     }
-    let failed = run_local(&runner, &plan, &pending, jobs)?;
-    let c = table::collect(&dir)?;
+    if running > 0 {
+        eprintln!("{running} point(s) are running elsewhere (another runner holds them); waiting for them");
+    }
+    let failed = run_local(&runner, &plan, &pending, jobs, &judge, since)?;
+    let mut judge = judge.into_inner().map_err(|e| e.to_string())?;
+    let c = table::collect_with(&dir, &plan, &mut judge)?;
     table::report(&dir, &c);
     drop(guard);
+    if interrupted() {
+        eprintln!(
+            "interrupted: {} point(s) not run yet; run the sweep again to finish them",
+            c.pending + c.stale
+        );
+        return Ok(ExitCode::from(130));
+    }
     if c.failed > 0 || failed > 0 {
         eprintln!(
             "error: {} point(s) failed: see the error column of results.csv and {}",
@@ -261,10 +367,11 @@ fn sweep(a: &SweepArgs) -> Result<ExitCode, String> {
         );
         return Ok(ExitCode::FAILURE);
     }
-    if c.pending > 0 {
+    if c.pending + c.stale + c.running > 0 {
         eprintln!(
-            "error: {} point(s) were interrupted; run the sweep again to finish them",
-            c.pending
+            "error: {} point(s) were not run; run the sweep again to finish them (`trax sweep status {}` says why)",
+            c.pending + c.stale + c.running,
+            dir.display()
         );
         return Ok(ExitCode::FAILURE);
     }
@@ -299,36 +406,50 @@ fn check_plot(plan: &Plan, p: &spec::PlotSpec) -> Result<(), (String, String)> {
     Ok(())
 }
 
-/// Short description of a point for progress lines: the parameters that vary in the plan.
+/// Short description of a point for progress lines: the parameters that vary in the plan
+/// (one pass over the points, keeping each column's first value).
 fn varying(plan: &Plan) -> Vec<String> {
-    plan.columns
-        .iter()
-        .filter(|c| {
-            let vals: BTreeSet<String> = plan
-                .points
-                .iter()
-                .map(|p| p.params.get(*c).map(|v| v.canonical()).unwrap_or_default())
-                .collect();
-            vals.len() > 1
-        })
-        .cloned()
+    let mut first: Vec<Option<String>> = vec![None; plan.columns.len()];
+    let mut varies: BTreeSet<usize> = BTreeSet::new();
+    for i in plan.grid.indices() {
+        let p = plan.grid.point(i);
+        for (c, col) in plan.columns.iter().enumerate() {
+            let v = p.params.get(col).map(|v| v.canonical()).unwrap_or_default();
+            match &first[c] {
+                None => first[c] = Some(v),
+                Some(f) if *f != v => {
+                    varies.insert(c);
+                }
+                _ => {}
+            }
+        }
+        if varies.len() == plan.columns.len() {
+            break;
+        }
+    }
+    varies
+        .into_iter()
+        .map(|c| plan.columns[c].clone())
         .collect()
 }
 
-fn label(p: &plan::PlanPoint, cols: &[String]) -> String {
+fn label(p: &PlanPoint, cols: &[String]) -> String {
     cols.iter()
         .filter_map(|c| Some(format!("{c}={}", p.params.get(c)?.plain())))
         .collect::<Vec<_>>()
         .join(" ")
 }
 
-/// Runs `pending` points on `jobs` worker threads, each point a child process; returns how
-/// many failed.
+/// Runs `pending` points (combination indices) on `jobs` worker threads, each point a
+/// child process; points another runner holds are left to it and waited for (run here if it
+/// ends without a current result). Returns how many failed.
 fn run_local(
     runner: &Runner,
     plan: &Plan,
-    pending: &[usize],
+    pending: &[u64],
     jobs: usize,
+    judge: &Mutex<Judge>,
+    since: f64,
 ) -> Result<usize, String> {
     if pending.is_empty() {
         return Ok(0);
@@ -343,22 +464,71 @@ fn run_local(
     );
     bar.enable_steady_tick(Duration::from_millis(500));
     let cols = varying(plan);
-    let queue = Mutex::new(pending.iter().copied().collect::<VecDeque<usize>>());
+    let queue = Mutex::new(pending.iter().copied().collect::<VecDeque<u64>>());
+    // Points another runner held when we came to them: (index, owner).
+    let elsewhere: Mutex<Vec<(u64, String)>> = Mutex::new(Vec::new());
     let failed = Mutex::new(0usize);
     let stop = AtomicBool::new(false);
     let fatal: Mutex<Option<String>> = Mutex::new(None);
     let total = pending.len();
+    let say = |line: String| {
+        if bar.is_hidden() {
+            eprintln!("{line}");
+        } else {
+            bar.println(line);
+        }
+    };
+    let next = || -> Option<u64> {
+        if let Some(i) = queue.lock().ok()?.pop_front() {
+            return Some(i);
+        }
+        // Then the points held elsewhere, once their holder lets go.
+        loop {
+            if stop.load(Ordering::Relaxed) || interrupted() {
+                return None;
+            }
+            let mut e = elsewhere.lock().ok()?;
+            if e.is_empty() {
+                return None;
+            }
+            if let Some(k) = e.iter().position(|(i, _)| {
+                runner::Claim::holder(&runner.dir, &plan.grid.point(*i).id).is_none()
+            }) {
+                return Some(e.remove(k).0);
+            }
+            bar.set_message(format!(
+                "waiting for {} point(s) running elsewhere",
+                e.len()
+            ));
+            drop(e);
+            std::thread::sleep(Duration::from_millis(500));
+        }
+    };
     std::thread::scope(|s| {
         for _ in 0..jobs.min(pending.len()) {
             s.spawn(|| loop {
-                if stop.load(Ordering::Relaxed) {
+                if stop.load(Ordering::Relaxed) || interrupted() {
                     return;
                 }
-                let Some(i) = queue.lock().map_or(None, |mut q| q.pop_front()) else {
+                let Some(i) = next() else {
                     return;
                 };
-                let p = &plan.points[i];
-                match runner.run(plan, p) {
+                let p = match plan.point(i) {
+                    Ok(p) => p,
+                    Err(e) => {
+                        stop.store(true, Ordering::Relaxed);
+                        if let Ok(mut f) = fatal.lock() {
+                            *f = Some(e);
+                        }
+                        return;
+                    }
+                };
+                match runner.run(plan, &p, &mut |p| settled(judge, p, since)) {
+                    Ok((Outcome::Claimed(owner), _)) => {
+                        if let Ok(mut e) = elsewhere.lock() {
+                            e.push((i, owner));
+                        }
+                    }
                     Ok((outcome, wall)) => {
                         let word = match &outcome {
                             Outcome::Ok => "ok".to_string(),
@@ -369,19 +539,16 @@ fn run_local(
                                 format!("FAILED: {e}")
                             }
                             Outcome::Interrupted(e) => format!("interrupted ({e})"),
+                            Outcome::DoneElsewhere => "done by another runner".into(),
+                            Outcome::Claimed(_) => unreachable!("handled above"),
                         };
                         bar.inc(1);
-                        let line = format!(
+                        say(format!(
                             "[{}/{total}] {} {} {word} ({wall:.1} s)",
                             bar.position(),
                             p.id,
-                            label(p, &cols)
-                        );
-                        if bar.is_hidden() {
-                            eprintln!("{line}");
-                        } else {
-                            bar.println(line);
-                        }
+                            label(&p, &cols)
+                        ));
                     }
                     Err(e) => {
                         stop.store(true, Ordering::Relaxed);
@@ -406,8 +573,9 @@ fn submit_slurm(
     dir: &Path,
     plan: &Plan,
     exe: &Path,
-    ids: &[String],
-    done: usize,
+    ids: &[(u64, String)],
+    done: u64,
+    since: f64,
 ) -> Result<ExitCode, String> {
     if ids.is_empty() {
         eprintln!("all {done} points are done; nothing to submit");
@@ -424,7 +592,7 @@ fn submit_slurm(
         max_running: a.max_running.or(f.max_running),
         cpus_per_task: a.cpus_per_task.or(f.cpus_per_task),
     };
-    let sub = slurm::prepare(dir, &plan.name, exe, ids, &settings)?;
+    let sub = slurm::prepare(dir, plan, exe, ids, &settings, since)?;
     if a.no_submit {
         eprintln!(
             "wrote {} ({} tasks for {} points); submit it with sbatch",
@@ -447,8 +615,15 @@ fn submit_slurm(
 }
 
 /// `trax sweep task`: one Slurm array task's points, one after the other.
-fn run_task(dir: &Path, tasks: &Path, index: usize) -> Result<ExitCode, String> {
-    let plan = Plan::load(dir)?;
+fn run_task(
+    dir: &Path,
+    plan_file: &Path,
+    tasks: &Path,
+    index: usize,
+    since: f64,
+) -> Result<ExitCode, String> {
+    runner::catch_interrupts()?;
+    let plan = Plan::load_file(plan_file)?;
     let ids = slurm::task_points(tasks, index)?;
     let (exe, exe_sha256) = this_exe()?;
     let env = |k: &str| std::env::var(k).ok();
@@ -459,7 +634,7 @@ fn run_task(dir: &Path, tasks: &Path, index: usize) -> Result<ExitCode, String> 
     let runner = Runner {
         dir: dir.to_path_buf(),
         exe,
-        exe_sha256,
+        exe_sha256: exe_sha256.clone(),
         host_threads,
         backend: json!({
             "backend": "slurm",
@@ -467,22 +642,17 @@ fn run_task(dir: &Path, tasks: &Path, index: usize) -> Result<ExitCode, String> 
             "task": env("SLURM_ARRAY_TASK_ID"),
             "node": env("SLURMD_NODENAME"),
         }),
+        limits: plan.limits.clone(),
     };
+    let judge = Mutex::new(Judge::new(&plan, dir, &exe_sha256));
     let cols = varying(&plan);
     let mut failed = 0;
-    for id in &ids {
-        let p =
-            plan.points.iter().find(|p| &p.id == id).ok_or_else(|| {
-                format!("point {id} is not in {}", dir.join("plan.json").display())
-            })?;
-        // Done already (a requeued task) with this build of the kernel.
-        if runner::recorded(dir, id)
-            .is_some_and(|r| r.status == "ok" && r.elf_sha256 == plan.kernels[p.kernel].elf_sha256)
-        {
-            eprintln!("{id} already done");
-            continue;
+    for (i, id) in &ids {
+        if interrupted() {
+            break;
         }
-        let (outcome, wall) = runner.run(&plan, p)?;
+        let p = plan.point_with_id(*i, id)?;
+        let (outcome, wall) = runner.run(&plan, &p, &mut |p| settled(&judge, p, since))?;
         let word = match outcome {
             Outcome::Ok => "ok".to_string(),
             Outcome::Failed(e) => {
@@ -490,10 +660,12 @@ fn run_task(dir: &Path, tasks: &Path, index: usize) -> Result<ExitCode, String> 
                 format!("FAILED: {e}")
             }
             Outcome::Interrupted(e) => format!("interrupted ({e})"),
+            Outcome::Claimed(owner) => format!("left to {owner}, who runs it"),
+            Outcome::DoneElsewhere => "already done".into(),
         };
-        eprintln!("{id} {} {word} ({wall:.1} s)", label(p, &cols));
+        eprintln!("{id} {} {word} ({wall:.1} s)", label(&p, &cols));
     }
-    Ok(if failed > 0 {
+    Ok(if failed > 0 || interrupted() {
         ExitCode::FAILURE
     } else {
         ExitCode::SUCCESS

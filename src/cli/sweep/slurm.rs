@@ -3,13 +3,25 @@
 //! land in the same results directory (which must be on a file system the nodes share), and
 //! `trax sweep collect DIR` merges them.
 //!
-//! Files: `DIR/slurm/sub-N.tasks` (line `i` = the point ids of array task `i`),
-//! `DIR/slurm/sub-N.sbatch` (the job script), `DIR/slurm/logs/JOB_TASK.out`.
+//! Array tasks claim each point before running it, as local runners do
+//! ([`super::runner::Claim`]), so a local sweep in the same directory runs beside them and
+//! every point runs once. Per-point limits apply in each task ([`super::runner`]); the job
+//! asks Slurm for the memory limit (`--mem`, plus room for the task itself) and, unless
+//! given, a time limit of the points' limit times the points per task plus a minute.
+//!
+//! Files: `DIR/slurm/sub-N.plan.json` (the plan as submitted: the tasks run it even if the
+//! sweep is planned anew meanwhile), `DIR/slurm/sub-N.tasks` (line `i` = `INDEX:ID` of
+//! the points of array task `i`), `DIR/slurm/sub-N.sbatch` (the job script),
+//! `DIR/slurm/logs/JOB_TASK.out`.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
-use super::spec::SlurmSettings;
+use super::plan::Plan;
+use super::spec::{show_mib, SlurmSettings};
+
+/// Memory asked of Slurm for an array task beyond its points' limit (the task itself).
+const TASK_MEMORY: u64 = 256 << 20;
 
 /// Array tasks per job at most (Slurm's default `MaxArraySize` is 1001); more points are
 /// grouped so the array stays within it.
@@ -30,28 +42,49 @@ fn quote(s: &str) -> String {
     format!("'{}'", s.replace('\'', "'\\''"))
 }
 
-/// Writes the task list and job script for `pending` point ids.
+/// `secs` as Slurm's `D-HH:MM:SS`.
+pub fn slurm_time(secs: u64) -> String {
+    format!(
+        "{}-{:02}:{:02}:{:02}",
+        secs / 86400,
+        secs / 3600 % 24,
+        secs / 60 % 60,
+        secs % 60
+    )
+}
+
+/// Writes the plan, task list and job script for the `pending` points (combination index
+/// and id), submitted at `since`.
 pub fn prepare(
     dir: &Path,
-    name: &str,
+    plan: &Plan,
     exe: &Path,
-    pending: &[String],
+    pending: &[(u64, String)],
     s: &SlurmSettings,
+    since: f64,
 ) -> Result<Submission, String> {
+    let name = &plan.name;
     let sdir = dir.join("slurm");
     let logs = sdir.join("logs");
     std::fs::create_dir_all(&logs).map_err(|e| format!("{}: {e}", logs.display()))?;
     let per_task = s
         .per_task
         .map_or_else(|| pending.len().div_ceil(MAX_TASKS).max(1), |n| n as usize);
-    let groups: Vec<&[String]> = pending.chunks(per_task).collect();
+    let groups: Vec<&[(u64, String)]> = pending.chunks(per_task).collect();
     let mut n = 1;
     while sdir.join(format!("sub-{n}.tasks")).exists() {
         n += 1;
     }
     let tasks_file = sdir.join(format!("sub-{n}.tasks"));
+    let plan_file = sdir.join(format!("sub-{n}.plan.json"));
     let script = sdir.join(format!("sub-{n}.sbatch"));
-    let lines: String = groups.iter().map(|g| g.join(" ") + "\n").collect();
+    plan.save_to(&plan_file)?;
+    let mut lines = String::new();
+    for g in &groups {
+        let words: Vec<String> = g.iter().map(|(i, id)| format!("{i}:{id}")).collect();
+        lines += &words.join(" ");
+        lines.push('\n');
+    }
     std::fs::write(&tasks_file, lines).map_err(|e| format!("{}: {e}", tasks_file.display()))?;
     let mut array = format!("0-{}", groups.len().saturating_sub(1));
     if let Some(k) = s.max_running {
@@ -84,16 +117,28 @@ pub fn prepare(
     if let Some(p) = &s.partition {
         text.push_str(&format!("#SBATCH --partition={p}\n"));
     }
-    if let Some(t) = &s.time {
+    let time = s.time.clone().or_else(|| {
+        plan.limits
+            .time_s
+            .map(|t| slurm_time(t.saturating_mul(per_task as u64).saturating_add(60)))
+    });
+    if let Some(t) = &time {
         text.push_str(&format!("#SBATCH --time={t}\n"));
+    }
+    if let Some(m) = plan.limits.memory_bytes {
+        text.push_str(&format!(
+            "#SBATCH --mem={}\n",
+            show_mib(m.saturating_add(TASK_MEMORY))
+        ));
     }
     if let Some(a) = &s.account {
         text.push_str(&format!("#SBATCH --account={a}\n"));
     }
     text.push_str(&format!(
-        "exec {} sweep task {} --tasks {} --index \"$SLURM_ARRAY_TASK_ID\"\n",
+        "exec {} sweep task {} --plan {} --tasks {} --since {since:.3} --index \"$SLURM_ARRAY_TASK_ID\"\n",
         quote(&exe.display().to_string()),
         quote(&dir.display().to_string()),
+        quote(&plan_file.display().to_string()),
         quote(&tasks_file.display().to_string()),
     ));
     std::fs::write(&script, text).map_err(|e| format!("{}: {e}", script.display()))?;
@@ -129,8 +174,8 @@ pub fn submit(script: &Path) -> Result<String, String> {
     Ok(id)
 }
 
-/// The point ids of array task `index` in a task list.
-pub fn task_points(tasks_file: &Path, index: usize) -> Result<Vec<String>, String> {
+/// The points (combination index, id) of array task `index` in a task list.
+pub fn task_points(tasks_file: &Path, index: usize) -> Result<Vec<(u64, String)>, String> {
     let text = std::fs::read_to_string(tasks_file)
         .map_err(|e| format!("{}: {e}", tasks_file.display()))?;
     let line = text.lines().nth(index).ok_or_else(|| {
@@ -140,5 +185,16 @@ pub fn task_points(tasks_file: &Path, index: usize) -> Result<Vec<String>, Strin
             text.lines().count()
         )
     })?;
-    Ok(line.split_whitespace().map(str::to_string).collect())
+    line.split_whitespace()
+        .map(|w| {
+            w.split_once(':')
+                .and_then(|(i, id)| Some((i.parse().ok()?, id.to_string())))
+                .ok_or_else(|| {
+                    format!(
+                        "{}: task {index}: `{w}` is not INDEX:ID",
+                        tasks_file.display()
+                    )
+                })
+        })
+        .collect()
 }

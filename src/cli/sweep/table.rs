@@ -2,30 +2,37 @@
 //! per point of the plan, in sweep order; one column per parameter and per headline metric)
 //! and draws the sweep file's plots. It does not matter what ran the points.
 //!
-//! Columns: `id`, `status` (`ok`, `failed`, `pending` = not run yet), the parameters, the
-//! metrics ([`super::metrics::METRICS`]; timing-only ones when the sweep has timing points),
-//! `wall_seconds` (host time of the run) and `error`. Empty cells are missing values.
+//! Columns: `id`, `status` (`ok`; `failed`; `stale` = its result's inputs changed since, see
+//! [`super::state`]; `running`; `pending` = not run yet), the parameters, the metrics
+//! ([`super::metrics::METRICS`]; timing-only ones when the sweep has timing points; only
+//! for `ok` rows: a stale result is not reported), `wall_seconds` (host time of the run)
+//! and `error` (a failed point's error, what changed for a stale one). Empty cells are
+//! missing values.
 
 use std::path::Path;
 
 use serde_json::Value;
 
 use super::metrics::{self, Metric};
-use super::plan::{write_atomic, Plan};
-use super::runner::point_path;
+use super::plan::Plan;
 use super::spec::PVal;
+use super::state::{current_plan, Judge, State};
 
 /// Counts of a collected table.
 #[derive(Debug, Default)]
 pub struct Collected {
     /// Points in the plan.
-    pub points: usize,
-    /// Finished.
-    pub ok: usize,
-    /// Failed.
-    pub failed: usize,
+    pub points: u64,
+    /// Finished, with current inputs.
+    pub ok: u64,
+    /// Failed, with current inputs.
+    pub failed: u64,
+    /// With a result whose inputs changed since.
+    pub stale: u64,
+    /// Running now (another runner).
+    pub running: u64,
     /// Not run yet.
-    pub pending: usize,
+    pub pending: u64,
     /// Results in `points/` of points the plan no longer has (left out of the table).
     pub extra: usize,
     /// Plot files written.
@@ -37,9 +44,9 @@ pub struct Collected {
 /// The metric columns of a plan (functional-only sweeps have no timing columns).
 pub fn metric_columns(plan: &Plan) -> Vec<&'static Metric> {
     let mode = |m: &str| {
-        plan.points
-            .iter()
-            .any(|p| p.params.get("mode") == Some(&PVal::Str(m.into())))
+        plan.grid
+            .indices()
+            .any(|i| plan.grid.point(i).params.get("mode") == Some(&PVal::Str(m.into())))
     };
     metrics::columns_for(mode("functional"), mode("timing"))
 }
@@ -53,58 +60,64 @@ fn num(v: f64) -> String {
     }
 }
 
-/// Writes `DIR/results.csv` and the plots.
+/// Writes `DIR/results.csv` and the plots, judging each point against its inputs as they
+/// are now (the kernels built anew).
 pub fn collect(dir: &Path) -> Result<Collected, String> {
-    let plan = Plan::load(dir)?;
-    let mcols = metric_columns(&plan);
+    let (exe, exe_sha256) = super::this_exe()?;
+    let (plan, errors) = current_plan(dir, &exe)?;
+    let mut judge = Judge::new(&plan, dir, &exe_sha256).with_kernel_errors(errors);
+    collect_with(dir, &plan, &mut judge)
+}
+
+/// [`collect`] with a plan whose kernels are built and a judge of it.
+pub fn collect_with(dir: &Path, plan: &Plan, judge: &mut Judge) -> Result<Collected, String> {
+    let mcols = metric_columns(plan);
     let mut header: Vec<String> = vec!["id".into(), "status".into()];
     header.extend(plan.columns.iter().cloned());
     header.extend(mcols.iter().map(|m| m.column.to_string()));
     header.extend(["wall_seconds".into(), "error".into()]);
-    let mut w = csv::Writer::from_writer(Vec::new());
-    w.write_record(&header).map_err(|e| e.to_string())?;
+    // Streamed to a temporary file, renamed when whole.
+    let out = dir.join("results.csv");
+    let tmp = dir.join(format!(".results.csv.tmp.{}", std::process::id()));
+    let file = std::fs::File::create(&tmp).map_err(|e| format!("{}: {e}", tmp.display()))?;
+    let mut w = csv::Writer::from_writer(std::io::BufWriter::new(file));
+    let werr = |e: csv::Error| format!("{}: {e}", tmp.display());
+    w.write_record(&header).map_err(werr)?;
     let mut c = Collected {
-        points: plan.points.len(),
+        points: plan.grid.point_count(),
         ..Collected::default()
     };
-    for p in &plan.points {
-        let mut row: Vec<String> = vec![p.id.clone()];
-        let path = point_path(dir, &p.id);
-        let record: Option<Result<Value, String>> = match std::fs::read_to_string(&path) {
-            Ok(t) => Some(serde_json::from_str(&t).map_err(|e| format!("{}: {e}", path.display()))),
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => None,
-            Err(e) => Some(Err(format!("{}: {e}", path.display()))),
-        };
-        let (status, stats, wall, error) = match &record {
-            None => ("pending", None, None, String::new()),
-            Some(Err(e)) => ("failed", None, None, e.clone()),
-            Some(Ok(v)) => {
-                let status = match v.get("status").and_then(Value::as_str) {
-                    Some("ok") => "ok",
-                    _ => "failed",
-                };
-                let error = v
-                    .get("error")
-                    .and_then(Value::as_str)
-                    .unwrap_or_default()
-                    .lines()
-                    .next()
-                    .unwrap_or_default()
-                    .to_string();
-                (
-                    status,
-                    v.get("stats").filter(|s| !s.is_null()),
-                    v.get("wall_seconds").and_then(Value::as_f64),
-                    error,
-                )
-            }
-        };
-        match status {
-            "ok" => c.ok += 1,
-            "failed" => c.failed += 1,
-            _ => c.pending += 1,
+    let mut ids: std::collections::HashSet<u64> = std::collections::HashSet::new();
+    for p in plan.points() {
+        let p = p?;
+        if let Ok(bits) = u64::from_str_radix(&p.id, 16) {
+            ids.insert(bits);
         }
-        row.push(status.into());
+        let mut row: Vec<String> = vec![p.id.clone()];
+        let (state, record) = judge.state(&p);
+        let record = record.filter(|_| state == State::Done);
+        let stats = record
+            .as_ref()
+            .and_then(|v| v.get("stats"))
+            .filter(|s| !s.is_null());
+        let wall = record
+            .as_ref()
+            .and_then(|v| v.get("wall_seconds"))
+            .and_then(Value::as_f64);
+        let error = match &state {
+            State::Done | State::Running(_) | State::Pending(None) => String::new(),
+            State::Pending(Some(n)) => n.clone(),
+            State::Failed(e) => e.clone(),
+            State::Stale(why) => why.join("; "),
+        };
+        match state {
+            State::Done => c.ok += 1,
+            State::Failed(_) => c.failed += 1,
+            State::Stale(_) => c.stale += 1,
+            State::Running(_) => c.running += 1,
+            State::Pending(_) => c.pending += 1,
+        }
+        row.push(state.word().into());
         for col in &plan.columns {
             row.push(p.params.get(col).map(PVal::plain).unwrap_or_default());
         }
@@ -118,19 +131,19 @@ pub fn collect(dir: &Path) -> Result<Collected, String> {
         }
         row.push(wall.map(num).unwrap_or_default());
         row.push(error);
-        w.write_record(&row).map_err(|e| e.to_string())?;
+        w.write_record(&row).map_err(werr)?;
     }
-    let ids: std::collections::HashSet<&str> = plan.points.iter().map(|p| p.id.as_str()).collect();
+    w.flush().map_err(|e| format!("{}: {e}", tmp.display()))?;
+    drop(w);
+    std::fs::rename(&tmp, &out).map_err(|e| format!("{}: {e}", out.display()))?;
     if let Ok(entries) = std::fs::read_dir(dir.join("points")) {
         c.extra = entries
             .filter_map(|e| e.ok()?.file_name().into_string().ok())
             .filter(|n| !n.starts_with('.'))
             .filter_map(|n| n.strip_suffix(".json").map(str::to_string))
-            .filter(|id| !ids.contains(id.as_str()))
+            .filter(|id| u64::from_str_radix(id, 16).map_or(true, |b| !ids.contains(&b)))
             .count();
     }
-    let bytes = w.into_inner().map_err(|e| e.to_string())?;
-    write_atomic(&dir.join("results.csv"), &bytes)?;
     let (plots, errors) = crate::cli::plot::draw_plan_plots(dir, &plan.plots);
     c.plots = plots;
     c.plot_errors = errors;
@@ -139,8 +152,15 @@ pub fn collect(dir: &Path) -> Result<Collected, String> {
 
 /// Prints what `collect` found.
 pub fn report(dir: &Path, c: &Collected) {
+    let mut others = String::new();
+    if c.stale > 0 {
+        others += &format!(", {} stale", c.stale);
+    }
+    if c.running > 0 {
+        others += &format!(", {} running", c.running);
+    }
     eprintln!(
-        "{} points: {} ok, {} failed, {} not run -> {}",
+        "{} points: {} ok, {} failed{others}, {} not run -> {}",
         c.points,
         c.ok,
         c.failed,

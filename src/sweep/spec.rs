@@ -106,7 +106,7 @@ impl PVal {
 }
 
 /// A position in the sweep file (1-based).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Loc {
     /// Line.
     pub line: usize,
@@ -225,6 +225,7 @@ const RESERVED: &[&str] = &[
     "slurm",
     "plot",
     "rep",
+    "limits",
 ];
 
 /// Prefix of label parameters (`label.NAME = VALUE`): recorded with the point (its id,
@@ -244,7 +245,7 @@ pub fn knob_named(name: &str) -> Option<&'static Knob> {
 }
 
 /// A value and where it is.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct At<T> {
     /// The value.
     pub v: T,
@@ -279,6 +280,133 @@ pub struct SlurmSettings {
     pub max_running: Option<u32>,
     /// CPUs per task (each point's `--host-threads`).
     pub cpus_per_task: Option<u32>,
+}
+
+/// Per-point limits (`[limits]` in the sweep file, `--point-time`/`--point-memory` on the
+/// command line). A point over one is stopped and recorded as failed with the limit it hit.
+/// They are not parameters: they change no result, only whether there is one.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Limits {
+    /// Wall-clock seconds a point may run.
+    pub time_s: Option<u64>,
+    /// Bytes of resident memory a point may use (its peak, `ru_maxrss`).
+    pub memory_bytes: Option<u64>,
+}
+
+/// Most seconds a time limit may be (a year).
+const MAX_TIME_S: u64 = 366 * 24 * 3600;
+
+/// A duration: whole seconds (`90`), a number with a unit (`90s`, `30m`, `1.5h`, `2d`) or
+/// Slurm's `[D-]HH:MM:SS`/`MM:SS`; at least 1 s, at most a year.
+pub fn parse_duration(s: &str) -> Result<u64, String> {
+    let bad = || {
+        format!("{s:?} is not a duration (e.g. 90, \"90s\", \"30m\", \"1.5h\", \"2d\", \"1:30:00\", \"2-00:00:00\")")
+    };
+    let t = s.trim();
+    let secs: f64 = if t.contains(':') {
+        let (days, hms) = match t.split_once('-') {
+            Some((d, r)) => (d.parse::<u64>().map_err(|_| bad())?, r),
+            None => (0, t),
+        };
+        let parts: Vec<u64> = hms
+            .split(':')
+            .map(|p| p.parse::<u64>().map_err(|_| bad()))
+            .collect::<Result<_, _>>()?;
+        let (h, m, sec) = match parts.as_slice() {
+            [m, sec] => (0, *m, *sec),
+            [h, m, sec] => (*h, *m, *sec),
+            _ => return Err(bad()),
+        };
+        ((days.min(MAX_TIME_S) * 24 + h.min(MAX_TIME_S)) * 60 + m.min(MAX_TIME_S)) as f64 * 60.0
+            + sec.min(MAX_TIME_S) as f64
+    } else {
+        let split = t
+            .find(|c: char| !(c.is_ascii_digit() || c == '.'))
+            .unwrap_or(t.len());
+        let (num, unit) = t.split_at(split);
+        let n: f64 = num.parse().map_err(|_| bad())?;
+        let scale = match unit.trim() {
+            "" | "s" | "sec" => 1.0,
+            "m" | "min" => 60.0,
+            "h" => 3600.0,
+            "d" => 86400.0,
+            _ => return Err(bad()),
+        };
+        n * scale
+    };
+    if !(1.0..=MAX_TIME_S as f64).contains(&secs) {
+        return Err(format!("{s:?} must be from 1 second to a year"));
+    }
+    Ok(secs.round() as u64)
+}
+
+/// An amount of memory: a number with a unit, binary as Slurm's `--mem` (`512M`, `4G`,
+/// `4GiB`, `1.5G`, `65536K`; `B` for bytes); a bare number is MiB (Slurm's default).
+/// At least 1 MiB, at most 1 PiB.
+pub fn parse_memory(s: &str) -> Result<u64, String> {
+    let bad = || {
+        format!("{s:?} is not an amount of memory (e.g. \"512M\", \"4G\", \"4GiB\"; a bare number is MiB)")
+    };
+    let t = s.trim();
+    let split = t
+        .find(|c: char| !(c.is_ascii_digit() || c == '.'))
+        .unwrap_or(t.len());
+    let (num, unit) = t.split_at(split);
+    let n: f64 = num.parse().map_err(|_| bad())?;
+    let unit = unit.trim().to_ascii_uppercase();
+    let unit = unit
+        .strip_suffix("IB")
+        .or_else(|| unit.strip_suffix('B').filter(|u| !u.is_empty()))
+        .unwrap_or(&unit);
+    let scale = match unit {
+        "" | "M" => 1u64 << 20,
+        "B" => 1,
+        "K" => 1 << 10,
+        "G" => 1 << 30,
+        "T" => 1 << 40,
+        _ => return Err(bad()),
+    };
+    let bytes = n * scale as f64;
+    if !((1u64 << 20) as f64..=(1u64 << 50) as f64).contains(&bytes) {
+        return Err(format!("{s:?} must be from 1 MiB to 1 PiB"));
+    }
+    Ok(bytes as u64)
+}
+
+/// `bytes` for a person (and Slurm's `--mem`): whole MiB, as `N M`.
+pub fn show_mib(bytes: u64) -> String {
+    format!("{}M", bytes.div_ceil(1 << 20))
+}
+
+fn parse_limits(src: &Src, item: &Item, kloc: Option<Loc>) -> Result<Limits, SpecError> {
+    let mut l = Limits::default();
+    for (k, it, loc) in table_entries(src, "limits", item, kloc)? {
+        let field = format!("limits.{k}");
+        let vloc = src.loc(it.span()).or(loc);
+        let text = match it.as_value() {
+            Some(Value::String(s)) => s.value().clone(),
+            Some(Value::Integer(i)) => i.value().to_string(),
+            Some(Value::Float(f)) => f.value().to_string(),
+            other => {
+                return Err(src.err(
+                    vloc,
+                    &field,
+                    format!(
+                        "must be a string or a number, found {}",
+                        other.map_or("a table", value_type)
+                    ),
+                ))
+            }
+        };
+        match k {
+            "time" => l.time_s = Some(parse_duration(&text).map_err(|m| src.err(vloc, &field, m))?),
+            "memory" => {
+                l.memory_bytes = Some(parse_memory(&text).map_err(|m| src.err(vloc, &field, m))?)
+            }
+            _ => return Err(src.err(loc, &field, "unknown field (expected time, memory)")),
+        }
+    }
+    Ok(l)
 }
 
 /// How a plot shows its metric.
@@ -336,6 +464,8 @@ pub struct SweepSpec {
     pub slurm: SlurmSettings,
     /// Plots.
     pub plots: Vec<PlotSpec>,
+    /// Per-point limits.
+    pub limits: Limits,
 }
 
 /// One expanded point.
@@ -343,6 +473,10 @@ pub struct SweepSpec {
 pub struct Point {
     /// Stable id (see the module documentation).
     pub id: String,
+    /// The id as a number.
+    pub id_bits: u64,
+    /// Its combination index in the [`Grid`].
+    pub index: u64,
     /// Every parameter, by name.
     pub params: BTreeMap<String, PVal>,
     /// Where each parameter the file gives comes from.
@@ -403,19 +537,20 @@ pub fn parse(text: &str, path: &Path) -> Result<SweepSpec, SpecError> {
         dir,
         name: path
             .file_stem()
-            .map_or_else(|| "sweep".into(), |s| s.to_string_lossy().into_owned()),
+            .map_or_else(|| "sweep".into(), |s| safe_name(&s.to_string_lossy())),
         fixed: Vec::new(),
         axes: Vec::new(),
         cases: Vec::new(),
         repetitions: 1,
         slurm: SlurmSettings::default(),
         plots: Vec::new(),
+        limits: Limits::default(),
     };
     let root = doc.as_table();
     for (key, item) in root.iter() {
         let kloc = src.loc(root.key(key).and_then(|k| k.span()));
         match key {
-            "name" => spec.name = string_item(&src, key, item)?,
+            "name" => spec.name = name_item(&src, key, item)?,
             "repetitions" => {
                 spec.repetitions = int_item(&src, key, item, 1, 1_000_000)? as u32;
             }
@@ -423,6 +558,7 @@ pub fn parse(text: &str, path: &Path) -> Result<SweepSpec, SpecError> {
             "cases" => spec.cases = parse_cases(&src, item, kloc)?,
             "slurm" => spec.slurm = parse_slurm(&src, item, kloc)?,
             "plot" => spec.plots = parse_plots(&src, item, kloc)?,
+            "limits" => spec.limits = parse_limits(&src, item, kloc)?,
             "rep" => {
                 return Err(src.err(kloc, key, "is the repetition index; use `repetitions = N`"))
             }
@@ -642,6 +778,51 @@ fn string_item(src: &Src, name: &str, item: &Item) -> Result<String, SpecError> 
     }
 }
 
+/// Whether `s` is a name (of a sweep, a plot): it becomes a file or directory name, so it
+/// is letters, digits, `-`, `_` and `.`, not first `.`, at most 100 characters.
+pub fn is_name(s: &str) -> bool {
+    !s.is_empty()
+        && s.len() <= 100
+        && !s.starts_with('.')
+        && s.chars()
+            .all(|c| c.is_ascii_alphanumeric() || "-_.".contains(c))
+}
+
+/// `s` made a name ([`is_name`]): other characters and a leading `.` become `_`.
+pub fn safe_name(s: &str) -> String {
+    let mut n: String = s
+        .chars()
+        .take(100)
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || "-_.".contains(c) {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    if n.is_empty() || n.starts_with('.') {
+        n.replace_range(..n.len().min(1), "_");
+    }
+    n
+}
+
+/// A string item that must be a name ([`is_name`]): names are not paths.
+fn name_item(src: &Src, name: &str, item: &Item) -> Result<String, SpecError> {
+    let s = string_item(src, name, item)?;
+    if is_name(&s) {
+        Ok(s)
+    } else {
+        Err(src.err(
+            src.loc(item.span()),
+            name,
+            format!(
+                "{s:?} is not a name: it names files in the results directory, so it is 1 to 100 letters, digits, `-`, `_` and `.` (not first), not a path"
+            ),
+        ))
+    }
+}
+
 fn int_item(src: &Src, name: &str, item: &Item, min: i64, max: i64) -> Result<i64, SpecError> {
     match item.as_value() {
         Some(Value::Integer(i)) if (min..=max).contains(i.value()) => Ok(*i.value()),
@@ -757,7 +938,7 @@ fn parse_plots(src: &Src, item: &Item, kloc: Option<Loc>) -> Result<Vec<PlotSpec
                 "y" => y = Some(string_item(src, &field, it).map_err(at)?),
                 "by" => by = Some(string_item(src, &field, it).map_err(at)?),
                 "title" => title = Some(string_item(src, &field, it).map_err(at)?),
-                "name" => name = Some(string_item(src, &field, it).map_err(at)?),
+                "name" => name = Some(name_item(src, &field, it).map_err(at)?),
                 "kind" => {
                     let s = string_item(src, &field, it).map_err(at)?;
                     kind = match s.as_str() {
@@ -829,7 +1010,7 @@ pub fn default_plot_name(x: &str, y: &str, by: Option<&str>) -> String {
         n.push_str("_by_");
         n.push_str(b);
     }
-    n.replace(['/', '\\', ' ', '.'], "_")
+    safe_name(&n.replace('.', "_"))
 }
 
 /// Checks knob values, reserved names and parameters given twice.
@@ -924,86 +1105,172 @@ pub fn check_knob(name: &str, v: &PVal) -> Result<(), String> {
     }
 }
 
-/// The points of a sweep: every case crossed with every grid combination (the last axis
-/// varying fastest), each `repetitions` times; identical points are merged. Also returns how
-/// many were merged.
-pub fn expand(spec: &SweepSpec) -> Result<(Vec<Point>, usize), SpecError> {
-    let src_err = |loc: Option<Loc>, field: &str, msg: String| SpecError {
-        file: spec.file.display().to_string(),
-        loc,
-        field: field.to_string(),
-        msg,
-    };
-    let empty = Vec::new();
-    let cases: Vec<&Vec<Param>> = if spec.cases.is_empty() {
-        vec![&empty]
-    } else {
-        spec.cases.iter().collect()
-    };
-    let grid_size: usize = spec.axes.iter().map(|a| a.values.len()).product();
-    let total = cases.len() * grid_size * spec.repetitions as usize;
-    if total > MAX_POINTS {
-        return Err(src_err(
-            None,
-            "",
-            format!("{total} points is more than the {MAX_POINTS} a sweep may have"),
-        ));
-    }
-    let mut points = Vec::with_capacity(total);
-    let mut seen = std::collections::HashSet::new();
-    let mut merged = 0;
-    for case in cases {
-        for g in 0..grid_size {
-            for rep in 0..spec.repetitions {
-                let mut params = BTreeMap::new();
-                let mut locs = BTreeMap::new();
-                for (n, v) in spec.fixed.iter().chain(case.iter()) {
-                    params.insert(n.v.clone(), v.v.clone());
-                    locs.insert(n.v.clone(), v.loc);
-                }
-                let mut rest = g;
-                for a in spec.axes.iter().rev() {
-                    let v = &a.values[rest % a.values.len()];
-                    rest /= a.values.len();
-                    params.insert(a.name.v.clone(), v.v.clone());
-                    locs.insert(a.name.v.clone(), v.loc);
-                }
-                for k in KNOBS {
-                    if let (false, Some(d)) = (params.contains_key(k.name), k.default) {
-                        let v = match d {
-                            DefaultVal::Str(s) => PVal::Str(s.to_string()),
-                            DefaultVal::Int(i) => PVal::Int(i),
-                        };
-                        params.insert(k.name.to_string(), v);
-                    }
-                }
-                if !params.contains_key("kernel") {
-                    return Err(src_err(
-                        None,
-                        "kernel",
-                        "no kernel: give `kernel = \"PATH\"` (at the top level, as an axis or in every case)".into(),
-                    ));
-                }
-                if spec.repetitions > 1 {
-                    params.insert("rep".into(), PVal::Int(rep as i64));
-                }
-                let id = point_id(&params);
-                if seen.insert(id.clone()) {
-                    points.push(Point { id, params, locs });
-                } else {
-                    merged += 1;
-                }
-            }
-        }
-    }
-    Ok((points, merged))
+/// The points of a sweep as data: every case crossed with every grid combination (the last
+/// axis varying fastest), each `repetitions` times. Points are made one at a time from their
+/// index ([`Grid::point`]); none is stored, so planning and running a sweep take memory for
+/// the sweep file, not for its points (a results directory's `plan.json` holds the grid).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Grid {
+    /// Parameters every point shares.
+    pub fixed: Vec<(String, At<PVal>)>,
+    /// Axes: name and values.
+    pub axes: Vec<(String, Vec<At<PVal>>)>,
+    /// Cases (at least one, possibly empty).
+    pub cases: Vec<Vec<(String, At<PVal>)>>,
+    /// Runs of each point.
+    pub repetitions: u32,
+    /// Indices of combinations whose parameters repeat an earlier one's (sorted): they are
+    /// not points of the sweep.
+    pub merged: Vec<u64>,
 }
 
 /// Points a sweep may have at most.
-pub const MAX_POINTS: usize = 1_000_000;
+pub const MAX_POINTS: u64 = 1_000_000;
 
-/// The stable id of a point's parameters (see the module documentation).
-pub fn point_id(params: &BTreeMap<String, PVal>) -> String {
+impl Grid {
+    /// The grid of a parsed sweep file, its size checked against [`MAX_POINTS`] (before
+    /// anything is made) and repeated points found.
+    pub fn new(spec: &SweepSpec) -> Result<Grid, SpecError> {
+        let err = |msg: String| SpecError {
+            file: spec.file.display().to_string(),
+            loc: None,
+            field: String::new(),
+            msg,
+        };
+        let factors = std::iter::once(spec.cases.len().max(1) as u64)
+            .chain(spec.axes.iter().map(|a| a.values.len() as u64))
+            .chain(std::iter::once(u64::from(spec.repetitions)));
+        let size = factors.clone().try_fold(1u64, |acc, f| acc.checked_mul(f));
+        if size.is_none_or(|n| n > MAX_POINTS) {
+            let sizes: Vec<String> = factors.map(|f| f.to_string()).collect();
+            let shown = size.map_or_else(|| "more than 2^64".to_string(), |n| n.to_string());
+            return Err(err(format!(
+                "{shown} points (cases x axis values x repetitions: {}): a sweep may have at most {MAX_POINTS}",
+                sizes.join(" x ")
+            )));
+        }
+        let at = |(n, v): &Param| (n.v.clone(), v.clone());
+        let mut grid = Grid {
+            fixed: spec.fixed.iter().map(at).collect(),
+            axes: spec
+                .axes
+                .iter()
+                .map(|a| (a.name.v.clone(), a.values.clone()))
+                .collect(),
+            cases: if spec.cases.is_empty() {
+                vec![Vec::new()]
+            } else {
+                spec.cases
+                    .iter()
+                    .map(|c| c.iter().map(at).collect())
+                    .collect()
+            },
+            repetitions: spec.repetitions,
+            merged: Vec::new(),
+        };
+        // Repeated points: sort (id, index) pairs (16 bytes a point, freed on return).
+        let mut ids: Vec<(u64, u64)> = Vec::with_capacity(grid.combinations() as usize);
+        for i in 0..grid.combinations() {
+            let p = grid.point(i);
+            if !p.params.contains_key("kernel") {
+                return Err(SpecError {
+                    field: "kernel".into(),
+                    ..err("no kernel: give `kernel = \"PATH\"` (at the top level, as an axis or in every case)".into())
+                });
+            }
+            ids.push((p.id_bits, i));
+        }
+        ids.sort_unstable();
+        grid.merged = ids
+            .windows(2)
+            .filter(|w| w[0].0 == w[1].0)
+            .map(|w| w[1].1)
+            .collect();
+        grid.merged.sort_unstable();
+        Ok(grid)
+    }
+
+    /// Combinations (points before merging repeated ones).
+    pub fn combinations(&self) -> u64 {
+        let grid: u64 = self.axes.iter().map(|(_, v)| v.len() as u64).product();
+        self.cases.len() as u64 * grid * u64::from(self.repetitions)
+    }
+
+    /// Points of the sweep.
+    pub fn point_count(&self) -> u64 {
+        self.combinations() - self.merged.len() as u64
+    }
+
+    /// The combination indices of the points, in sweep order.
+    pub fn indices(&self) -> impl Iterator<Item = u64> + '_ {
+        let mut skip = self.merged.iter().peekable();
+        (0..self.combinations()).filter(move |i| {
+            if skip.peek() == Some(&i) {
+                skip.next();
+                false
+            } else {
+                true
+            }
+        })
+    }
+
+    /// The point of combination `i` (`i` < [`Grid::combinations`]): case-major, then the grid
+    /// (last axis fastest), then the repetition.
+    pub fn point(&self, i: u64) -> Point {
+        let reps = u64::from(self.repetitions);
+        let rep = i % reps;
+        let mut rest = i / reps;
+        let mut chosen = Vec::with_capacity(self.axes.len());
+        for (name, values) in self.axes.iter().rev() {
+            let n = values.len() as u64;
+            chosen.push((name, &values[(rest % n) as usize]));
+            rest /= n;
+        }
+        let case = &self.cases[rest as usize];
+        let mut params = BTreeMap::new();
+        let mut locs = BTreeMap::new();
+        for (n, v) in self.fixed.iter().chain(case.iter()) {
+            params.insert(n.clone(), v.v.clone());
+            locs.insert(n.clone(), v.loc);
+        }
+        for (n, v) in chosen.into_iter().rev() {
+            params.insert(n.clone(), v.v.clone());
+            locs.insert(n.clone(), v.loc);
+        }
+        for k in KNOBS {
+            if let (false, Some(d)) = (params.contains_key(k.name), k.default) {
+                let v = match d {
+                    DefaultVal::Str(s) => PVal::Str(s.to_string()),
+                    DefaultVal::Int(i) => PVal::Int(i),
+                };
+                params.insert(k.name.to_string(), v);
+            }
+        }
+        if self.repetitions > 1 {
+            params.insert("rep".into(), PVal::Int(rep as i64));
+        }
+        let id_bits = point_id_bits(&params);
+        Point {
+            id: format!("{id_bits:016x}"),
+            id_bits,
+            index: i,
+            params,
+            locs,
+        }
+    }
+
+    /// The point with id `id` at combination `i`, if that is its id and it is a point.
+    pub fn point_at(&self, i: u64, id: &str) -> Option<Point> {
+        if i >= self.combinations() || self.merged.binary_search(&i).is_ok() {
+            return None;
+        }
+        Some(self.point(i)).filter(|p| p.id == id)
+    }
+}
+
+/// The stable id of a point's parameters (see the module documentation), as a number (the
+/// id is its 16 hex digits).
+fn point_id_bits(params: &BTreeMap<String, PVal>) -> u64 {
     let mut h = Sha256::new();
     h.update(b"trax-sweep-point/1\n");
     for (k, v) in params {
@@ -1013,12 +1280,15 @@ pub fn point_id(params: &BTreeMap<String, PVal>) -> String {
         h.update(format!("{k}={}\n", v.canonical()).as_bytes());
     }
     let digest = h.finalize();
-    digest[..8].iter().map(|b| format!("{b:02x}")).collect()
+    let mut b = [0u8; 8];
+    b.copy_from_slice(&digest[..8]);
+    u64::from_be_bytes(b)
 }
 
 /// The parameter columns of the table, in order: axes (file order), case parameters, fixed
-/// parameters, knob defaults (knob order), then `rep`.
-pub fn columns(spec: &SweepSpec, points: &[Point]) -> Vec<String> {
+/// parameters, knobs (knob order: those with a default, and those the file gives), then
+/// `rep`.
+pub fn columns(spec: &SweepSpec) -> Vec<String> {
     let mut cols: Vec<String> = Vec::new();
     let mut add = |n: &str| {
         if !cols.iter().any(|c| c == n) {
@@ -1037,7 +1307,7 @@ pub fn columns(spec: &SweepSpec, points: &[Point]) -> Vec<String> {
         add(&n.v);
     }
     for k in KNOBS {
-        if points.iter().any(|p| p.params.contains_key(k.name)) {
+        if k.default.is_some() {
             add(k.name);
         }
     }

@@ -19,6 +19,7 @@
 //!   [`Machine`], [`Scheduler`] and [`Executor`], [`Thread`], [`Shared`], [`Stop`], [`Fault`].
 //! - Reading executables: [`Executable`], [`DebugInfo`], [`decode()`], [`demangle`].
 
+mod block;
 mod chip;
 mod crash;
 mod debuginfo;

@@ -33,7 +33,7 @@
 
 use crate::chip::Chip;
 use crate::decode::{Conv, Cti, Inst, F2, F3};
-use crate::exec::{fp_compare, fp_min_max, trax_fminmax, FpPending};
+use crate::exec::{fp_compare, fp_min_max, trax_fminmax};
 use crate::regs::RegFile;
 use crate::softfloat::{self as sf, Arith, Fmt, MinMax};
 use crate::thread::Thread;
@@ -209,12 +209,15 @@ const CONVS: [Conv; 26] = {
 /// One micro-operation (see [`K`] for its fields).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) struct Uop {
-    pub(crate) k: K,
-    pub(crate) a: u8,
-    pub(crate) b: u8,
-    pub(crate) c: u8,
-    pub(crate) imm: u32,
+    k: K,
+    a: u8,
+    b: u8,
+    c: u8,
+    imm: u32,
 }
+
+/// Largest uop field: `8 * 31`, FPU register 31.
+const MAX_FIELD: u8 = 8 * 31;
 
 impl Uop {
     const COMPLEX: Uop = Uop {
@@ -227,7 +230,12 @@ impl Uop {
 
     /// A uop with fields as given (GPR and cop2 fields hold the register number, FPU
     /// register fields `8 n` for register `n`: see [`fr`]).
+    ///
+    /// Every field is at most [`MAX_FIELD`] (the only way to make a `Uop`: its fields are
+    /// private to this module), so any field names a byte offset inside the FPU
+    /// registers, whatever the kind ([`fr`] relies on it).
     fn new(k: K, a: u8, b: u8, c: u8, imm: u32) -> Uop {
+        assert!(a.max(b).max(c) <= MAX_FIELD, "uop field out of range");
         Uop { k, a, b, c, imm }
     }
 }
@@ -462,9 +470,10 @@ fn field_mask(size: u8) -> u32 {
 }
 
 /// Translates the predecoded text at `base`: one uop per instruction, and per word the
-/// length of the block starting there (0 where the word is `Complex`).
+/// length of the block starting there (0 where the word is `Complex`). A block ends with
+/// a compact branch, a branch with a delay slot and its slot, or before a `Complex` word.
 pub(crate) fn translate(insts: &[Inst], base: u32) -> (Vec<Uop>, Vec<u16>) {
-    let uops: Vec<Uop> = insts
+    let mut uops: Vec<Uop> = insts
         .iter()
         .enumerate()
         .map(|(i, inst)| {
@@ -487,23 +496,64 @@ pub(crate) fn translate(insts: &[Inst], base: u32) -> (Vec<Uop>, Vec<u16>) {
             u
         })
         .collect();
-    let mut runs = vec![0u16; uops.len()];
-    for i in (0..uops.len()).rev() {
-        let fast = |j: usize| uops.get(j).is_some_and(|u| u.k != K::Complex);
-        let next_plain = uops
+    // A branch whose delay slot the engine does not run (or that ends the text) is the
+    // reference's: a completed block then always ends outside a delay slot.
+    for i in 0..uops.len() {
+        let slot_fast = uops
             .get(i + 1)
             .is_some_and(|u| u.k != K::Complex && u.k.kind() == Kind::Plain);
+        if uops[i].k.kind() == Kind::Delay && !slot_fast {
+            uops[i] = Uop::COMPLEX;
+        }
+    }
+    let mut runs = vec![0u16; uops.len()];
+    for i in (0..uops.len()).rev() {
+        let next_fast = uops.get(i + 1).is_some_and(|u| u.k != K::Complex);
         runs[i] = match uops[i].k {
             K::Complex => 0,
             k => match k.kind() {
-                Kind::Plain if fast(i + 1) => (runs[i + 1] as usize + 1).min(MAX_RUN) as u16,
+                Kind::Plain if next_fast => (runs[i + 1] as usize + 1).min(MAX_RUN) as u16,
                 Kind::Plain => 1,
-                Kind::Delay if next_plain => 2,
-                Kind::Delay | Kind::Compact => 1,
+                Kind::Delay => 2,
+                Kind::Compact => 1,
             },
         };
     }
     (uops, runs)
+}
+
+/// FCSR's Cause and Flags fields while the engine runs: `cause` the last FPU operation's
+/// exceptions, `flags` those raised since the last [`FastFp::store`]. Loaded from FCSR and
+/// stored back around everything else that reads or writes FCSR, so an operation costs a
+/// register write and an OR (the reference's `FpPending` also marks itself dirty).
+#[derive(Clone, Copy)]
+struct FastFp {
+    cause: u32,
+    flags: u32,
+}
+
+impl FastFp {
+    #[inline(always)]
+    fn load(fcsr: u32) -> FastFp {
+        FastFp {
+            cause: (fcsr >> 12) & 0x3F,
+            flags: 0,
+        }
+    }
+
+    /// Records an operation that raised `exc`.
+    #[inline(always)]
+    fn record(&mut self, exc: u32) {
+        self.cause = exc;
+        self.flags |= exc;
+    }
+
+    /// Writes the fields into `fcsr` (then this still describes it).
+    #[inline(always)]
+    fn store(&mut self, fcsr: &mut u32) {
+        *fcsr = (*fcsr & !(0x3F << 12)) | (self.cause << 12) | (self.flags << 2);
+        self.flags = 0;
+    }
 }
 
 /// How a block run ended: the uops executed and where control goes after the block.
@@ -515,27 +565,29 @@ struct Ran {
 impl Thread {
     /// Runs up to `budget` instructions: blocks of uops where it can, the reference
     /// interpreter for one instruction where it cannot (see the module documentation).
+    ///
+    /// From one completed block to the next the pc stays in a register; the thread's pc,
+    /// npc and retired count are written when the reference runs an instruction and when
+    /// the call returns.
     pub(crate) fn run_blocks<C: Chip>(&mut self, sh: &mut C, budget: u64) -> crate::exec::Stop {
         use crate::exec::Stop;
-        let mut left = budget;
         let prog = &sh.shared().program;
         let base = prog.base;
         let (uops, runs) = (prog.uops.as_ptr(), prog.runs.as_ptr());
         let n = prog.uops.len();
-        let mut fp = FpPending::default();
-        let mut fcsr = self.regs.fcsr;
-        // The reference runs the next instruction (after a bail).
-        let mut force = false;
+        let mut fp = FastFp::load(self.regs.fcsr);
+        let mut left = budget;
+        // Retired since `self.retired` was last written.
+        let mut ran = 0u64;
+        let (mut pc, mut npc) = (self.pc, self.npc);
+        // Whether the next instruction is the reference's whatever its uop: in a delay
+        // slot, after a bail, or while FCSR enables an exception or rounds otherwise than
+        // to nearest.
+        let fp_ok = |fcsr: u32| fcsr & (FCSR_ENABLES | FCSR_RM) == 0;
+        let mut slow = !fp_ok(self.regs.fcsr) || npc != pc.wrapping_add(4);
         while left > 0 {
-            let pc = self.pc;
             let idx = pc.wrapping_sub(base).rotate_right(2) as usize;
-            // Blocks only with no FPU exception enabled and rounding to nearest, outside
-            // delay slots.
-            let len = if idx < n
-                && !force
-                && fcsr & (FCSR_ENABLES | FCSR_RM) == 0
-                && self.npc == pc.wrapping_add(4)
-            {
+            let len = if idx < n && !slow {
                 // SAFETY: `idx < n`, the length of `runs` (one entry per uop). The
                 // program is never written while a thread runs: see `run_block`.
                 unsafe { *runs.add(idx) as usize }
@@ -543,14 +595,17 @@ impl Thread {
                 0
             };
             if len == 0 {
-                force = false;
-                fp.flush(&mut self.regs.fcsr);
+                fp.store(&mut self.regs.fcsr);
+                self.retired += std::mem::take(&mut ran);
+                (self.pc, self.npc) = (pc, npc);
                 let stop = self.step_once(sh);
                 if stop != Stop::Budget {
                     return stop;
                 }
                 left -= 1;
-                fcsr = self.regs.fcsr;
+                (pc, npc) = (self.pc, self.npc);
+                fp = FastFp::load(self.regs.fcsr);
+                slow = !fp_ok(self.regs.fcsr) || npc != pc.wrapping_add(4);
                 continue;
             }
             let cnt = (len as u64).min(left) as usize;
@@ -558,23 +613,30 @@ impl Thread {
             // `cnt <= len`.
             let r = unsafe { self.run_block(sh, uops.add(idx), cnt, len, pc, &mut fp) };
             let k = r.done;
-            self.retired += k as u64;
+            ran += k as u64;
             left -= k as u64;
+            if k == len {
+                // Completed: never in a delay slot (see `translate`).
+                pc = r.target;
+                npc = pc.wrapping_add(4);
+                continue;
+            }
+            // Cut by the budget, or a bail (the reference runs that instruction next).
+            slow = k < cnt;
             let at = pc.wrapping_add(4 * k as u32);
             // SAFETY: `k >= 1` here, so `idx + k - 1 < idx + len <= n`.
             let after_delay = k > 0 && unsafe { (*uops.add(idx + k - 1)).k.kind() } == Kind::Delay;
-            (self.pc, self.npc) = if after_delay {
+            (pc, npc) = if after_delay {
                 // In the delay slot: it runs next, then the branch's target.
                 (at, r.target)
-            } else if k == len {
-                (r.target, r.target.wrapping_add(4))
             } else {
                 (at, at.wrapping_add(4))
             };
-            // A bail: the reference runs that instruction.
-            force = k < cnt;
+            slow |= after_delay;
         }
-        fp.flush(&mut self.regs.fcsr);
+        fp.store(&mut self.regs.fcsr);
+        self.retired += ran;
+        (self.pc, self.npc) = (pc, npc);
         Stop::Budget
     }
 
@@ -593,7 +655,7 @@ impl Thread {
         cnt: usize,
         len: usize,
         bpc: u32,
-        fp: &mut FpPending,
+        fp: &mut FastFp,
     ) -> Ran {
         // FCSR's rounding mode: to nearest.
         const RM: u32 = 0;
@@ -1019,10 +1081,11 @@ impl Thread {
                     set64!(u.a, v);
                 }
                 K::Cvt => {
-                    fp.flush(&mut self.regs.fcsr);
+                    fp.store(&mut self.regs.fcsr);
                     let r = self.convert(CONVS[u.imm as usize % CONVS.len()], u.a >> 3, u.b >> 3);
                     // No exception is enabled, so a conversion does not trap.
                     debug_assert!(r.is_ok());
+                    *fp = FastFp::load(self.regs.fcsr);
                 }
                 K::Mfc1 => g!(u.a) = fs32!(u.b),
                 K::Mtc1 => set32!(u.a, g!(u.b)),
@@ -1045,11 +1108,13 @@ impl Thread {
 }
 
 /// Byte offset in `RegFile::fpr` of the FPU register of uop field `f` (`8 n` for register
-/// `n`; any `f` gives a register): `16 n`, one scaled index (`RegFile::f32_bits` would
-/// mask and shift).
+/// `n`): `16 n`, one scaled index (`RegFile::f32_bits` would mask and shift). Any field
+/// (at most [`MAX_FIELD`]: [`Uop::new`]) gives an offset of at most 496, so the 8 bytes
+/// there lie inside the 512 of `fpr`.
 #[inline(always)]
 fn fr(f: u8) -> usize {
-    (f & 0xF8) as usize * 2
+    debug_assert!(f <= MAX_FIELD && f % 8 == 0);
+    f as usize * 2
 }
 
 /// Low 32 bits of the FPU register of field `f` (see [`RegFile::f32_bits`]).

@@ -202,7 +202,7 @@ fn fast(words: &[u32], seed: u64, budgets: &[u64]) -> (Vec<(u64, Stop)>, String)
 #[test]
 fn fast_engine_matches_the_reference_on_random_programs() {
     let mut r = Rand(0x5EED_0001);
-    let (mut blocks, mut bails, mut retired) = (0u64, 0u64, 0u64);
+    let (mut fast_words, mut complex_words) = (0u64, 0u64);
     for case in 0..1500u64 {
         let len = 8 + r.below(56);
         let words: Vec<u32> = (0..len).map(|i| word(&mut r, i, len)).collect();
@@ -215,16 +215,18 @@ fn fast_engine_matches_the_reference_on_random_programs() {
                 "case {case}, budgets {budgets:?}, words {words:08x?}"
             );
         }
-        // How much of it the engine ran itself.
         let mut rr = Rand(seed);
         let (_, sh) = setup(&words, &mut rr);
-        blocks += sh.program.runs.iter().filter(|&&n| n > 0).count() as u64;
-        bails += sh.program.runs.iter().filter(|&&n| n == 0).count() as u64;
-        retired += want.1.len() as u64;
+        fast_words += sh.program.runs.iter().filter(|&&n| n > 0).count() as u64;
+        complex_words += sh.program.runs.iter().filter(|&&n| n == 0).count() as u64;
     }
-    // Most words are fast: the test exercises the engine, not only the reference.
-    assert!(blocks > 4 * bails, "{blocks} fast words, {bails} complex");
-    assert!(retired > 0);
+    // The test exercises mostly the engine, not the reference: random words are dense in
+    // branches (about one in six), which make their neighbours the reference's, yet most
+    // words have uops.
+    assert!(
+        fast_words > 2 * complex_words,
+        "{fast_words} fast words, {complex_words} complex"
+    );
 }
 
 /// Every uop that writes a GPR destination has a non-zero one: `gpr[0]` is never written.
@@ -254,7 +256,7 @@ fn no_uop_writes_register_zero() {
 
 /// Block lengths: straight-line code up to a branch and its delay slot, or a compact
 /// branch; words the reference runs have none; a branch right after a branch is the
-/// reference's (it may sit in a slot).
+/// reference's (it may sit in a slot), and so is the branch before it (its slot is).
 #[test]
 fn blocks_end_at_branches_and_slots() {
     let addiu = Inst::Addiu {
@@ -273,9 +275,14 @@ fn blocks_end_at_branches_and_slots() {
         addiu, addiu, beq, addiu, addiu, bnezc, addiu, beq, bnezc, halt,
     ];
     let (uops, runs) = translate(&insts, TEXT);
-    assert_eq!(runs, [4, 3, 2, 3, 2, 1, 2, 1, 0, 0]);
+    assert_eq!(runs, [4, 3, 2, 3, 2, 1, 1, 0, 0, 0]);
     assert_eq!(uops[0].k, K::AddImm);
     assert_eq!(uops[8].k, K::Complex, "a branch in a delay slot");
+    assert_eq!(
+        uops[7].k,
+        K::Complex,
+        "a branch whose slot the engine does not run"
+    );
     // The first word of the text may follow a branch outside it.
     let (uops, runs) = translate(&[beq, addiu], TEXT);
     assert_eq!((uops[0].k, runs[0]), (K::Complex, 0));

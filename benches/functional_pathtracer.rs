@@ -18,11 +18,10 @@ mod common;
 
 use std::path::Path;
 use std::time::Instant;
-use trax::pipeline::{prepare, Request};
 use trax_emulator::timing::ChipConfig;
 use trax_emulator::{run, Mode};
 
-use common::{env_u64, process_cpu_seconds, selected};
+use common::{env_u64, prepare_example, process_cpu_seconds, selected};
 
 fn main() {
     if !selected("functional_pathtracer") {
@@ -41,14 +40,7 @@ fn main() {
     let size = env_u64("TRAX_BENCH_SIZE", 256).clamp(1, 4096) as u32;
     let repeat = env_u64("TRAX_BENCH_REPEAT", 3).max(1);
     let chip = ChipConfig::preset(trax_emulator::timing::DEFAULT_CHIP).expect("default chip");
-    let mut request = Request::new(root.join("examples/pathtracer.rs"));
-    request.scene = scene.clone();
-    request.render.width = size;
-    request.render.height = size;
-    request.render.spp = 1;
-    request.render.max_depth = 4;
-    request.chip = chip.clone();
-    let prepared = prepare(&request).unwrap_or_else(|e| panic!("{e}"));
+    let prepared = prepare_example("pathtracer", Some(&scene), size, &chip);
     println!(
         "functional_pathtracer: path tracer, {scene} {size}x{size}, 1 spp, depth 4; {} TMs x {} threads, functional, 1 host thread",
         chip.tms, chip.threads_per_tm

@@ -142,7 +142,7 @@ fn the_reference_interpreter_runs_plain_functional_runs_only() {
         let mut req = p.run_request(&c, mode);
         req.reference = true;
         req.profile = profile;
-        let e = run(req, &mut Vec::new()).err().expect("refused");
+        let e = run(req, &mut Vec::new()).expect_err("refused");
         assert!(e.to_string().contains("reference interpreter"), "{e}");
     }
 }

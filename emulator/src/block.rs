@@ -1113,7 +1113,7 @@ impl Thread {
 /// there lie inside the 512 of `fpr`.
 #[inline(always)]
 fn fr(f: u8) -> usize {
-    debug_assert!(f <= MAX_FIELD && f % 8 == 0);
+    debug_assert!(f <= MAX_FIELD && f.is_multiple_of(8));
     f as usize * 2
 }
 

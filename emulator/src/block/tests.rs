@@ -3,9 +3,8 @@
 
 use super::*;
 use crate::exec::Stop;
-use crate::memory::{Memory, Perms, Segment};
-use crate::program::Program;
-use crate::thread::{ChipShape, Shared};
+use crate::memory::{Perms, Segment};
+use crate::thread::Shared;
 
 const TEXT: u32 = 0x10_0000;
 const DATA: u32 = 0x20_0000;
@@ -94,17 +93,8 @@ fn setup(words: &[u32], r: &mut Rand) -> (Thread, Shared) {
         Segment::new("text", TEXT, data, Perms::RX),
         Segment::new("data", DATA, bytes, Perms::RW),
     ];
-    let mem = Memory::new(&segs, 4096).unwrap();
     let n = w.len() as u32;
-    let program = Program::decode_range(&mem, TEXT, TEXT + 4 * n, TEXT);
-    let sh = Shared::new(
-        mem,
-        program,
-        ChipShape {
-            tms: 1,
-            threads_per_tm: 1,
-        },
-    );
+    let sh = Shared::one_thread(&segs, TEXT, n);
     let mut t = Thread::new(TEXT, 0, 0, 0, 4096, 7);
     for g in 1..32 {
         t.regs.gpr[g] = match g {

@@ -18,12 +18,10 @@
 
 mod common;
 
-use std::path::Path;
-use trax::pipeline::{prepare, Request};
 use trax_emulator::memsys::DramModel;
 use trax_emulator::timing::{ChipConfig, TimingStats};
 
-use common::{env_u64, selected, simulate};
+use common::{env_u64, prepare_example, selected, simulate};
 
 /// Original simtrax, one simulation thread, raycast on the Cornell box, 4 TMs x 32 threads,
 /// USIMM GDDR5 (anchors.md): 1.09 M instructions per host second. (Its instruction counts
@@ -49,14 +47,7 @@ fn main() {
     chip.tms_per_l2 = 4;
     chip.name = "baseline, 4 TMs".into();
     // The path tracer on the Cornell box, built and laid out as `trax run` does.
-    let mut request =
-        Request::new(Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/pathtracer.rs"));
-    request.render.width = size;
-    request.render.height = size;
-    request.render.spp = 1;
-    request.render.max_depth = 4;
-    request.chip = chip.clone();
-    let prepared = prepare(&request).unwrap_or_else(|e| panic!("{e}"));
+    let prepared = prepare_example("pathtracer", None, size, &chip);
     assert_eq!(chip.memory.dram.model, DramModel::Detailed);
     println!(
         "timing_pathtracer: path tracer, Cornell box {size}x{size}, 1 spp, depth 4; {} TMs x {} threads; thesis GDDR5 (detailed DRAM, {:.0} GB/s peak); statistics intervals: {}",

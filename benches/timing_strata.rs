@@ -16,12 +16,10 @@
 
 mod common;
 
-use std::path::Path;
-
-use trax::pipeline::{prepare, Prepared, Request};
+use trax::pipeline::Prepared;
 use trax_emulator::timing::{ChipConfig, TimingStats};
 
-use common::{env_u64, selected, simulate};
+use common::{env_u64, prepare_example, selected, simulate};
 
 /// Target: the streaming kernel's thread-instructions per host second over the plain
 /// path tracer's (issue 14).
@@ -49,17 +47,7 @@ fn main() {
     let kernels = ["pathtracer", "strata"];
     let prepared: Vec<Prepared> = kernels
         .iter()
-        .map(|k| {
-            let mut request = Request::new(
-                Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("examples/{k}.rs")),
-            );
-            request.render.width = size;
-            request.render.height = size;
-            request.render.spp = 1;
-            request.render.max_depth = 4;
-            request.chip = chip.clone();
-            prepare(&request).unwrap_or_else(|e| panic!("{k}: {e}"))
-        })
+        .map(|k| prepare_example(k, None, size, &chip))
         .collect();
 
     let mut best: Vec<Option<(TimingStats, f64, Option<f64>)>> = vec![None; kernels.len()];

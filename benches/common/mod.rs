@@ -1,8 +1,10 @@
-//! Helpers shared by the timing benches (`timing_pathtracer`, `timing_strata`).
+//! Helpers shared by the root package's benches (`timing_pathtracer`, `timing_strata`,
+//! `functional_pathtracer`).
 
+use std::path::Path;
 use std::time::Instant;
 
-use trax::pipeline::Prepared;
+use trax::pipeline::{prepare, Prepared, Request};
 use trax_emulator::timing::{ChipConfig, TimingStats};
 use trax_emulator::{run, Limits, Mode};
 
@@ -35,6 +37,27 @@ pub fn simulate(
         panic!("{name} did not finish: {:?}", r.failure);
     }
     (stats, secs, cpu)
+}
+
+/// `examples/{kernel}.rs` on `scene` (`None`: the default, the Cornell box), `size` x
+/// `size`, 1 sample, depth 4, for `chip`: built and laid out as `trax run` does.
+pub fn prepare_example(
+    kernel: &str,
+    scene: Option<&str>,
+    size: u32,
+    chip: &ChipConfig,
+) -> Prepared {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut request = Request::new(root.join(format!("examples/{kernel}.rs")));
+    if let Some(s) = scene {
+        request.scene = s.into();
+    }
+    request.render.width = size;
+    request.render.height = size;
+    request.render.spp = 1;
+    request.render.max_depth = 4;
+    request.chip = chip.clone();
+    prepare(&request).unwrap_or_else(|e| panic!("{kernel}: {e}"))
 }
 
 /// `name` from the environment as a number, or `default` when unset.

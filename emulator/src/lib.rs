@@ -19,6 +19,7 @@
 //!   [`Machine`], [`Scheduler`] and [`Executor`], [`Thread`], [`Shared`], [`Stop`], [`Fault`].
 //! - Reading executables: [`Executable`], [`DebugInfo`], [`decode()`], [`demangle`].
 
+mod block;
 mod chip;
 mod crash;
 mod debuginfo;
@@ -59,5 +60,5 @@ pub use regs::RegFile;
 pub use run::{
     host_threads, run, Limits, Mode, Progress, RunError, RunReport, RunRequest, DEFAULT_QUANTUM,
 };
-pub use sched::{Driven, Executor, PlainExec, Scheduler};
+pub use sched::{Driven, Executor, PlainExec, ReferenceExec, Scheduler};
 pub use thread::{CallFrame, Fault, RunState, Shared, Thread};

@@ -1,5 +1,7 @@
-//! Predecoded program text: every word of the text range decoded once at load time.
+//! Predecoded program text: every word of the text range decoded once at load time, and
+//! translated once into the fast engine's micro-operations ([`crate::block`]).
 
+use crate::block::{translate, Uop};
 use crate::decode::{decode, Inst};
 use crate::memory::Memory;
 
@@ -12,6 +14,10 @@ pub struct Program {
     pub insts: Vec<Inst>,
     /// Entry point.
     pub entry: u32,
+    /// One micro-operation per text word.
+    pub(crate) uops: Vec<Uop>,
+    /// Per text word: uops in the block starting there (0: the reference runs it).
+    pub(crate) runs: Vec<u16>,
 }
 
 impl Program {
@@ -23,8 +29,15 @@ impl Program {
         let insts = (base..end)
             .step_by(4)
             .map(|a| mem.peek_u32(a).map(decode).unwrap_or(Inst::Reserved(0)))
-            .collect();
-        Program { base, insts, entry }
+            .collect::<Vec<_>>();
+        let (uops, runs) = translate(&insts, base);
+        Program {
+            base,
+            insts,
+            entry,
+            uops,
+            runs,
+        }
     }
 
     /// The predecoded instruction at `pc`, if `pc` is an aligned address inside the text.
@@ -33,13 +46,6 @@ impl Program {
         // A misaligned pc rotates its low bits to the top: out of range.
         let idx = pc.wrapping_sub(self.base).rotate_right(2) as usize;
         self.insts.get(idx)
-    }
-
-    /// The text's base address and its predecoded instructions (one per word from the
-    /// base), for the interpreter's fetch loop.
-    #[inline(always)]
-    pub fn text(&self) -> (u32, &[Inst]) {
-        (self.base, &self.insts)
     }
 
     /// One past the last text address.

@@ -93,6 +93,10 @@ pub struct RunRequest<'a> {
     /// ([`crate::timing::sample`]); the report then has estimates with confidence
     /// intervals ([`RunReport::sampled`]) instead of exact timing statistics.
     pub sample: Option<crate::timing::SampleRequest>,
+    /// Functional mode: run every instruction in the reference interpreter instead of the
+    /// fast engine ([`crate::ReferenceExec`]; same results, slower). Plain runs only: not
+    /// with a profile or the debugger.
+    pub reference: bool,
 }
 
 impl<'a> RunRequest<'a> {
@@ -113,6 +117,7 @@ impl<'a> RunRequest<'a> {
             progress: None,
             stats_interval: None,
             sample: None,
+            reference: false,
         }
     }
 }
@@ -245,6 +250,13 @@ pub fn run(req: RunRequest<'_>, out: &mut dyn Write) -> Result<RunReport, RunErr
         Mode::Timing if req.gdb.is_some() => Err(RunError::Request(
             "the debugger needs functional mode (it drives the functional core)".into(),
         )),
+        _ if req.reference && (req.mode == Mode::Timing || req.profile || req.gdb.is_some()) => {
+            Err(RunError::Request(
+                "the reference interpreter runs plain functional runs only (no timing, \
+                 profile or debugger)"
+                    .into(),
+            ))
+        }
         Mode::Functional if req.sample.is_some() => Err(RunError::Request(
             "sampling needs timing mode (it estimates what the timing model measures)".into(),
         )),
@@ -314,6 +326,9 @@ fn run_functional(mut req: RunRequest<'_>, out: &mut dyn Write) -> Result<RunRep
     } else if req.profile {
         let (s, p) = profile_run(&mut machine, out);
         profiler = Some(p);
+        (s.outcome, s.instructions)
+    } else if req.reference {
+        let s = machine.run_with(out, &mut crate::ReferenceExec);
         (s.outcome, s.instructions)
     } else {
         let s = match req.progress.take() {

@@ -35,6 +35,24 @@ impl Executor for PlainExec {
     }
 }
 
+/// Every instruction in the reference interpreter ([`Thread::step_once`], which the fast
+/// engine of [`Thread::run`] stands in for): the same run as [`PlainExec`]'s, slower. For
+/// checking the fast engine against it.
+#[derive(Debug, Default)]
+pub struct ReferenceExec;
+
+impl Executor for ReferenceExec {
+    fn exec(&mut self, _idx: usize, t: &mut Thread, sh: &mut Shared, budget: u64) -> Stop {
+        for _ in 0..budget {
+            let stop = t.step_once(sh);
+            if stop != Stop::Budget {
+                return stop;
+            }
+        }
+        Stop::Budget
+    }
+}
+
 /// Why [`Scheduler::run`] returned.
 #[derive(Clone, Debug)]
 pub enum Driven {

@@ -333,6 +333,21 @@ impl Shared {
     }
 }
 
+#[cfg(test)]
+impl Shared {
+    /// A one-thread chip for tests: memory from `segments` (local stores of 4 KiB), the
+    /// `words` words at `text` predecoded.
+    pub(crate) fn one_thread(segments: &[crate::memory::Segment], text: u32, words: u32) -> Shared {
+        let mem = Memory::new(segments, 4096).unwrap();
+        let program = Program::decode_range(&mem, text, text + 4 * words, text);
+        let shape = ChipShape {
+            tms: 1,
+            threads_per_tm: 1,
+        };
+        Shared::new(mem, program, shape)
+    }
+}
+
 impl Shared {
     /// A thread of TM `tm` halted: one live thread less for barriers and the TM's stream
     /// scheduler (whose peers may now have drained).

@@ -330,6 +330,14 @@ pub(super) fn compare(env: &mut Env, f: Fmt, a: u64, b: u64, signaling: bool) ->
     })
 }
 
+/// The relation of two operands that are not NaN (see [`super::compare_ordered`]).
+#[inline(always)]
+pub(super) fn compare_ordered(f: Fmt, a: u64, b: u64) -> Option<u8> {
+    native!(f, a, b, |x, y| {
+        (!(x.is_nan() | y.is_nan())).then_some(((x == y) as u8 * REL_EQ) | ((x < y) as u8 * REL_LT))
+    })
+}
+
 /// Min/max of two non-NaN operands without flush to zero (see [`super::min_max`]).
 #[inline(always)]
 pub(super) fn min_max(f: Fmt, a: u64, b: u64, kind: MinMax) -> Option<u64> {

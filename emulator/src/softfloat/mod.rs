@@ -403,6 +403,15 @@ pub fn compare(env: &mut Env, f: Fmt, a: u64, b: u64, signaling: bool) -> u8 {
     }) as u8
 }
 
+/// [`compare`] when neither operand is a NaN: the relation (`REL_EQ`, `REL_LT` or 0), and
+/// no exception is raised (with or without flush to zero: zero compares equal to a
+/// subnormal of either sign only when flushing, so callers that flush must not use it).
+/// `None` for a NaN operand or binary16.
+#[inline(always)]
+pub fn compare_ordered(f: Fmt, a: u64, b: u64) -> Option<u8> {
+    fast::compare_ordered(f, a, b)
+}
+
 /// Whether a `cmp.cond.fmt` condition (bits: unordered 1, equal 2, less 4, negate 16;
 /// bit 8, signalling, is the caller's business) holds for a [`compare`] result.
 #[inline(always)]

@@ -73,6 +73,14 @@ fn fast_paths_match_the_exact_path() {
                         assert_eq!((v as u64, e.flags), want, "{}", what("compare"));
                     }
                 }
+                if let Some(v) = fast::compare_ordered(f, a, b) {
+                    hit(&format!("compare_ordered {f:?}"));
+                    for signaling in [false, true] {
+                        let want =
+                            run(mode, |x| exact::compare_exact(x, f, a, b, signaling) as u64);
+                        assert_eq!((v as u64, 0), want, "{}", what("compare_ordered"));
+                    }
+                }
                 for kind in [MinMax::Max, MinMax::Min, MinMax::MaxA, MinMax::MinA] {
                     if let Some(v) = fast::min_max(f, a, b, kind) {
                         hit(&format!("min_max {f:?}"));
@@ -119,7 +127,7 @@ fn fast_paths_match_the_exact_path() {
     println!("{hits:?}");
     assert_eq!(
         hits.len(),
-        2 * 11 - 1,
+        2 * 12 - 1,
         "every fast path answered (D has no fma path)"
     );
     assert!(hits.values().all(|&n| n > 1000), "{hits:?}");

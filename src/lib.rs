@@ -7,8 +7,12 @@
 //! - [`compare`]: image error metrics (RMSE, relative MSE, PSNR) of PNGs and raw
 //!   framebuffers (`trax compare`, `trax converge`).
 //! - [`stats`]: the statistics document of a run (`--stats-json`, schema 1).
+//! - [`native`]: native builds and runs (`trax native`), and rustc's check of the
+//!   TRaX-Rust kernels the pipeline builds ([`native::check`]).
+//! - [`clang`]: C and C++ kernels.
 
 pub mod clang;
 pub mod compare;
+pub mod native;
 pub mod pipeline;
 pub mod stats;

@@ -818,7 +818,7 @@ impl<'p, 'a> Cx<'p, 'a> {
                 .map(|m| format!("`{}`", m.name))
                 .collect();
             d = d.with_note(format!(
-                "arrays and slices have {} in TRaX-Rust, and `iter`, `iter_mut`, `enumerate`, `zip`, `rev`, `step_by` as the iterator of a `for` loop",
+                "arrays and slices have {} in TRaX-Rust; `for` loops iterate over them with `iter`, `iter_mut`, `enumerate`, `zip`, `rev`, `step_by`, `skip`, `take`, `copied`",
                 have.join(", ")
             ));
             if name.starts_with("sort") {

@@ -121,7 +121,8 @@ pub fn start(kernel: &Path, mode: RustcCheck) -> Result<Pending, CheckError> {
     let done = |v| Pending {
         state: State::Done(v),
     };
-    if mode == RustcCheck::Off {
+    // An unreadable kernel is the trax compiler's to report (it names the file).
+    if mode == RustcCheck::Off || !kernel.is_file() {
         return Ok(done(Verdict::Skipped));
     }
     let shown = || kernel.display().to_string();
@@ -305,14 +306,13 @@ fn remember(entry: &Path, files: &[String]) {
     }
 }
 
-/// The source files of a Makefile-style dep-info file (each listed as a target of its
-/// own, `path:`; spaces escaped with `\`).
+/// The files of a Makefile-style dep-info file (each listed as a target of its own,
+/// `path:`; spaces escaped with `\`): the kernel's sources and what they include.
 fn dep_files(d: &str) -> Vec<String> {
     let mut files: Vec<String> = d
         .lines()
         .filter(|l| !l.starts_with('#') && l.ends_with(':'))
         .map(|l| l[..l.len() - 1].replace("\\ ", " "))
-        .filter(|f| f.ends_with(".rs"))
         .collect();
     files.sort();
     files.dedup();
@@ -369,7 +369,7 @@ impl RSpan {
     fn in_kernel(&self, files: &[String]) -> Option<RSpan> {
         let mut s = self;
         loop {
-            if files.iter().any(|f| *f == s.file_name) {
+            if files.contains(&s.file_name) {
                 return Some(s.clone());
             }
             s = &s.expansion.as_ref()?.span;

@@ -205,8 +205,8 @@ pub fn start(kernel: &Path, mode: RustcCheck) -> Result<Pending, CheckError> {
 
 impl Pending {
     /// Waits for rustc and returns its verdict.
-    pub fn finish(self) -> Result<Verdict, CheckError> {
-        let r = match self.state {
+    pub fn finish(mut self) -> Result<Verdict, CheckError> {
+        let r = match std::mem::replace(&mut self.state, State::Done(Verdict::Skipped)) {
             State::Done(v) => return Ok(v),
             State::Running(r) => r,
         };
@@ -239,6 +239,17 @@ impl Pending {
         })();
         let _ = std::fs::remove_dir_all(&tmp);
         result
+    }
+}
+
+impl Drop for Pending {
+    /// A check that is not finished (its caller panicked) stops rustc and leaves nothing.
+    fn drop(&mut self) {
+        if let State::Running(r) = &mut self.state {
+            let _ = r.child.kill();
+            let _ = r.child.wait();
+            let _ = std::fs::remove_dir_all(&r.tmp);
+        }
     }
 }
 

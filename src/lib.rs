@@ -9,10 +9,14 @@
 //! - [`stats`]: the statistics document of a run (`--stats-json`, schema 1).
 //! - [`sweep`]: sweep files and their plans (`trax sweep`).
 //! - [`fuzzing`]: the bodies of the fuzz targets of this crate.
+//! - [`native`]: native builds and runs (`trax native`), and rustc's check of the
+//!   TRaX-Rust kernels the pipeline builds ([`native::check`]).
+//! - [`clang`]: C and C++ kernels.
 
 pub mod clang;
 pub mod compare;
 pub mod fuzzing;
+pub mod native;
 pub mod pipeline;
 pub mod stats;
 pub mod sweep;

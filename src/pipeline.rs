@@ -25,6 +25,7 @@ use trax_runtime::abi::PIXEL_BYTES;
 use trax_runtime::exe::Executable;
 
 use crate::clang::{self, ClangError, Lang};
+use crate::native::check::{self, CheckError, RustcCheck, Verdict};
 
 /// The optimisation level kernels are built at by default.
 pub const DEFAULT_OPT_LEVEL: u8 = 2;
@@ -173,6 +174,9 @@ pub enum PrepareError {
     /// clang could not build a C or C++ file (its diagnostics, or why it did not run).
     #[error("{0}")]
     Clang(ClangError),
+    /// rustc's check of a TRaX-Rust kernel could not run (see [`crate::native::check`]).
+    #[error("{0}")]
+    RustcCheck(CheckError),
     /// The linker failed.
     #[error("linking {path}: {source}")]
     Link {
@@ -267,9 +271,28 @@ pub fn executable_of(files: &[PathBuf], opt_level: u8) -> Result<Vec<u8>, Prepar
     }
 }
 
+/// The rustc check chosen by `TRAX_RUSTC_CHECK` ([`RustcCheck::from_env`]).
+fn rustc_check() -> Result<RustcCheck, PrepareError> {
+    RustcCheck::from_env().map_err(PrepareError::RustcCheck)
+}
+
 /// Compiles a kernel source file to an object (ELF relocatable with DWARF), assembly or
-/// LLVM IR: TRaX-Rust with the trax compiler, C and C++ with clang-14.
+/// LLVM IR: TRaX-Rust with the trax compiler (checked by rustc as `TRAX_RUSTC_CHECK`
+/// says, see [`crate::native::check`]), C and C++ with clang-14.
 pub fn compile_object(kernel: &Path, opt_level: u8, emit: Emit) -> Result<Vec<u8>, PrepareError> {
+    compile_object_checked(kernel, opt_level, emit, rustc_check()?)
+}
+
+/// [`compile_object`] with the rustc check given. A TRaX-Rust kernel is checked by rustc
+/// while the trax compiler builds it; when rustc rejects it, rustc's errors are the
+/// errors (the kernel is not Rust), else the trax compiler's result stands (errors then
+/// name what the subset lacks).
+pub fn compile_object_checked(
+    kernel: &Path,
+    opt_level: u8,
+    emit: Emit,
+    rustc: RustcCheck,
+) -> Result<Vec<u8>, PrepareError> {
     if let KernelFile::C(lang) = KernelFile::of(kernel) {
         return clang::compile(kernel, lang, opt_level, emit).map_err(PrepareError::Clang);
     }
@@ -278,9 +301,14 @@ pub fn compile_object(kernel: &Path, opt_level: u8, emit: Emit) -> Result<Vec<u8
         emit,
         prelude: Some(Prelude::runtime()),
     };
-    compile_file(kernel, &opts)
-        .map(|o| o.bytes)
-        .map_err(PrepareError::Compile)
+    let pending = check::start(kernel, rustc).map_err(PrepareError::RustcCheck)?;
+    let ours = compile_file(kernel, &opts);
+    match pending.finish().map_err(PrepareError::RustcCheck)? {
+        Verdict::Rejected(errors) => Err(PrepareError::Compile(CompileError::Diagnostics(errors))),
+        Verdict::Accepted | Verdict::Skipped => {
+            ours.map(|o| o.bytes).map_err(PrepareError::Compile)
+        }
+    }
 }
 
 /// Compiles and links a kernel source file with the runtime start-up code.
@@ -291,7 +319,17 @@ pub fn build_executable(kernel: &Path, opt_level: u8) -> Result<Vec<u8>, Prepare
 /// Compiles every source of `files` (objects are taken as they are) and links them, in
 /// order, with the runtime start-up code. Memory functions and 64-bit helpers that C or
 /// C++ objects call are linked in from the trax C runtime when no input defines them.
+/// TRaX-Rust sources are checked by rustc as `TRAX_RUSTC_CHECK` says.
 pub fn build_executable_of(files: &[PathBuf], opt_level: u8) -> Result<Vec<u8>, PrepareError> {
+    build_executable_checked(files, opt_level, rustc_check()?)
+}
+
+/// [`build_executable_of`] with the rustc check given.
+pub fn build_executable_checked(
+    files: &[PathBuf],
+    opt_level: u8,
+    rustc: RustcCheck,
+) -> Result<Vec<u8>, PrepareError> {
     let name = files
         .iter()
         .map(|f| f.display().to_string())
@@ -300,7 +338,9 @@ pub fn build_executable_of(files: &[PathBuf], opt_level: u8) -> Result<Vec<u8>, 
     let mut inputs = Vec::new();
     for f in files {
         let bytes = match KernelFile::of(f) {
-            KernelFile::Rust | KernelFile::C(_) => compile_object(f, opt_level, Emit::Obj)?,
+            KernelFile::Rust | KernelFile::C(_) => {
+                compile_object_checked(f, opt_level, Emit::Obj, rustc)?
+            }
             KernelFile::Object => std::fs::read(f).map_err(|source| PrepareError::Io {
                 path: f.display().to_string(),
                 source,
@@ -437,14 +477,19 @@ pub fn lay_out(
 
 /// The memory image `trax native` runs over: the scene components the kernel references
 /// as `trax run` would lay them out (no program). The kernel is built with the trax
-/// compiler at the default level to read its references; if that fails, every component
-/// is laid out and the second value says why.
+/// compiler at the default level to read its references (not checked by rustc again:
+/// `trax native` has built it with rustc); if that fails, every component is laid out
+/// and the second value says why.
 pub fn scene_image(req: &Request) -> Result<(SceneImage, Vec<String>), PrepareError> {
     let scene = request_scene(req)?;
     let mut warnings = scene.warnings.clone();
-    let referenced = match build_executable_of(&req.files(), DEFAULT_OPT_LEVEL)
-        .map_err(|e| e.to_string())
-        .and_then(|elf| Executable::parse("program ELF", &elf).map_err(|e| e.to_string()))
+    let referenced = match build_executable_checked(
+        &req.files(),
+        DEFAULT_OPT_LEVEL,
+        RustcCheck::Off,
+    )
+    .map_err(|e| e.to_string())
+    .and_then(|elf| Executable::parse("program ELF", &elf).map_err(|e| e.to_string()))
     {
         Ok(p) => p.referenced,
         Err(e) => {

@@ -197,6 +197,11 @@ fn raycast() {
 }
 
 #[test]
+fn counters() {
+    check(setup("examples/counters.rs"));
+}
+
+#[test]
 fn ao() {
     check(setup("examples/ao.rs"));
 }

@@ -142,6 +142,10 @@ pub struct Extra {
     pub secondary: Vec<Label>,
     /// `= note:` lines after the source excerpt.
     pub notes: Vec<String>,
+    /// `= help:` lines after the notes.
+    pub helps: Vec<String>,
+    /// rustc's error code (`E0382`) when rustc found the error; shown in place of the id.
+    pub code: Option<String>,
     /// Unmarked source lines shown between two marked ones `(line, text)`.
     pub context: Vec<(u32, String)>,
 }
@@ -232,6 +236,23 @@ impl Diagnostic {
         self.extra.notes.push(text.into());
         self
     }
+
+    /// Adds a `= help:` line.
+    pub fn with_help(mut self, text: impl Into<String>) -> Diagnostic {
+        self.extra.helps.push(text.into());
+        self
+    }
+
+    /// Sets rustc's error code, shown as `error[CODE]` in place of the id.
+    pub fn with_code(mut self, code: impl Into<String>) -> Diagnostic {
+        self.extra.code = Some(code.into());
+        self
+    }
+
+    /// What the heading shows in brackets: rustc's code, else the id.
+    pub fn code_or_id(&self) -> &str {
+        self.extra.code.as_deref().unwrap_or(self.id)
+    }
 }
 
 /// Line `line` (1-based) of `src` without its line terminator.
@@ -297,7 +318,7 @@ impl fmt::Display for Diagnostic {
         marks.sort_by_key(|m| m.loc.line);
         let widest = marks.iter().map(|m| m.loc.line).max().unwrap_or(1);
         let pad = " ".repeat(widest.to_string().len());
-        writeln!(f, "error[{}]: {}", self.id, self.message)?;
+        writeln!(f, "error[{}]: {}", self.code_or_id(), self.message)?;
         writeln!(
             f,
             "{pad}--> {}:{}:{}",
@@ -306,10 +327,7 @@ impl fmt::Display for Diagnostic {
             self.loc.col
         )?;
         if self.source_line.is_empty() && self.extra.secondary.is_empty() {
-            for n in &self.extra.notes {
-                writeln!(f, "{pad} = note: {n}")?;
-            }
-            return Ok(());
+            return self.write_notes(f, &pad);
         }
         writeln!(f, "{pad} |")?;
         let mut prev: Option<u32> = None;
@@ -331,8 +349,18 @@ impl fmt::Display for Diagnostic {
             writeln!(f, "{pad} | {}", m.render())?;
             prev = Some(line);
         }
+        self.write_notes(f, &pad)
+    }
+}
+
+impl Diagnostic {
+    /// The `= note:` and `= help:` lines.
+    fn write_notes(&self, f: &mut fmt::Formatter<'_>, pad: &str) -> fmt::Result {
         for n in &self.extra.notes {
             writeln!(f, "{pad} = note: {n}")?;
+        }
+        for h in &self.extra.helps {
+            writeln!(f, "{pad} = help: {h}")?;
         }
         Ok(())
     }

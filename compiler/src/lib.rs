@@ -3,7 +3,7 @@
 //! Pipeline (one module per stage):
 //! - [`parse`]: `syn` parse of the kernel crate (from disk) and the prelude crate `trax`
 //!   (from memory), following `mod x;`/`#[path]` and evaluating `#[cfg]` for
-//!   `target_arch = "mips"`.
+//!   `target_arch = "mips"`; [`derive`] expands `#[derive(PartialOrd)]` into its impl.
 //! - [`resolve`]: modules, `use`, structs, enums, traits, impls, functions, consts/statics,
 //!   type aliases (also items nested in bodies) into a [`resolve::Program`]; rejects items
 //!   outside the subset with named diagnostics.
@@ -29,6 +29,7 @@
 
 pub mod builtins;
 pub mod consteval;
+pub mod derive;
 pub mod diag;
 pub mod lexcheck;
 pub mod lower;

@@ -154,7 +154,9 @@ fn load_file(
     owns_dir: bool,
 ) -> DResult<FileId> {
     let id = sources.add(display, text);
-    let ast = syn::parse_file(&sources.get(id).src).map_err(|e| syntax_error(sources, id, &e))?;
+    let mut ast =
+        syn::parse_file(&sources.get(id).src).map_err(|e| syntax_error(sources, id, &e))?;
+    crate::derive::expand(&mut ast, sources, id)?;
     let ast = Box::new(ast);
     // Directory where this file's child modules live.
     let dir = if owns_dir {

@@ -9,8 +9,8 @@ use trax_runtime::rng::Rng;
 
 /// Number of chip-wide global registers (`G[0..NUM_GLOBALS)`).
 pub const NUM_GLOBALS: usize = 256;
-/// Number of statistics counters (`trax.stat 0..32`).
-pub const NUM_STATS: usize = 32;
+/// Number of statistics counters (`trax.stat`, `trax.statadd`).
+pub use trax_runtime::counters::NUM_STATS;
 /// Number of coprocessor-2 (pipeline) registers per thread.
 pub const NUM_COP2: usize = 32;
 /// Deepest shadow call stack kept for backtraces (deeper calls are counted, not stored).

@@ -283,6 +283,16 @@ pub fn exec_trax<C: Chip>(
             }
             chip.stats()[i] += 1;
         }
+        StatAdd => {
+            let i = vs as usize;
+            if i >= NUM_STATS {
+                return Err(Fault::BadIndex {
+                    what: "statistics counter",
+                    index: vs,
+                });
+            }
+            chip.stats()[i] += u64::from(vt);
+        }
         StreamWriteStart => {
             streams::buffer(&chip.shared().streams, vs)?;
             t.stream_write = Some((vs, Vec::new()));

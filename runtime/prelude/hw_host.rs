@@ -11,6 +11,9 @@ use std::sync::atomic::{AtomicU32, AtomicU64, Ordering};
 use std::sync::{Arc, Condvar, Mutex};
 use std::time::Instant;
 
+#[path = "../src/counters.rs"]
+#[allow(dead_code)]
+mod counters;
 #[path = "../src/fops.rs"]
 mod fops;
 #[path = "../src/image.rs"]
@@ -83,8 +86,8 @@ struct Machine {
     threads_per_tm: u32,
     seed: u32,
     start: Instant,
-    /// Rays counted by threads that have finished (`count_ray`).
-    rays: AtomicU64,
+    /// Statistics counters of threads that have finished (`stat_add`; 0: rays).
+    stats: [AtomicU64; counters::NUM_STATS],
     /// `trax.setpipe` mode per TM.
     pipe_modes: Vec<AtomicU32>,
 }
@@ -103,7 +106,7 @@ thread_local! {
     static IDS: Cell<Ids> = const { Cell::new(Ids { tid: 0, tmid: 0, gid: 0 }) };
     static RNG: Cell<Option<rng::Rng>> = const { Cell::new(None) };
     /// Rays counted by this thread (added to the machine's total when it finishes).
-    static RAYS: Cell<u64> = const { Cell::new(0) };
+    static STATS: Cell<[u64; counters::NUM_STATS]> = const { Cell::new([0; counters::NUM_STATS]) };
     /// Barycentric outputs of the last triangle-pipeline test (cop2 21 and 22).
     static TRI_UV: Cell<[f32; 2]> = const { Cell::new([0.0; 2]) };
     /// The ray inputs of the pipelines (cop2 0..5) loaded by `pipe_load_ray`.
@@ -656,7 +659,23 @@ pub fn stream_schedule() -> u32 {
 
 /// Counts one ray (per thread; summed when the thread finishes).
 pub fn count_ray() {
-    RAYS.with(|r| r.set(r.get() + 1));
+    stat_add(0, 1);
+}
+
+/// Statistics counter `counter` += `n` (per thread; summed when the thread finishes); a
+/// counter past the last panics, as `trax.statadd` faults on the machine.
+pub fn stat_add(counter: u32, n: u32) {
+    if counter as usize >= counters::NUM_STATS {
+        panic!(
+            "statistics counter index {counter} out of range (0..{})",
+            counters::NUM_STATS
+        );
+    }
+    STATS.with(|s| {
+        let mut c = s.get();
+        c[counter as usize] += u64::from(n);
+        s.set(c);
+    });
 }
 
 // ---- Simulated memory ----
@@ -885,7 +904,7 @@ fn build_machine(
         threads_per_tm,
         seed: 0,
         start: Instant::now(),
-        rays: AtomicU64::new(0),
+        stats: std::array::from_fn(|_| AtomicU64::new(0)),
         pipe_modes: (0..num_tms).map(|_| AtomicU32::new(0)).collect(),
     };
     // The random streams' seed comes from the header when the image has one.
@@ -945,8 +964,10 @@ impl std::fmt::Display for RunError {
 /// Figures of a host run.
 #[derive(Clone, Copy, Debug)]
 pub struct RunStats {
-    /// Rays counted with `count_ray` by all threads.
+    /// Rays counted with `count_ray` by all threads (counter 0).
     pub rays: u64,
+    /// Every statistics counter, summed over all threads (`trax::stat`).
+    pub counters: [u64; counters::NUM_STATS],
     /// Wall-clock seconds of the kernel threads.
     pub seconds: f64,
 }
@@ -1032,8 +1053,10 @@ pub fn run_image_with(
         failed.sort();
         return Err(RunError::Panicked(failed));
     }
+    let counters = std::array::from_fn(|i| machine.stats[i].load(Ordering::Relaxed));
     let stats = RunStats {
-        rays: machine.rays.load(Ordering::Relaxed),
+        rays: counters[0],
+        counters,
         seconds: machine.start.elapsed().as_secs_f64(),
     };
     let segments = machine
@@ -1063,8 +1086,13 @@ impl Drop for LiveGuard {
     fn drop(&mut self) {
         MACHINE.with(|c| c.set(std::ptr::null()));
         let m = &self.0;
-        m.rays
-            .fetch_add(RAYS.with(|r| r.replace(0)), Ordering::Relaxed);
+        for (total, n) in m
+            .stats
+            .iter()
+            .zip(STATS.with(|s| s.replace([0; counters::NUM_STATS])))
+        {
+            total.fetch_add(n, Ordering::Relaxed);
+        }
         if std::thread::panicking() {
             m.waits().aborted = true;
         }
@@ -1139,6 +1167,9 @@ pub fn host_main(kernel: fn()) {
                 );
             }
             eprintln!("{line}");
+            if let Some(line) = counters::summary(&stats.counters) {
+                eprintln!("{line}");
+            }
             out
         }
         Err(RunError::Setup(e)) => fail(e),

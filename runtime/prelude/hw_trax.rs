@@ -106,6 +106,11 @@ pub fn count_ray() {
     __trax_op!("trax.stat", 0);
 }
 
+/// Statistics counter `counter` += `n` (a fault past the counters).
+pub fn stat_add(counter: u32, n: u32) {
+    __trax_op!("trax.statadd", counter, n);
+}
+
 // ---- Simulated memory ----
 
 pub fn load_u32(addr: u32) -> u32 {

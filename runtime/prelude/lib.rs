@@ -9,6 +9,7 @@
 //! Map:
 //! - this file: thread ids, clock, `rand`/`seed_pixel`, global registers (atomics, barriers,
 //!   semaphores), `min`/`max`/`invsqrt`, `count_ray`, raw simulated-memory access;
+//! - [`stat`]: the statistics counters (`trax::stat::add`);
 //! - [`math`]: `Vec3` (points, directions, linear RGB) with operators;
 //! - [`libm`]: `sinf`, `cos`, `atan2f`, `pow`, ... for f32 and f64 (C names), the same
 //!   bits on the machine and on the host;
@@ -201,6 +202,29 @@ pub fn clamp(x: f32, lo: f32, hi: f32) -> f32 {
 /// [`bvh`] calls it once per ray.
 pub fn count_ray() {
     hw::count_ray()
+}
+
+/// The statistics counters: 32 per chip, summed over every thread, reported by `trax run`
+/// (`counters` in the stats document and its summary) and by `trax native` alike.
+/// Counter 0 counts rays (the BVH traversal adds one per ray); the others are the
+/// kernel's own.
+pub mod stat {
+    /// Number of counters (`0..COUNTERS`).
+    pub const COUNTERS: u32 = 32;
+    /// Counter 0: rays cast (the traversals of [`crate::bvh`] count them).
+    pub const RAYS: u32 = 0;
+
+    /// Adds `n` to counter `counter` (`0..COUNTERS`; another index stops the program).
+    /// One zero-cost instruction (`trax.statadd`) on the machine: it takes no cycle in
+    /// the timing model (computing its operands does).
+    pub fn add(counter: u32, n: u32) {
+        super::hw::stat_add(counter, n)
+    }
+
+    /// Adds 1 to counter `counter`.
+    pub fn inc(counter: u32) {
+        super::hw::stat_add(counter, 1)
+    }
 }
 
 // ---- Raw simulated memory ----

@@ -355,6 +355,12 @@ TRAX_INLINE float trax_max(float a, float b) { return trax_fmax(a, b); }
 TRAX_INLINE float trax_sqrt(float x) { return __builtin_sqrtf(x); }
 TRAX_INLINE void trax_count_ray(void) { trax_stat(0); }
 
+/* ---- Statistics counters (the Rust prelude's trax::stat): TRAX_STAT_COUNTERS of them,
+ * summed over every thread, reported by trax run and trax native; counter 0 counts rays.
+ * Adding is one zero-cost instruction (trax.statadd); an index past the counters stops
+ * the program. ---- */
+TRAX_INLINE void trax_stat_add(unsigned int counter, unsigned int n) { trax_statadd(counter, n); }
+
 /* ---- Printing: one instruction per value, printed as it runs (a line printed piece by
  * piece by several threads at once interleaves; trax native buffers lines per thread) ---- */
 TRAX_INLINE void trax_print_int(int v) { trax_printi((unsigned int)v); }
@@ -497,6 +503,11 @@ pub fn render_trax_h() -> String {
         out,
         "/* Words of a ray record in the stream memory (48-byte rays, thesis 3.2.1). */\n#define TRAX_STREAM_RECORD_WORDS {}u\n",
         abi::STREAM_RECORD_BYTES / 4
+    );
+    let _ = writeln!(
+        out,
+        "/* Statistics counters (trax_stat_add). */\n#define TRAX_STAT_COUNTERS {}u\n",
+        crate::counters::NUM_STATS
     );
     for st in C_STRUCTS {
         let fields: Vec<(String, String, usize)> = st

@@ -1,10 +1,10 @@
 //! The kernel prelude (crate `trax`) sources, embedded for the compiler and for
 //! `trax native`.
 //!
-//! Paths are relative to the prelude directory [`DIR`]. Six entries lie outside it
+//! Paths are relative to the prelude directory [`DIR`]. Seven entries lie outside it
 //! (`../src/rng.rs`, `../src/fops.rs`, `../src/pipes.rs`, `../src/streams.rs` with its
-//! `../src/stream_spill.rs`, `../src/image.rs`): the host implementation shares the emulator's RNG, f32 operation,
-//! pipeline and ray-stream semantics and the memory-image format verbatim. Writers of these files to disk must keep
+//! `../src/stream_spill.rs`, `../src/image.rs`, `../src/counters.rs`): the host implementation shares the emulator's RNG, f32 operation,
+//! pipeline and ray-stream semantics, the memory-image format and the counters' report verbatim. Writers of these files to disk must keep
 //! the relative layout (write `p` to `<root>/prelude/<p>`).
 
 /// Root file of crate `trax`.
@@ -37,6 +37,7 @@ pub static FILES: &[(&str, &str)] = &[
     ("../src/streams.rs", include_str!("streams.rs")),
     ("../src/stream_spill.rs", include_str!("stream_spill.rs")),
     ("../src/image.rs", include_str!("image.rs")),
+    ("../src/counters.rs", include_str!("counters.rs")),
 ];
 
 /// The source of prelude file `path` (as listed in [`FILES`]).

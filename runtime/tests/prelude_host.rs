@@ -524,6 +524,43 @@ fn threads_ids_atomics_and_barrier() {
     assert_eq!(read_words(&out, FB_PROBE + 512, 1)[0], 1203);
 }
 
+fn stat_kernel() {
+    let g = trax::global_id();
+    trax::stat::add(5, g + 1);
+    trax::stat::inc(31);
+    trax::count_ray();
+}
+
+/// `trax::stat` counters are summed over every thread (counter 0 is `count_ray`'s), as
+/// the machine sums `trax.statadd`; their count is the machine's.
+#[test]
+fn stat_counters_are_summed_over_threads() {
+    assert_eq!(
+        trax::stat::COUNTERS as usize,
+        trax_runtime::counters::NUM_STATS
+    );
+    let img = header_only_image(&HeaderParams::default()).unwrap();
+    let (_, stats) = trax::host::run_image_stats(&to_image(&img), 2, 3, stat_kernel).unwrap();
+    let mut expected = [0u64; trax_runtime::counters::NUM_STATS];
+    expected[0] = 6;
+    expected[5] = (1..=6).sum();
+    expected[31] = 6;
+    assert_eq!(stats.counters, expected);
+    assert_eq!(stats.rays, 6);
+}
+
+fn stat_out_of_range_kernel() {
+    trax::stat::add(trax::stat::COUNTERS, 1);
+}
+
+/// A counter past the last stops the program, as `trax.statadd` faults on the machine.
+#[test]
+fn a_stat_counter_out_of_range_panics() {
+    let img = header_only_image(&HeaderParams::default()).unwrap();
+    let r = trax::host::run_image(&to_image(&img), 1, 1, stat_out_of_range_kernel);
+    assert!(r.is_err());
+}
+
 fn early_exit_barrier_kernel() {
     // Odd threads return at once; the barrier must not wait for them.
     if trax::global_id() % 2 == 1 {

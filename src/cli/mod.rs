@@ -21,7 +21,8 @@ mod sweep;
 #[command(
     name = "trax",
     version,
-    about = "TRaX-Rust toolchain and ray-tracing hardware simulator"
+    about = "TRaX-Rust toolchain and ray-tracing hardware simulator",
+    after_help = "TRaX-Rust kernels are Rust: every build also checks them with rustc (moves, borrows, exhaustiveness, `unsafe`; errors carry rustc's code). Without rustc: TRAX_RUSTC_CHECK=auto (default) warns and builds with the trax compiler's own checks, =require refuses, =off skips the check. The language and its prelude API: docs/LANGUAGE.md."
 )]
 pub struct Cli {
     #[command(subcommand)]

@@ -407,10 +407,16 @@ pub fn execute(a: &ExecArgs, extras: &Extras) -> Result<Executed, String> {
             if r.rays() > 0 {
                 eprintln!("rays: {}", r.rays());
             }
+            if let Some(line) = trax_runtime::counters::summary(&r.counters) {
+                eprintln!("{line}");
+            }
             eprint!("{}", scene_report(&prepared.image));
         }
         Some(stats) => {
             eprint!("{}", with_newline(stats.summary()));
+            if let Some(line) = trax_runtime::counters::summary(&r.counters) {
+                eprintln!("{line}");
+            }
             eprint!("{}", scene_report(&prepared.image));
             eprintln!(
                 "simulated in {secs:.3} s on {} host thread(s)",

@@ -8,13 +8,27 @@ use proc_macro2::Span;
 use syn::spanned::Spanned;
 use syn::{Expr, Type};
 
+/// The most elements an array type or `[x; N]` may have (2^24).
+pub const MAX_ARRAY_LEN: u32 = 1 << 24;
+
 impl<'a> Program<'a> {
     /// Evaluates an array length: a `usize` constant expression, with rustc's const
     /// evaluation errors ("attempt to compute `3_usize - 4_usize`, which would overflow",
     /// "attempt to divide `1_usize` by zero") at the failing operation, which may be in a
-    /// `const` the length names.
-    pub fn eval_len(&self, module: ModId, file: FileId, e: &Expr) -> DResult<i128> {
-        self.eval_typed(module, file, e, IntTy::Usize, "the array length", 0)
+    /// `const` the length names; a length past [`MAX_ARRAY_LEN`] is an error saying so.
+    pub fn eval_len(&self, module: ModId, file: FileId, e: &Expr) -> DResult<u32> {
+        let n = self.eval_typed(module, file, e, IntTy::Usize, "the array length", 0)?;
+        match u32::try_from(n) {
+            Ok(n) if n <= MAX_ARRAY_LEN => Ok(n),
+            _ => Err(self.err(
+                file,
+                e.span(),
+                "invalid-array-length",
+                format!(
+                    "array length {n} is more than TRaX-Rust allows: at most {MAX_ARRAY_LEN} (2^24) elements per array"
+                ),
+            )),
+        }
     }
 
     /// The type an integer expression has on its own: a suffixed literal's, a cast's

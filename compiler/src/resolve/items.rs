@@ -89,8 +89,22 @@ pub(super) fn collect<'a>(
     c.resolve_traits();
     let impls = std::mem::take(&mut c.impls);
     for im in impls {
+        // A derived impl (`crate::derive`) whose header does not resolve (its type was
+        // refused) is left out silently: the type's own diagnostics say what is wrong.
+        // Without the prelude there is no `Option` for its result: left out too (a
+        // comparison then reports the missing prelude).
+        let derived = im
+            .item
+            .attrs
+            .iter()
+            .any(|a| a.path().is_ident("automatically_derived"));
+        if derived && c.p.lang.module.is_none() {
+            continue;
+        }
         if let Err(e) = c.collect_impl(im) {
-            c.errs.push(e);
+            if !derived {
+                c.errs.push(e);
+            }
         }
     }
     let fns = std::mem::take(&mut c.fns);
@@ -591,17 +605,18 @@ impl<'a> Collector<'a> {
                 for v in &self.p.adts[a].variants {
                     for f in &v.fields {
                         if !self.supports(&f.ty, tr, 0) {
-                            let d = self.err(
-                                self.p.adts[a].file,
-                                f.span,
-                                "derive-field",
+                            let (name, ty) = (&self.p.adts[a].name, self.p.ty_str(&f.ty));
+                            let message = if tr == LangTrait::PartialOrd
+                                && !matches!(f.ty, Ty::Adt(..))
+                            {
+                                format!("`#[derive(PartialOrd)]` on `{name}` cannot compare a field of type `{ty}`: TRaX-Rust compares numbers, `bool`, `char` and types that are `PartialOrd` themselves (write `impl PartialOrd for {name}`)")
+                            } else {
                                 format!(
-                                    "the trait `{}` is not implemented for `{}` (needed by `#[derive({0})]` on `{}`)",
+                                    "the trait `{}` is not implemented for `{ty}` (needed by `#[derive({0})]` on `{name}`)",
                                     tr.name(),
-                                    self.p.ty_str(&f.ty),
-                                    self.p.adts[a].name
-                                ),
-                            );
+                                )
+                            };
+                            let d = self.err(self.p.adts[a].file, f.span, "derive-field", message);
                             self.errs.push(d);
                             return;
                         }
@@ -627,6 +642,15 @@ impl<'a> Collector<'a> {
                     }
             })
         };
+        if tr == LangTrait::PartialOrd {
+            // What `partial_cmp` is defined on in TRaX-Rust (the derive calls it).
+            return match t {
+                Ty::Adt(a, _) => self.p.adts[*a].derives.has(tr) || has_impl(t),
+                Ty::Int(_) | Ty::Float(_) | Ty::Bool | Ty::Char => true,
+                Ty::Param(_) | Ty::Proj(..) | Ty::Infer | Ty::Var(_) => true,
+                _ => false,
+            };
+        }
         match t {
             Ty::Param(_) | Ty::Proj(..) | Ty::Infer | Ty::Var(_) => true,
             Ty::Adt(a, _) => self.p.adts[*a].derives.has(tr) || has_impl(t),
@@ -776,6 +800,7 @@ impl<'a> Collector<'a> {
                     | "default"
                     | "track_caller"
                     | "non_exhaustive"
+                    | "automatically_derived"
             );
             if !ok {
                 return Err(self.err(
@@ -827,8 +852,10 @@ impl<'a> Collector<'a> {
                     "PartialEq" => LangTrait::PartialEq,
                     "Eq" => LangTrait::Eq,
                     "Default" => LangTrait::Default,
+                    // Expanded into an impl while parsing (`crate::derive`).
+                    "PartialOrd" => LangTrait::PartialOrd,
                     _ => {
-                        return Err(self.err(file, p.span(), "unsupported-derive", format!("`#[derive({n})]` is not supported in TRaX-Rust (only Clone, Copy, Debug, PartialEq, Eq, Default)")))
+                        return Err(self.err(file, p.span(), "unsupported-derive", format!("`#[derive({n})]` is not supported in TRaX-Rust (only Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Default)")))
                     }
                 };
                 out.push(t);
@@ -1003,7 +1030,8 @@ impl<'a> Collector<'a> {
     /// Generic parameters, field types and discriminants of every struct and enum.
     fn resolve_adts(&mut self) {
         // Parameter names first: field types name other ADTs with their arguments.
-        for a in 0..self.p.adts.len() {
+        let mut bad = vec![false; self.p.adts.len()];
+        for (a, bad) in bad.iter_mut().enumerate() {
             let (file, syntax) = (self.p.adts[a].file, self.p.adts[a].syntax);
             let generics = match syntax {
                 AdtSyntax::Struct(s) => &s.generics,
@@ -1011,10 +1039,14 @@ impl<'a> Collector<'a> {
             };
             match self.param_names(file, generics, &[]) {
                 Ok(n) => self.p.adts[a].generics.names = n,
-                Err(e) => self.errs.push(e),
+                Err(e) => {
+                    self.errs.push(e);
+                    *bad = true;
+                }
             }
         }
-        for a in 0..self.p.adts.len() {
+        // (An ADT whose parameters are refused is reported once, above.)
+        for a in (0..self.p.adts.len()).filter(|&a| !bad[a]) {
             if let Err(e) = self.resolve_adt(a) {
                 self.errs.push(e);
             }

@@ -128,6 +128,9 @@ impl<'a> Program<'a> {
                     ),
                 );
             }
+            if let Some(h) = self.heap_type_in(module, segs) {
+                return self.heap_type_error(file, span, h);
+            }
             self.err(
                 file,
                 span,

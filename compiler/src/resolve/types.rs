@@ -1,8 +1,9 @@
 //! Syntactic types to [`Ty`]; impl matching and associated-type normalisation.
 
 use super::{ImplId, ModId, Ns, PathRes, Program};
-use crate::diag::{DResult, FileId};
+use crate::diag::{DResult, Diagnostic, FileId};
 use crate::ty::{AdtId, TraitId, TraitKind, TraitRef, Ty};
+use proc_macro2::Span;
 use std::collections::HashMap;
 use syn::spanned::Spanned;
 use syn::Type;
@@ -39,6 +40,35 @@ const HEAP_TYPES: &[&str] = &[
 ];
 
 impl<'a> Program<'a> {
+    /// The heap type a value path goes through (`String` of `String::from`, `Vec` of
+    /// `Vec::new`) when the kernel defines no type of that name.
+    pub(super) fn heap_type_in(&self, module: ModId, segs: &[String]) -> Option<&'static str> {
+        let (_, prefix) = segs.split_last()?;
+        prefix.iter().enumerate().find_map(|(i, s)| {
+            let h = HEAP_TYPES.iter().copied().find(|h| h == s)?;
+            self.resolve_from(module, &segs[..=i], Ns::Type, 0)
+                .is_none()
+                .then_some(h)
+        })
+    }
+
+    /// The error for a heap type (`Vec`, `String`, ...) named at `span`, with what to use
+    /// instead.
+    pub(super) fn heap_type_error(&self, file: FileId, span: Span, h: &str) -> Diagnostic {
+        let instead = match h {
+            "String" => "text is `&'static str` in TRaX-Rust (string literals); `print!`/`println!` format without allocating",
+            "Box" | "Rc" | "Arc" => "own values directly, or borrow them (`&T`, `&mut T`)",
+            _ => "use fixed-size arrays `[T; N]` and slices `&[T]`",
+        };
+        self.err(
+            file,
+            span,
+            "unsupported-heap-type",
+            format!("`{h}` is not supported in TRaX-Rust (heap types are not available)"),
+        )
+        .with_note(instead)
+    }
+
     /// Resolves a syntactic type in `module`.
     pub fn resolve_type(
         &self,
@@ -78,15 +108,7 @@ impl<'a> Program<'a> {
             Type::Array(a) => {
                 let elem = sub(&a.elem)?;
                 let n = self.eval_len(module, file, &a.len)?;
-                if !(0..=(1 << 24)).contains(&n) {
-                    return Err(self.err(
-                        file,
-                        a.len.span(),
-                        "invalid-array-length",
-                        format!("array length {n} is out of range"),
-                    ));
-                }
-                Ok(Ty::Array(Box::new(elem), n as u32))
+                Ok(Ty::Array(Box::new(elem), n))
             }
             Type::Reference(r) => {
                 if let Type::Path(tp) = &*r.elem {
@@ -292,12 +314,7 @@ impl<'a> Program<'a> {
         let Some(res) = resolved else {
             let name = segs.join("::");
             if let Some(h) = HEAP_TYPES.iter().find(|h| **h == segs[segs.len() - 1]) {
-                return Err(self.err(
-                    file,
-                    span,
-                    "unsupported-heap-type",
-                    format!("`{h}` is not supported in TRaX-Rust (heap types are not available)"),
-                ));
+                return Err(self.heap_type_error(file, span, h));
             }
             let hint = match segs.last().map(String::as_str) {
                 Some("Option" | "Result") if self.lang.module.is_none() => {

@@ -805,11 +805,29 @@ impl<'p, 'a> Cx<'p, 'a> {
                 }
             }
         }
-        Err(self.err(
+        let mut d = self.err(
             span,
             "unknown-method",
             format!("no method `{name}` on `{}`", self.show(&t0)),
-        ))
+        );
+        if matches!(self.autoderef(&t0).0, Ty::Array(..) | Ty::Slice(_)) {
+            // The std slice methods TRaX-Rust lacks: say what it has and what to write.
+            let have: Vec<String> = builtins::METHODS
+                .iter()
+                .filter(|m| matches!(m.on, On::Seq | On::SeqMut))
+                .map(|m| format!("`{}`", m.name))
+                .collect();
+            d = d.with_note(format!(
+                "arrays and slices have {} in TRaX-Rust; `for` loops iterate over them with `iter`, `iter_mut`, `enumerate`, `zip`, `rev`, `step_by`, `skip`, `take`, `copied`",
+                have.join(", ")
+            ));
+            if name.starts_with("sort") {
+                d = d.with_help(
+                    "sorting is not built in: write it as a loop, e.g. an insertion sort (docs/LANGUAGE.md, \"Arrays and slices\")",
+                );
+            }
+        }
+        Err(d)
     }
 
     #[allow(clippy::too_many_arguments)]

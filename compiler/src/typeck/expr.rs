@@ -376,14 +376,7 @@ impl<'p, 'a> Cx<'p, 'a> {
             Expr::Repeat(r) => {
                 let t = self.expr(&r.expr)?;
                 let n = self.p.eval_len(self.module, self.file, &r.len)?;
-                if !(0..=(1 << 24)).contains(&n) {
-                    return Err(self.err(
-                        r.len.span(),
-                        "invalid-array-length",
-                        format!("array length {n} is out of range"),
-                    ));
-                }
-                Ok(Ty::Array(Box::new(t), n as u32))
+                Ok(Ty::Array(Box::new(t), n))
             }
             Expr::Struct(s) => self.struct_lit(e, s),
             Expr::Tuple(t) if t.elems.is_empty() => Ok(Ty::Unit),
@@ -780,6 +773,22 @@ impl<'p, 'a> Cx<'p, 'a> {
                 }
             }
             (l2, r2)
+        };
+        // References to structs and enums compare their referents (Rust's `impl
+        // PartialOrd<&B> for &A`): `a < b` with `a, b: &Key` calls `Key`'s impl.
+        let (l, r) = match (self.autoderef(&l), self.autoderef(&r)) {
+            ((li @ Ty::Adt(..), ln), (ri @ Ty::Adt(..), rn))
+                if op.is_cmp()
+                    && !assign
+                    && ln > 0
+                    && ln == rn
+                    && !(matches!(op, BinOp::Eq | BinOp::Ne) && self.derives_eq(&l)) =>
+            {
+                self.body.adjust.insert(key(&*b.left), Adjust::Deref(ln));
+                self.body.adjust.insert(key(&*b.right), Adjust::Deref(rn));
+                (li, ri)
+            }
+            _ => (l, r),
         };
         let user = |t: &Ty| {
             matches!(

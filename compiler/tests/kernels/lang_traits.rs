@@ -1,8 +1,10 @@
 //! TRaX-Rust language suite, part 2: generic functions, structs and impls with trait
 //! bounds; user traits (static dispatch, default methods, associated consts and types,
 //! supertraits, impls for primitives); derives; `impl Default`; `Index`/`IndexMut`;
-//! `PartialEq`/`PartialOrd` impls; operator traits on generic types; type aliases;
-//! nested items; `const fn` in `const`/`static` initializers.
+//! `PartialEq`/`PartialOrd` impls and `#[derive(PartialOrd)]` (structs, tuple structs,
+//! generic structs, fieldless enums with explicit discriminants, enums with data; NaN
+//! fields); operator traits on generic types; type aliases; nested items; `const fn` in
+//! `const`/`static` initializers.
 
 use std::ops::{Add, Index, IndexMut, Mul, Neg, Sub};
 
@@ -284,7 +286,72 @@ fn swap_pair<T: Copy>(p: Pair<T>) -> Pair<T> {
     (p.1, p.0)
 }
 
+/// Derived ordering: fields in declaration order.
+#[derive(Clone, Copy, Debug, PartialEq, PartialOrd)]
+struct Key {
+    depth: u32,
+    t: f32,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, PartialOrd)]
+struct Wrap<T>(T, u8);
+
+/// Fieldless: ordered by discriminant, not by declaration.
+#[derive(Clone, Copy, Debug, PartialEq, PartialOrd)]
+enum Level {
+    High = 10,
+    Low = 1,
+    Mid = 5,
+}
+
+/// With data: by variant, then by the variant's fields.
+#[derive(Clone, Copy, Debug, PartialEq, PartialOrd)]
+enum Prim {
+    Point,
+    Disk(f32),
+    Box { w: u32, h: Level },
+}
+
 fn trax_main() {
+    let keys = [
+        Key { depth: 1, t: 2.0 },
+        Key { depth: 1, t: 3.0 },
+        Key { depth: 0, t: 9.0 },
+        Key { depth: 1, t: f32::NAN },
+    ];
+    for a in keys.iter() {
+        for b in keys.iter() {
+            print!("{:?}{}{} ", a.partial_cmp(b), (a < b) as u8, (a >= b) as u8);
+        }
+    }
+    println!();
+    println!(
+        "wrap {:?} {} {}",
+        Wrap(2.5f64, 1).partial_cmp(&Wrap(2.5, 0)),
+        Wrap(-1i16, 9) < Wrap(3, 0),
+        Wrap('a', 0) <= Wrap('a', 0)
+    );
+    println!(
+        "level {} {} {:?}",
+        Level::High > Level::Mid,
+        Level::Low < Level::Mid,
+        Level::Mid.partial_cmp(&Level::Mid)
+    );
+    let shapes = [
+        Prim::Point,
+        Prim::Disk(1.0),
+        Prim::Disk(f32::NAN),
+        Prim::Box { w: 2, h: Level::Low },
+        Prim::Box { w: 2, h: Level::High },
+        Prim::Disk(0.5),
+    ];
+    for a in shapes.iter() {
+        for b in shapes.iter() {
+            print!("{:?} ", a.partial_cmp(b));
+        }
+    }
+    println!();
+
     if trax::global_id() != 0 {
         return;
     }

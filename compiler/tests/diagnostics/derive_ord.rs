@@ -1,0 +1,4 @@
+#[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+struct Rank(u32);
+
+fn trax_main() {}

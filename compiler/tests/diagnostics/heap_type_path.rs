@@ -1,0 +1,5 @@
+fn trax_main() {
+    let s = String::from("hit");
+    let v = Vec::<u32>::new();
+    println!("{} {}", s, v.len());
+}

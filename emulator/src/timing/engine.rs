@@ -32,7 +32,7 @@ use trax_runtime::isa::UnitClass;
 use super::config::ChipConfig;
 use super::intervals::Snapshot;
 use super::operands::{classify, OpInfo};
-use super::tm::{retire, Deferred, Summary, TmSim};
+use super::tm::{Deferred, Summary, TmSim};
 use super::workers::{rebalance, Batch, Crew, RoundCell, Rounds};
 use crate::chip::Effects;
 use crate::exec::Stop;
@@ -426,6 +426,7 @@ impl<'c> Engine<'c> {
                 let crew = rounds.spawn(scope, &member_job);
                 let mut d = Driver {
                     cfg,
+                    shape,
                     mem,
                     now,
                     limits,
@@ -462,6 +463,8 @@ impl<'c> Engine<'c> {
         let mut tm_mems = Vec::with_capacity(tms);
         for t in sims {
             let mut t = t.into_inner();
+            // The sleeping threads' cycles.
+            t.flush(&self.shape, &mut self.c, self.profiler.as_mut());
             // The last pipeline mode's reserved unit-cycles.
             let mode = t.mode;
             t.set_mode(&self.shape, &mut self.c, mode, self.now);
@@ -551,6 +554,7 @@ impl StreamTiming {
 /// What the leader thread changes while the TMs run.
 struct Driver<'a, 'p> {
     cfg: &'a ChipConfig,
+    shape: &'a Shape,
     mem: &'a mut MemSystem,
     now: &'a mut u64,
     limits: Limits,
@@ -588,7 +592,14 @@ impl Driver<'_, '_> {
     /// it was without intervals.
     #[cold]
     #[inline(never)]
-    fn sample(&mut self, sh: &Shared, sims: &[&mut TmSim], parts: &[Mutex<Part>], at: u64) {
+    fn sample(&mut self, sh: &Shared, sims: &mut [&mut TmSim], parts: &[Mutex<Part>], at: u64) {
+        // The sleeping threads' cycles so far.
+        {
+            let mut p = parts[0].lock().unwrap_or_else(|e| e.into_inner());
+            for t in sims.iter_mut() {
+                t.flush(self.shape, &mut p.c, None);
+            }
+        }
         let mut c = Counters::default();
         c.add_scalars(&self.base);
         for p in parts {
@@ -787,7 +798,7 @@ impl Driver<'_, '_> {
                     c.unit_conflicts[UnitClass::GlobalRegs as usize] += gr.0 - d.cycle;
                     ready = gr.0 + g.latency as u64;
                 }
-                retire(c, &mut sim.sb[tid], &info, idx, ready.max(to));
+                sim.retire(c, tid, &info, idx, ready.max(to));
             }
             // Stop on a fault.
             if let Some((cyc, mut cr)) = crash {
@@ -855,7 +866,7 @@ impl Driver<'_, '_> {
             }
             *self.now = to;
             if to >= self.next_sample {
-                self.sample(sh, &sims, parts, to);
+                self.sample(sh, &mut sims, parts, to);
             }
             if let Some(limit) = self.limits.max_instructions {
                 if executed(parts) >= limit {

@@ -11,6 +11,7 @@
 use trax_runtime::isa::{TraxOp, UnitClass};
 
 use super::engine::{Counters, Shape};
+use super::naps::{ThreadSet, Wheel};
 use super::operands::{classify, OpInfo, NUM_SLOTS, PC_BASE};
 use crate::chip::{Effects, TmView};
 use crate::decode::Inst;
@@ -25,7 +26,29 @@ use crate::thread::{RunState, Shared, Thread};
 pub(crate) struct Sb {
     pub ready: [u64; NUM_SLOTS],
     pub producer: [u32; NUM_SLOTS],
-    pub fetched: bool,
+}
+
+/// What a sleeping thread waits for, and so how its cycles count.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum NapKind {
+    /// A register (data dependence on a producer).
+    Register,
+    /// Nothing: the thread halted.
+    Halted,
+    /// A barrier or semaphore (opened only by the serial phase).
+    Barrier,
+}
+
+/// A sleeping thread's account: the cycles from `since` on are not counted yet.
+#[derive(Clone, Copy, Debug)]
+struct Nap {
+    kind: NapKind,
+    /// The text word of the instruction whose result it waits for (`Register`).
+    producer: u32,
+    /// First cycle not yet in the counters.
+    since: u64,
+    /// First cycle not yet charged to the profile.
+    prof_since: u64,
 }
 
 /// A pending register (waits for a memory completion).
@@ -102,16 +125,34 @@ pub(crate) struct TmSim {
     pub work: u64,
     pub threads: Vec<Thread>,
     pub sb: Vec<Sb>,
-    /// Per thread: (cycle before which it stalls on a data dependence, producer);
-    /// [`PENDING`] while it waits for a load whose completion has not arrived.
-    wake: Vec<(u64, u32)>,
-    /// Per thread: waiting for its deferred instruction (until the next quantum).
-    pub frozen: Vec<bool>,
+    /// The threads visited each cycle: those that may issue, or whose wait must be looked
+    /// at every cycle (resource conflicts, stream scheduling). The others sleep: frozen,
+    /// or in `asleep` with a [`Nap`], on the wheel (a register ready at a known cycle),
+    /// in `pending` (a load whose line has not arrived), in `barrier`, or halted.
+    active: ThreadSet,
+    /// Waiting for their deferred instruction (until the next quantum); their cycles are
+    /// counted when they freeze.
+    frozen: ThreadSet,
+    /// Sleeping with cycles counted when they wake ([`Nap`]).
+    asleep: ThreadSet,
+    naps: Vec<Nap>,
+    wheel: Wheel,
+    pending: ThreadSet,
+    barrier: ThreadSet,
+    /// Scratch: threads the wheel wakes this cycle.
+    woken: ThreadSet,
+    /// Per thread: its next instruction was fetched (I-cache slot taken).
+    fetched: ThreadSet,
+    /// The end of the quantum being simulated, and of the last one simulated.
+    quantum_end: u64,
+    ran_to: u64,
     /// Per unit class, per instance: first cycle the unit accepts an op.
     unit_free: Vec<Vec<u64>>,
     /// Per (unit class, thread): the unit instance wired to the thread.
     unit_of: Vec<u32>,
     icache_use: Vec<u32>,
+    /// Whether `icache_use` was written this cycle.
+    icache_dirty: bool,
     /// Per thread: index in `icache_use` of its I-cache's first bank.
     icache_base: Vec<usize>,
     pub mem: TmMem,
@@ -136,7 +177,12 @@ impl TmSim {
         let sb = Sb {
             ready: [0; NUM_SLOTS],
             producer: [u32::MAX; NUM_SLOTS],
-            fetched: false,
+        };
+        let nap = Nap {
+            kind: NapKind::Register,
+            producer: 0,
+            since: 0,
+            prof_since: 0,
         };
         TmSim {
             tm,
@@ -144,8 +190,17 @@ impl TmSim {
             summary: Summary::default(),
             work: 0,
             sb: vec![sb; n],
-            wake: vec![(0, 0); n],
-            frozen: vec![false; n],
+            active: ThreadSet::full(n),
+            frozen: ThreadSet::new(n),
+            asleep: ThreadSet::new(n),
+            naps: vec![nap; n],
+            wheel: Wheel::new(n),
+            pending: ThreadSet::new(n),
+            barrier: ThreadSet::new(n),
+            woken: ThreadSet::new(n),
+            fetched: ThreadSet::new(n),
+            quantum_end: 0,
+            ran_to: 0,
             unit_free: shape
                 .units
                 .iter()
@@ -157,6 +212,7 @@ impl TmSim {
                 .flat_map(|u| (0..n).map(move |tid| (tid * u.count as usize / n) as u32))
                 .collect(),
             icache_use: vec![0; shape.icache_slots],
+            icache_dirty: false,
             icache_base: (0..n)
                 .map(|tid| tid % shape.icaches * shape.icache_banks)
                 .collect(),
@@ -212,21 +268,35 @@ impl TmSim {
         from: u64,
         to: u64,
     ) {
+        self.quantum_end = to;
         // Line fills sent by the L2s in the last serial phase.
-        self.mem.apply_fills(&mut self.completions);
-        for comp in self.completions.drain(..) {
+        let mut completions = std::mem::take(&mut self.completions);
+        self.mem.apply_fills(&mut completions);
+        for comp in completions.drain(..) {
             let tid = (comp.id >> 8) as usize % self.threads.len();
             let slot = (comp.id & 0xFF) as usize;
             let s = &mut self.sb[tid];
             if s.ready[slot] == PENDING {
                 s.ready[slot] = comp.cycle.max(from);
                 // Look at the scoreboard again on the thread's next turn.
-                if self.wake[tid].0 == PENDING {
-                    self.wake[tid] = (0, 0);
+                if self.pending.contains(tid) {
+                    self.pending.remove(tid);
+                    self.wake(shape, c, prof.as_deref_mut(), tid, from);
                 }
             }
         }
-        self.frozen.iter_mut().for_each(|f| *f = false);
+        self.completions = completions;
+        // Threads that waited for the serial phase look again.
+        self.active.add_all(&self.frozen);
+        self.frozen.clear();
+        if !self.barrier.is_empty() {
+            let waiting = std::mem::replace(&mut self.barrier, ThreadSet::new(0));
+            for tid in waiting.iter() {
+                self.wake(shape, c, prof.as_deref_mut(), tid, from);
+            }
+            self.barrier = waiting;
+            self.barrier.clear();
+        }
         // A `trax.setpipe` ordered in the last serial phase takes effect now.
         let mode = shared.tm_pipe_mode[self.tm];
         if mode != self.mode {
@@ -236,12 +306,35 @@ impl TmSim {
         let n = self.threads.len();
         let mut first = (from % n as u64) as usize;
         for now in from..to {
-            self.icache_use.iter_mut().for_each(|x| *x = 0);
-            for tid in (first..n).chain(0..first) {
-                self.step_thread(shape, shared, c, prof.as_deref_mut(), tid, now);
+            if self.wheel.due(now, &mut self.woken) {
+                let woken = std::mem::replace(&mut self.woken, ThreadSet::new(0));
+                for tid in woken.iter() {
+                    self.wake(shape, c, prof.as_deref_mut(), tid, now);
+                }
+                self.woken = woken;
+                self.woken.clear();
+            }
+            if self.icache_dirty {
+                self.icache_dirty = false;
+                self.icache_use.iter_mut().for_each(|x| *x = 0);
+            }
+            // The active threads in rotating order (a thread visited may leave the set,
+            // nobody joins it during the cycle).
+            for (lo, hi) in [(first, n), (0, first)] {
+                let mut k = lo / 64;
+                while k * 64 < hi {
+                    let mut bits = self.active.word_in(k, lo, hi);
+                    while bits != 0 {
+                        let tid = k * 64 + bits.trailing_zeros() as usize;
+                        bits &= bits - 1;
+                        self.step_thread(shape, shared, c, prof.as_deref_mut(), tid, now);
+                    }
+                    k += 1;
+                }
             }
             first = if first + 1 == n { 0 } else { first + 1 };
         }
+        self.ran_to = to;
         let issued = c.tc.issued + c.debug_ops - issued_before;
         self.work += issued;
         let bit = |b: bool, bit: u8| if b { bit } else { 0 };
@@ -268,20 +361,7 @@ impl TmSim {
                 charge(&mut prof, &self.threads[tid], $kind)
             };
         }
-        if self.frozen[tid] {
-            c.tc.global_sync += 1;
-            charge!(CostKind::OtherStall);
-            return;
-        }
         if self.crash.as_ref().is_some_and(|(_, t, _)| *t == tid) {
-            return;
-        }
-        // Still waiting for a register with a known ready cycle: same stall as last cycle.
-        let (until, p) = self.wake[tid];
-        if now < until {
-            c.tc.data_dependence += 1;
-            c.dep_by_producer[p as usize] += 1;
-            charge!(dep_kind(&shape.info, p as usize));
             return;
         }
         let t = &mut self.threads[tid];
@@ -289,9 +369,17 @@ impl TmSim {
             match t.state {
                 RunState::Halted => {
                     c.tc.halted += 1;
+                    self.sleep(tid, NapKind::Halted, 0, now);
                     return;
                 }
-                RunState::Barrier { .. } => c.tc.sync_wait += 1,
+                RunState::Barrier { .. } => {
+                    c.tc.sync_wait += 1;
+                    charge!(CostKind::OtherStall);
+                    // Only the serial phase opens it: look again next quantum.
+                    self.sleep(tid, NapKind::Barrier, 0, now);
+                    self.barrier.insert(tid);
+                    return;
+                }
                 // Released (paying for the decision) or waiting for peers: draining; the
                 // TM drained with nothing to read: idle.
                 RunState::StreamWait { generation, .. } => {
@@ -328,7 +416,7 @@ impl TmSim {
                 match done {
                     Executed::Done => {}
                     Executed::Defer => {
-                        self.defer(tid, idx, info, now, now);
+                        self.defer(c, prof, tid, idx, info, now, now);
                         return;
                     }
                     _ => return,
@@ -362,7 +450,7 @@ impl TmSim {
             };
         }
         // Fetch.
-        if !self.sb[tid].fetched {
+        if !self.fetched.contains(tid) {
             let bank = match shape.icache_bank_mask {
                 Some(mask) => (pc >> 2) as usize & mask,
                 None => (pc >> 2) as usize % shape.icache_banks,
@@ -374,8 +462,9 @@ impl TmSim {
                 return;
             }
             *slot += 1;
+            self.icache_dirty = true;
             c.fetches += 1;
-            self.sb[tid].fetched = true;
+            self.fetched.insert(tid);
         }
         // Scoreboard (slot 0, `$0`, is always ready: one branch for the common case).
         let s = &self.sb[tid];
@@ -393,8 +482,15 @@ impl TmSim {
                 c.tc.data_dependence += 1;
                 let p = (s.producer[r as usize] as usize).min(shape.info.len());
                 c.dep_by_producer[p] += 1;
-                self.wake[tid] = (s.ready[r as usize], p as u32);
+                let until = s.ready[r as usize];
                 charge!(dep_kind(&shape.info, p));
+                // Nothing to do until then.
+                self.sleep(tid, NapKind::Register, p as u32, now);
+                if until == PENDING {
+                    self.pending.insert(tid);
+                } else {
+                    self.wheel.put(tid, now, until);
+                }
                 return;
             }
         }
@@ -491,20 +587,128 @@ impl TmSim {
             Executed::Done => {}
             Executed::Halted => self.record(tid, idx, info, now, ready_at, true),
             Executed::Defer => {
-                self.defer(tid, idx, info, now, ready_at);
+                self.defer(c, prof, tid, idx, info, now, ready_at);
                 return;
             }
             // Barriers and semaphores are chip-wide (deferred); a fault was recorded.
             Executed::Stopped => return,
         }
         let ready = if pending_load { PENDING } else { ready_at };
-        retire(c, &mut self.sb[tid], &info, idx, ready);
+        self.retire(c, tid, &info, idx, ready);
     }
 
-    /// Records a deferred instruction; its thread waits until the next quantum.
-    fn defer(&mut self, tid: usize, idx: usize, info: OpInfo, now: u64, ready_at: u64) {
+    /// Counts an issued instruction of thread `tid` (text word `idx`) and makes its
+    /// destination ready at `ready` ([`PENDING`] for a load waiting for memory).
+    pub fn retire(&mut self, c: &mut Counters, tid: usize, info: &OpInfo, idx: usize, ready: u64) {
+        c.tc.issued += 1;
+        c.class_ops[info.class as usize] += 1;
+        c.reg_accesses +=
+            info.src.iter().filter(|&&r| r != 0).count() as u64 + (info.dst != 0) as u64;
+        self.fetched.remove(tid);
+        if info.dst != 0 {
+            let s = &mut self.sb[tid];
+            s.ready[info.dst as usize] = ready;
+            s.producer[info.dst as usize] = idx as u32;
+        }
+    }
+
+    /// Records a deferred instruction; its thread waits until the next quantum (those
+    /// cycles count as `global_sync` now).
+    #[allow(clippy::too_many_arguments)]
+    fn defer(
+        &mut self,
+        c: &mut Counters,
+        mut prof: Option<&mut Profiler>,
+        tid: usize,
+        idx: usize,
+        info: OpInfo,
+        now: u64,
+        ready_at: u64,
+    ) {
         self.record(tid, idx, info, now, ready_at, false);
-        self.frozen[tid] = true;
+        self.active.remove(tid);
+        self.frozen.insert(tid);
+        let rest = self.quantum_end - now - 1;
+        c.tc.global_sync += rest;
+        if rest > 0 {
+            if let Some(p) = prof.as_deref_mut() {
+                let t = &self.threads[tid];
+                p.charge(t.gid as usize, t, CostKind::OtherStall, rest);
+            }
+        }
+    }
+
+    /// Thread `tid` stalled at cycle `now` (counted) and sleeps from the next cycle on,
+    /// waiting for `kind`; the caller puts it where it will be woken.
+    #[inline(always)]
+    fn sleep(&mut self, tid: usize, kind: NapKind, producer: u32, now: u64) {
+        self.active.remove(tid);
+        self.asleep.insert(tid);
+        self.naps[tid] = Nap {
+            kind,
+            producer,
+            since: now + 1,
+            prof_since: now + 1,
+        };
+    }
+
+    /// Wakes sleeping thread `tid` at cycle `now`, counting the cycles it slept.
+    fn wake(
+        &mut self,
+        shape: &Shape,
+        c: &mut Counters,
+        prof: Option<&mut Profiler>,
+        tid: usize,
+        now: u64,
+    ) {
+        self.account(shape, c, prof, tid, now);
+        self.asleep.remove(tid);
+        self.active.insert(tid);
+    }
+
+    /// Counts sleeping thread `tid`'s cycles up to `upto` (and charges them to `prof`).
+    fn account(
+        &mut self,
+        shape: &Shape,
+        c: &mut Counters,
+        prof: Option<&mut Profiler>,
+        tid: usize,
+        upto: u64,
+    ) {
+        let nap = &mut self.naps[tid];
+        let n = upto - nap.since;
+        nap.since = upto;
+        match nap.kind {
+            NapKind::Register => {
+                c.tc.data_dependence += n;
+                c.dep_by_producer[nap.producer as usize] += n;
+            }
+            NapKind::Halted => c.tc.halted += n,
+            NapKind::Barrier => c.tc.sync_wait += n,
+        }
+        if let Some(p) = prof {
+            let m = upto - nap.prof_since;
+            nap.prof_since = upto;
+            let kind = match nap.kind {
+                NapKind::Register => dep_kind(&shape.info, nap.producer as usize),
+                NapKind::Barrier => CostKind::OtherStall,
+                NapKind::Halted => return,
+            };
+            if m > 0 {
+                let t = &self.threads[tid];
+                p.charge(t.gid as usize, t, kind, m);
+            }
+        }
+    }
+
+    /// Counts the sleeping threads' cycles up to the end of the last quantum simulated,
+    /// into `c` (and `prof`, given at the end of a run): before the counters are read.
+    pub fn flush(&mut self, shape: &Shape, c: &mut Counters, mut prof: Option<&mut Profiler>) {
+        let asleep = std::mem::replace(&mut self.asleep, ThreadSet::new(0));
+        for tid in asleep.iter() {
+            self.account(shape, c, prof.as_deref_mut(), tid, self.ran_to);
+        }
+        self.asleep = asleep;
     }
 
     /// Leaves an instruction (or a halt) for the serial phase.
@@ -558,19 +762,6 @@ impl TmSim {
         };
         c.issued_at[idx] += 1;
         done
-    }
-}
-
-/// Counts an issued instruction (text word `idx`) and makes its destination ready at
-/// `ready` ([`PENDING`] for a load waiting for memory).
-pub(crate) fn retire(c: &mut Counters, s: &mut Sb, info: &OpInfo, idx: usize, ready: u64) {
-    c.tc.issued += 1;
-    c.class_ops[info.class as usize] += 1;
-    c.reg_accesses += info.src.iter().filter(|&&r| r != 0).count() as u64 + (info.dst != 0) as u64;
-    s.fetched = false;
-    if info.dst != 0 {
-        s.ready[info.dst as usize] = ready;
-        s.producer[info.dst as usize] = idx as u32;
     }
 }
 

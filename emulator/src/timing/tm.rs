@@ -21,11 +21,42 @@ use crate::memsys::{Access, AccessKind, Completion, MemRequest, Stall, TmMem};
 use crate::profile::{CostKind, Profiler};
 use crate::thread::{RunState, Shared, Thread};
 
-/// Scoreboard of one thread.
+/// Scoreboard slots: [`NUM_SLOTS`] rounded up to a power of two, so that a slot number
+/// masked by `SB_SLOTS - 1` indexes without a bounds check.
+const SB_SLOTS: usize = NUM_SLOTS.next_power_of_two();
+
+/// A pending register in the scoreboard (its cycles are 32-bit, relative to an epoch).
+const PENDING32: u32 = u32::MAX;
+
+/// The scoreboard's cycles are rebased when the epoch is this far behind (so they stay
+/// far below [`PENDING32`]).
+const REBASE_AFTER: u64 = 1 << 31;
+
+/// Scoreboard of one thread: per slot the cycle its value is ready, relative to the TM's
+/// epoch ([`PENDING32`] while a load waits for memory), and the text word of the
+/// instruction that wrote it. (32-bit cycles: half the bytes a TM's threads touch.)
 #[derive(Clone)]
 pub(crate) struct Sb {
-    pub ready: [u64; NUM_SLOTS],
-    pub producer: [u32; NUM_SLOTS],
+    ready: [u32; SB_SLOTS],
+    producer: [u32; SB_SLOTS],
+}
+
+impl Sb {
+    /// The ready cycle of slot `r`, relative to the epoch.
+    #[inline(always)]
+    fn ready(&self, r: u8) -> u32 {
+        self.ready[r as usize & (SB_SLOTS - 1)]
+    }
+
+    /// Moves the epoch `shift` cycles later: a ready cycle before the new epoch becomes
+    /// the epoch (it is past either way), a pending one stays pending.
+    fn rebase(&mut self, shift: u32) {
+        for r in &mut self.ready {
+            if *r != PENDING32 {
+                *r = r.saturating_sub(shift);
+            }
+        }
+    }
 }
 
 /// What a sleeping thread waits for, and so how its cycles count.
@@ -124,7 +155,9 @@ pub(crate) struct TmSim {
     /// Instructions issued so far (the host's work, for balancing TMs over host threads).
     pub work: u64,
     pub threads: Vec<Thread>,
-    pub sb: Vec<Sb>,
+    sb: Vec<Sb>,
+    /// The cycle the scoreboards' cycles count from.
+    epoch: u64,
     /// The threads visited each cycle: those that may issue, or whose wait must be looked
     /// at every cycle (resource conflicts, stream scheduling). The others sleep: frozen,
     /// or in `asleep` with a [`Nap`], on the wheel (a register ready at a known cycle),
@@ -146,9 +179,9 @@ pub(crate) struct TmSim {
     /// The end of the quantum being simulated, and of the last one simulated.
     quantum_end: u64,
     ran_to: u64,
-    /// Per unit class, per instance: first cycle the unit accepts an op.
-    unit_free: Vec<Vec<u64>>,
-    /// Per (unit class, thread): the unit instance wired to the thread.
+    /// Per unit (class after class, see [`unit_base`]): first cycle it accepts an op.
+    unit_free: Vec<u64>,
+    /// Per (unit class, thread): the unit (index in `unit_free`) wired to the thread.
     unit_of: Vec<u32>,
     icache_use: Vec<u32>,
     /// Whether `icache_use` was written this cycle.
@@ -175,8 +208,8 @@ impl TmSim {
     pub fn new(tm: usize, threads: Vec<Thread>, mem: TmMem, shape: &Shape) -> TmSim {
         let n = threads.len();
         let sb = Sb {
-            ready: [0; NUM_SLOTS],
-            producer: [u32::MAX; NUM_SLOTS],
+            ready: [0; SB_SLOTS],
+            producer: [u32::MAX; SB_SLOTS],
         };
         let nap = Nap {
             kind: NapKind::Register,
@@ -190,6 +223,7 @@ impl TmSim {
             summary: Summary::default(),
             work: 0,
             sb: vec![sb; n],
+            epoch: 0,
             active: ThreadSet::full(n),
             frozen: ThreadSet::new(n),
             asleep: ThreadSet::new(n),
@@ -201,15 +235,15 @@ impl TmSim {
             fetched: ThreadSet::new(n),
             quantum_end: 0,
             ran_to: 0,
-            unit_free: shape
-                .units
-                .iter()
-                .map(|u| vec![0; u.count as usize])
-                .collect(),
+            unit_free: vec![0; shape.units.iter().map(|u| u.count as usize).sum()],
             unit_of: shape
                 .units
                 .iter()
-                .flat_map(|u| (0..n).map(move |tid| (tid * u.count as usize / n) as u32))
+                .enumerate()
+                .flat_map(|(k, u)| {
+                    let base = unit_base(shape, k);
+                    (0..n).map(move |tid| (base + tid * u.count as usize / n) as u32)
+                })
                 .collect(),
             icache_use: vec![0; shape.icache_slots],
             icache_dirty: false,
@@ -243,10 +277,11 @@ impl TmSim {
             let k = class as usize;
             let total = shape.units[k].count as usize;
             let avail = total - shape.reserve(mode, class) as usize;
+            let base = unit_base(shape, k);
             for (tid, u) in self.unit_of[k * n..(k + 1) * n].iter_mut().enumerate() {
-                *u = (tid * avail / n) as u32;
+                *u = (base + tid * avail / n) as u32;
             }
-            for f in &mut self.unit_free[k] {
+            for f in &mut self.unit_free[base..base + total] {
                 *f = (*f).max(now + shape.reconfig_cycles);
             }
         }
@@ -269,15 +304,20 @@ impl TmSim {
         to: u64,
     ) {
         self.quantum_end = to;
+        if from - self.epoch >= REBASE_AFTER {
+            let shift = u32::try_from(from - self.epoch).expect("rebased every 2^31 cycles");
+            self.sb.iter_mut().for_each(|s| s.rebase(shift));
+            self.epoch = from;
+        }
         // Line fills sent by the L2s in the last serial phase.
         let mut completions = std::mem::take(&mut self.completions);
         self.mem.apply_fills(&mut completions);
         for comp in completions.drain(..) {
             let tid = (comp.id >> 8) as usize % self.threads.len();
-            let slot = (comp.id & 0xFF) as usize;
-            let s = &mut self.sb[tid];
-            if s.ready[slot] == PENDING {
-                s.ready[slot] = comp.cycle.max(from);
+            let slot = (comp.id & 0xFF) as u8;
+            if self.sb[tid].ready(slot) == PENDING32 {
+                let ready = self.rel(comp.cycle.max(from));
+                self.sb[tid].ready[slot as usize & (SB_SLOTS - 1)] = ready;
                 // Look at the scoreboard again on the thread's next turn.
                 if self.pending.contains(tid) {
                     self.pending.remove(tid);
@@ -468,21 +508,25 @@ impl TmSim {
         }
         // Scoreboard (slot 0, `$0`, is always ready: one branch for the common case).
         let s = &self.sb[tid];
-        let rd = |r: u8| s.ready[r as usize];
-        let latest = rd(info.src[0])
-            .max(rd(info.src[1]))
-            .max(rd(info.src[2]))
-            .max(rd(info.src[3]))
-            .max(rd(info.dst));
-        if latest > now {
+        let rel = (now - self.epoch) as u32;
+        let latest = s
+            .ready(info.src[0])
+            .max(s.ready(info.src[1]))
+            .max(s.ready(info.src[2]))
+            .max(s.ready(info.src[3]))
+            .max(s.ready(info.dst));
+        if latest > rel {
             for r in info.src.into_iter().chain(std::iter::once(info.dst)) {
-                if r == 0 || s.ready[r as usize] <= now {
+                if r == 0 || s.ready(r) <= rel {
                     continue;
                 }
                 c.tc.data_dependence += 1;
-                let p = (s.producer[r as usize] as usize).min(shape.info.len());
+                let p = (s.producer[r as usize & (SB_SLOTS - 1)] as usize).min(shape.info.len());
                 c.dep_by_producer[p] += 1;
-                let until = s.ready[r as usize];
+                let until = match s.ready(r) {
+                    PENDING32 => PENDING,
+                    r => self.epoch + u64::from(r),
+                };
                 charge!(dep_kind(&shape.info, p));
                 // Nothing to do until then.
                 self.sleep(tid, NapKind::Register, p as u32, now);
@@ -563,8 +607,8 @@ impl TmSim {
                 }
                 class => {
                     let u = &shape.units[class as usize];
-                    let inst = self.unit_of[class as usize * self.threads.len() + tid] as usize;
-                    let free = &mut self.unit_free[class as usize][inst];
+                    let unit = self.unit_of[class as usize * self.threads.len() + tid] as usize;
+                    let free = &mut self.unit_free[unit];
                     if *free > now {
                         c.tc.unit_conflict += 1;
                         c.unit_conflicts[class as usize] += 1;
@@ -602,13 +646,29 @@ impl TmSim {
     pub fn retire(&mut self, c: &mut Counters, tid: usize, info: &OpInfo, idx: usize, ready: u64) {
         c.tc.issued += 1;
         c.class_ops[info.class as usize] += 1;
-        c.reg_accesses +=
-            info.src.iter().filter(|&&r| r != 0).count() as u64 + (info.dst != 0) as u64;
+        c.reg_accesses += u64::from(info.reg_accesses);
         self.fetched.remove(tid);
         if info.dst != 0 {
+            let ready = self.rel(ready);
             let s = &mut self.sb[tid];
-            s.ready[info.dst as usize] = ready;
-            s.producer[info.dst as usize] = idx as u32;
+            let slot = info.dst as usize & (SB_SLOTS - 1);
+            s.ready[slot] = ready;
+            s.producer[slot] = idx as u32;
+        }
+    }
+
+    /// Cycle `cycle` (at or after the epoch, or [`PENDING`]) in the scoreboard's form.
+    #[inline(always)]
+    fn rel(&self, cycle: u64) -> u32 {
+        if cycle == PENDING {
+            return PENDING32;
+        }
+        match u32::try_from(cycle - self.epoch) {
+            Ok(r) if r != PENDING32 => r,
+            _ => panic!(
+                "ready cycle {cycle} is 2^32 cycles beyond the epoch {}",
+                self.epoch
+            ),
         }
     }
 
@@ -773,6 +833,11 @@ fn charge(prof: &mut Option<&mut Profiler>, t: &Thread, kind: CostKind) {
     }
 }
 
+/// Index in `TmSim::unit_free` of the first unit of class `k`.
+fn unit_base(shape: &Shape, k: usize) -> usize {
+    shape.units[..k].iter().map(|u| u.count as usize).sum()
+}
+
 /// `trax.clock` reads the cycle counter in the timing model.
 fn patch_clock(insts: &[Inst], t: &mut Thread, idx: usize, now: u64) {
     if let Some(Inst::Trax {
@@ -800,5 +865,26 @@ fn dep_kind(info: &[OpInfo], p: usize) -> CostKind {
 impl AsMut<TmMem> for TmSim {
     fn as_mut(&mut self) -> &mut TmMem {
         &mut self.mem
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Rebasing the scoreboard keeps every future ready cycle and every pending load, and
+    /// leaves past cycles past.
+    #[test]
+    fn rebasing_the_scoreboard_keeps_what_is_not_ready() {
+        let mut s = Sb {
+            ready: [0; SB_SLOTS],
+            producer: [0; SB_SLOTS],
+        };
+        s.ready[1] = 10;
+        s.ready[2] = 1000;
+        s.ready[3] = PENDING32;
+        s.ready[4] = 999;
+        s.rebase(999);
+        assert_eq!(&s.ready[..5], &[0, 0, 1, PENDING32, 0]);
     }
 }

@@ -254,21 +254,17 @@ mod tests {
         for now in 0..5000u64 {
             let mut woken = ThreadSet::new(n);
             w.due(now, &mut woken);
-            for tid in 0..n {
-                assert_eq!(
-                    woken.contains(tid),
-                    expect[tid] == Some(now),
-                    "{tid} at {now}"
-                );
+            for (tid, e) in expect.iter_mut().enumerate() {
+                assert_eq!(woken.contains(tid), *e == Some(now), "{tid} at {now}");
                 if woken.contains(tid) {
-                    expect[tid] = None;
+                    *e = None;
                 }
             }
-            for tid in 0..n {
-                if expect[tid].is_none() && next() % 3 == 0 {
+            for (tid, e) in expect.iter_mut().enumerate() {
+                if e.is_none() && next() % 3 == 0 {
                     let until = now + 1 + next() % 400;
                     w.put(tid, now, until);
-                    expect[tid] = Some(until);
+                    *e = Some(until);
                 }
             }
         }

@@ -678,7 +678,7 @@ impl TmSim {
     fn defer(
         &mut self,
         c: &mut Counters,
-        mut prof: Option<&mut Profiler>,
+        prof: Option<&mut Profiler>,
         tid: usize,
         idx: usize,
         info: OpInfo,
@@ -691,7 +691,7 @@ impl TmSim {
         let rest = self.quantum_end - now - 1;
         c.tc.global_sync += rest;
         if rest > 0 {
-            if let Some(p) = prof.as_deref_mut() {
+            if let Some(p) = prof {
                 let t = &self.threads[tid];
                 p.charge(t.gid as usize, t, CostKind::OtherStall, rest);
             }

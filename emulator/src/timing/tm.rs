@@ -10,9 +10,9 @@
 
 use trax_runtime::isa::{TraxOp, UnitClass};
 
-use super::engine::{Counters, Shape};
+use super::engine::{Counters, Shape, NUM_CLASSES};
 use super::naps::{ThreadSet, Wheel};
-use super::operands::{classify, OpInfo, NUM_SLOTS, PC_BASE};
+use super::operands::{classify, MemOp, OpInfo, NUM_SLOTS, PC_BASE};
 use crate::chip::{Effects, TmView};
 use crate::decode::Inst;
 use crate::exec::Stop;
@@ -32,16 +32,25 @@ const PENDING32: u32 = u32::MAX;
 /// far below [`PENDING32`]).
 const REBASE_AFTER: u64 = 1 << 31;
 
-/// Scoreboard of one thread: per slot the cycle its value is ready, relative to the TM's
-/// epoch ([`PENDING32`] while a load waits for memory), and the text word of the
-/// instruction that wrote it. (32-bit cycles: half the bytes a TM's threads touch.)
+/// The timing state of one thread that its turns touch, in one place: whether its next
+/// instruction was fetched, its I-cache and units, and its scoreboard: per slot the cycle
+/// its value is ready, relative to the TM's epoch ([`PENDING32`] while a load waits for
+/// memory), and the text word of the instruction that wrote it. (32-bit cycles: half the
+/// bytes a TM's threads touch.)
 #[derive(Clone)]
-pub(crate) struct Sb {
+#[repr(C, align(64))]
+pub(crate) struct Lane {
+    /// Its next instruction was fetched (its I-cache slot taken).
+    fetched: bool,
+    /// Index in `TmSim::icache_use` of its I-cache's first bank.
+    icache: u32,
+    /// Per unit class: the unit (index in `TmSim::unit_free`) wired to the thread.
+    units: [u32; NUM_CLASSES],
     ready: [u32; SB_SLOTS],
     producer: [u32; SB_SLOTS],
 }
 
-impl Sb {
+impl Lane {
     /// The ready cycle of slot `r`, relative to the epoch.
     #[inline(always)]
     fn ready(&self, r: u8) -> u32 {
@@ -96,13 +105,42 @@ pub(crate) struct Deferred {
     /// Text index of the instruction.
     pub idx: u32,
     /// Its timing facts.
-    pub info: OpInfo,
+    pub op: Op,
     /// When its destination is ready, before chip-wide ordering (global-register ops are
     /// given their service cycle in the serial phase).
     pub ready_at: u64,
     /// Not an instruction to run: the thread halted (executed already) and the chip's
     /// live-thread count and barriers must learn it.
     pub halted: bool,
+}
+
+/// How an instruction claims its timing resource at issue (resolved against the chip's
+/// units once per text word, [`super::engine::Shape::resolve`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Claim {
+    /// An execution unit of its class: the result is ready `latency` cycles after issue,
+    /// the unit accepts its next op `busy` cycles after issue.
+    Unit { latency: u32, busy: u32 },
+    /// A load or store: the L1, or the local store by address.
+    Mem(MemOp),
+    /// The TM's fused pipeline: 0 box, 1 triangle.
+    Pipe(u8),
+    /// No unit: the register file only, or the global registers (ordered chip-wide in
+    /// the serial phase).
+    Free,
+    /// A debug-class op (zero cost) or no instruction (outside the text): the slow path.
+    Slow,
+}
+
+/// What issuing one instruction needs: the scoreboard slots it reads and writes, its
+/// class (for the counters) and its claim.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Op {
+    pub src: [u8; 4],
+    pub dst: u8,
+    pub class: UnitClass,
+    pub reg_accesses: u8,
+    pub claim: Claim,
 }
 
 /// What a TM's quantum left for the serial phase, as bits: host threads OR them into the
@@ -155,7 +193,7 @@ pub(crate) struct TmSim {
     /// Instructions issued so far (the host's work, for balancing TMs over host threads).
     pub work: u64,
     pub threads: Vec<Thread>,
-    sb: Vec<Sb>,
+    lanes: Vec<Lane>,
     /// The cycle the scoreboards' cycles count from.
     epoch: u64,
     /// The threads visited each cycle: those that may issue, or whose wait must be looked
@@ -174,20 +212,13 @@ pub(crate) struct TmSim {
     barrier: ThreadSet,
     /// Scratch: threads the wheel wakes this cycle.
     woken: ThreadSet,
-    /// Per thread: its next instruction was fetched (I-cache slot taken).
-    fetched: ThreadSet,
     /// The end of the quantum being simulated, and of the last one simulated.
     quantum_end: u64,
     ran_to: u64,
     /// Per unit (class after class, see [`unit_base`]): first cycle it accepts an op.
     unit_free: Vec<u64>,
-    /// Per (unit class, thread): the unit (index in `unit_free`) wired to the thread.
-    unit_of: Vec<u32>,
-    icache_use: Vec<u32>,
-    /// Whether `icache_use` was written this cycle.
-    icache_dirty: bool,
-    /// Per thread: index in `icache_use` of its I-cache's first bank.
-    icache_base: Vec<usize>,
+    /// Per I-cache bank: (cycle, fetches it served in that cycle).
+    icache_use: Vec<(u64, u32)>,
     pub mem: TmMem,
     pub fx: Effects,
     pub deferred: Vec<Deferred>,
@@ -207,10 +238,18 @@ pub(crate) struct TmSim {
 impl TmSim {
     pub fn new(tm: usize, threads: Vec<Thread>, mem: TmMem, shape: &Shape) -> TmSim {
         let n = threads.len();
-        let sb = Sb {
-            ready: [0; SB_SLOTS],
-            producer: [u32::MAX; SB_SLOTS],
-        };
+        let lanes = (0..n)
+            .map(|tid| Lane {
+                fetched: false,
+                icache: (tid % shape.icaches * shape.icache_banks) as u32,
+                units: std::array::from_fn(|k| {
+                    let count = shape.units.get(k).map_or(1, |u| u.count as usize);
+                    (unit_base(shape, k) + tid * count / n) as u32
+                }),
+                ready: [0; SB_SLOTS],
+                producer: [u32::MAX; SB_SLOTS],
+            })
+            .collect();
         let nap = Nap {
             kind: NapKind::Register,
             producer: 0,
@@ -222,7 +261,7 @@ impl TmSim {
             local: false,
             summary: Summary::default(),
             work: 0,
-            sb: vec![sb; n],
+            lanes,
             epoch: 0,
             active: ThreadSet::full(n),
             frozen: ThreadSet::new(n),
@@ -232,24 +271,10 @@ impl TmSim {
             pending: ThreadSet::new(n),
             barrier: ThreadSet::new(n),
             woken: ThreadSet::new(n),
-            fetched: ThreadSet::new(n),
             quantum_end: 0,
             ran_to: 0,
             unit_free: vec![0; shape.units.iter().map(|u| u.count as usize).sum()],
-            unit_of: shape
-                .units
-                .iter()
-                .enumerate()
-                .flat_map(|(k, u)| {
-                    let base = unit_base(shape, k);
-                    (0..n).map(move |tid| (base + tid * u.count as usize / n) as u32)
-                })
-                .collect(),
-            icache_use: vec![0; shape.icache_slots],
-            icache_dirty: false,
-            icache_base: (0..n)
-                .map(|tid| tid % shape.icaches * shape.icache_banks)
-                .collect(),
+            icache_use: vec![(0, 0); shape.icache_slots],
             threads,
             mem,
             fx: Effects::default(),
@@ -278,8 +303,8 @@ impl TmSim {
             let total = shape.units[k].count as usize;
             let avail = total - shape.reserve(mode, class) as usize;
             let base = unit_base(shape, k);
-            for (tid, u) in self.unit_of[k * n..(k + 1) * n].iter_mut().enumerate() {
-                *u = (base + tid * avail / n) as u32;
+            for (tid, lane) in self.lanes.iter_mut().enumerate() {
+                lane.units[k] = (base + tid * avail / n) as u32;
             }
             for f in &mut self.unit_free[base..base + total] {
                 *f = (*f).max(now + shape.reconfig_cycles);
@@ -290,23 +315,40 @@ impl TmSim {
     }
 
     /// Simulates cycles `[from, to)`.
-    // Out of line on purpose: inlined into the engine's worker closure (as LLVM chose once the
-    // memory image changed around it) it executed 3% more host instructions (callgrind,
-    // path tracer, timing mode).
-    #[inline(never)]
     pub fn run_quantum(
         &mut self,
         shape: &Shape,
         shared: &Shared,
         c: &mut Counters,
-        mut prof: Option<&mut Profiler>,
+        prof: Option<&mut Profiler>,
+        from: u64,
+        to: u64,
+    ) {
+        // Two copies of the cycle loop: without a profiler it has no profiling branches.
+        match prof {
+            Some(p) => self.run_cycles::<true>(shape, shared, c, &mut Some(p), from, to),
+            None => self.run_cycles::<false>(shape, shared, c, &mut None, from, to),
+        }
+    }
+
+    /// [`Self::run_quantum`], charging the profiler `prof` when `P`.
+    // Out of line on purpose: inlined into the engine's worker closure (as LLVM chose once the
+    // memory image changed around it) it executed 3% more host instructions (callgrind,
+    // path tracer, timing mode).
+    #[inline(never)]
+    fn run_cycles<const P: bool>(
+        &mut self,
+        shape: &Shape,
+        shared: &Shared,
+        c: &mut Counters,
+        prof: &mut Option<&mut Profiler>,
         from: u64,
         to: u64,
     ) {
         self.quantum_end = to;
         if from - self.epoch >= REBASE_AFTER {
             let shift = u32::try_from(from - self.epoch).expect("rebased every 2^31 cycles");
-            self.sb.iter_mut().for_each(|s| s.rebase(shift));
+            self.lanes.iter_mut().for_each(|s| s.rebase(shift));
             self.epoch = from;
         }
         // Line fills sent by the L2s in the last serial phase.
@@ -315,9 +357,9 @@ impl TmSim {
         for comp in completions.drain(..) {
             let tid = (comp.id >> 8) as usize % self.threads.len();
             let slot = (comp.id & 0xFF) as u8;
-            if self.sb[tid].ready(slot) == PENDING32 {
+            if self.lanes[tid].ready(slot) == PENDING32 {
                 let ready = self.rel(comp.cycle.max(from));
-                self.sb[tid].ready[slot as usize & (SB_SLOTS - 1)] = ready;
+                self.lanes[tid].ready[slot as usize & (SB_SLOTS - 1)] = ready;
                 // Look at the scoreboard again on the thread's next turn.
                 if self.pending.contains(tid) {
                     self.pending.remove(tid);
@@ -354,10 +396,6 @@ impl TmSim {
                 self.woken = woken;
                 self.woken.clear();
             }
-            if self.icache_dirty {
-                self.icache_dirty = false;
-                self.icache_use.iter_mut().for_each(|x| *x = 0);
-            }
             // The active threads in rotating order (a thread visited may leave the set,
             // nobody joins it during the cycle).
             for (lo, hi) in [(first, n), (0, first)] {
@@ -367,7 +405,7 @@ impl TmSim {
                     while bits != 0 {
                         let tid = k * 64 + bits.trailing_zeros() as usize;
                         bits &= bits - 1;
-                        self.step_thread(shape, shared, c, prof.as_deref_mut(), tid, now);
+                        self.visit::<P>(shape, shared, c, prof, tid, now);
                     }
                     k += 1;
                 }
@@ -387,55 +425,102 @@ impl TmSim {
         );
     }
 
-    fn step_thread(
+    /// Active thread `tid`'s turn at cycle `now`: it issues its next instruction or
+    /// counts the cycle as a stall.
+    #[inline(always)]
+    fn visit<const P: bool>(
         &mut self,
         shape: &Shape,
         shared: &Shared,
         c: &mut Counters,
-        mut prof: Option<&mut Profiler>,
+        prof: &mut Option<&mut Profiler>,
         tid: usize,
         now: u64,
     ) {
-        macro_rules! charge {
-            ($kind:expr) => {
-                charge(&mut prof, &self.threads[tid], $kind)
-            };
-        }
-        if self.crash.as_ref().is_some_and(|(_, t, _)| *t == tid) {
+        let t = &self.threads[tid];
+        if t.state != RunState::Running && !self.resume::<P>(shared, c, prof, tid, now) {
             return;
         }
-        let t = &mut self.threads[tid];
-        if t.state != RunState::Running && !t.wake(shared, now) {
-            match t.state {
-                RunState::Halted => {
-                    c.tc.halted += 1;
-                    self.sleep(tid, NapKind::Halted, 0, now);
-                    return;
-                }
-                RunState::Barrier { .. } => {
-                    c.tc.sync_wait += 1;
-                    charge!(CostKind::OtherStall);
-                    // Only the serial phase opens it: look again next quantum.
-                    self.sleep(tid, NapKind::Barrier, 0, now);
-                    self.barrier.insert(tid);
-                    return;
-                }
-                // Released (paying for the decision) or waiting for peers: draining; the
-                // TM drained with nothing to read: idle.
-                RunState::StreamWait { generation, .. } => {
-                    let s = &shared.sched.tms[self.tm];
-                    if s.idle && s.generation == generation {
-                        c.tc.stream_idle += 1;
-                    } else {
-                        c.tc.stream_drain += 1;
-                    }
-                }
-                RunState::Running => {}
+        let pc = self.threads[tid].pc;
+        // Outside the text, a misaligned pc (rotated out of range) or a debug op: the
+        // slow path.
+        let idx = pc.wrapping_sub(shape.base).rotate_right(2) as usize;
+        match shape.ops.get(idx) {
+            Some(op) if op.claim != Claim::Slow => {
+                self.issue::<P>(shape, shared, c, prof, tid, idx, pc, op, now)
             }
-            charge!(CostKind::OtherStall);
-            return;
+            _ => {
+                if let Some((idx, pc, op)) = self.run_slow::<P>(shape, shared, c, prof, tid, now) {
+                    self.issue::<P>(shape, shared, c, prof, tid, idx, pc, &op, now);
+                }
+            }
         }
-        // Debug-class ops cost nothing: run them and look at the next instruction.
+    }
+
+    /// A thread that is not running at cycle `now`: whether what it waits for happened
+    /// (then it runs); if not, the cycle is counted and it may go to sleep.
+    #[cold]
+    #[inline(never)]
+    fn resume<const P: bool>(
+        &mut self,
+        shared: &Shared,
+        c: &mut Counters,
+        prof: &mut Option<&mut Profiler>,
+        tid: usize,
+        now: u64,
+    ) -> bool {
+        let t = &mut self.threads[tid];
+        if t.wake(shared, now) {
+            return true;
+        }
+        match t.state {
+            RunState::Halted => {
+                c.tc.halted += 1;
+                self.sleep(tid, NapKind::Halted, 0, now);
+                return false;
+            }
+            RunState::Barrier { .. } => {
+                c.tc.sync_wait += 1;
+                if P {
+                    charge(prof, &self.threads[tid], CostKind::OtherStall);
+                }
+                // Only the serial phase opens it: look again next quantum.
+                self.sleep(tid, NapKind::Barrier, 0, now);
+                self.barrier.insert(tid);
+                return false;
+            }
+            // Released (paying for the decision) or waiting for peers: draining; the
+            // TM drained with nothing to read: idle.
+            RunState::StreamWait { generation, .. } => {
+                let s = &shared.sched.tms[self.tm];
+                if s.idle && s.generation == generation {
+                    c.tc.stream_idle += 1;
+                } else {
+                    c.tc.stream_drain += 1;
+                }
+            }
+            RunState::Running => {}
+        }
+        if P {
+            charge(prof, &self.threads[tid], CostKind::OtherStall);
+        }
+        false
+    }
+
+    /// The next instruction of thread `tid` is a debug-class op (zero cost: run it and
+    /// look at the one after, up to 64 of them) or outside the text: the instruction to
+    /// issue, if the thread still runs.
+    #[cold]
+    #[inline(never)]
+    fn run_slow<const P: bool>(
+        &mut self,
+        shape: &Shape,
+        shared: &Shared,
+        c: &mut Counters,
+        prof: &mut Option<&mut Profiler>,
+        tid: usize,
+        now: u64,
+    ) -> Option<(usize, u32, Op)> {
         for _ in 0..64 {
             let pc = self.threads[tid].pc;
             let idx = shape.slot_idx(pc);
@@ -448,210 +533,236 @@ impl TmSim {
                     None => classify(&Inst::Sync { stype: 0 }),
                 }
             };
-            if info.class == UnitClass::Debug {
-                c.debug_ops += 1;
-                let done = self.execute(shared, c, tid, idx, now);
-                // `trax.clock` (a debug op) reads the cycle counter.
-                patch_clock(&shared.program.insts, &mut self.threads[tid], idx, now);
-                match done {
-                    Executed::Done => {}
-                    Executed::Defer => {
-                        self.defer(c, prof, tid, idx, info, now, now);
-                        return;
-                    }
-                    _ => return,
-                }
-                if self.threads[tid].state != RunState::Running {
-                    return;
-                }
-                continue;
+            if info.class != UnitClass::Debug {
+                return Some((idx, pc, shape.resolve(&info)));
             }
-            self.try_issue(shape, shared, c, prof, tid, idx, pc, info, now);
-            return;
+            c.debug_ops += 1;
+            let done = self.execute(shared, c, tid, idx, now);
+            // `trax.clock` (a debug op) reads the cycle counter.
+            patch_clock(&shared.program.insts, &mut self.threads[tid], idx, now);
+            match done {
+                Executed::Done => {}
+                Executed::Defer => {
+                    let op = shape.resolve(&info);
+                    self.defer(c, prof.as_deref_mut(), tid, idx, op, now, now);
+                    return None;
+                }
+                _ => return None,
+            }
+            if self.threads[tid].state != RunState::Running {
+                return None;
+            }
         }
+        None
     }
 
+    /// Thread `tid` tries to issue `op` (text word `idx` at `pc`) at cycle `now`: fetch,
+    /// scoreboard, its unit, the L1 or local store, then functional execution.
     #[allow(clippy::too_many_arguments)]
-    fn try_issue(
+    #[inline(always)]
+    fn issue<const P: bool>(
         &mut self,
         shape: &Shape,
         shared: &Shared,
         c: &mut Counters,
-        mut prof: Option<&mut Profiler>,
+        prof: &mut Option<&mut Profiler>,
         tid: usize,
         idx: usize,
         pc: u32,
-        mut info: OpInfo,
+        op: &Op,
         now: u64,
     ) {
         macro_rules! charge {
             ($kind:expr) => {
-                charge(&mut prof, &self.threads[tid], $kind)
+                if P {
+                    charge(prof, &self.threads[tid], $kind)
+                }
             };
         }
+        let lane = &mut self.lanes[tid];
         // Fetch.
-        if !self.fetched.contains(tid) {
+        if !lane.fetched {
             let bank = match shape.icache_bank_mask {
                 Some(mask) => (pc >> 2) as usize & mask,
                 None => (pc >> 2) as usize % shape.icache_banks,
             };
-            let slot = &mut self.icache_use[self.icache_base[tid] + bank];
-            if *slot >= shape.fetches_per_bank {
+            let slot = &mut self.icache_use[lane.icache as usize + bank];
+            // A slot counts the fetches of the cycle it names.
+            if slot.0 != now {
+                *slot = (now, 0);
+            }
+            if slot.1 >= shape.fetches_per_bank {
                 c.tc.icache_conflict += 1;
                 charge!(CostKind::ResourceStall);
                 return;
             }
-            *slot += 1;
-            self.icache_dirty = true;
+            slot.1 += 1;
             c.fetches += 1;
-            self.fetched.insert(tid);
+            lane.fetched = true;
         }
         // Scoreboard (slot 0, `$0`, is always ready: one branch for the common case).
-        let s = &self.sb[tid];
+        let s = &*lane;
         let rel = (now - self.epoch) as u32;
         let latest = s
-            .ready(info.src[0])
-            .max(s.ready(info.src[1]))
-            .max(s.ready(info.src[2]))
-            .max(s.ready(info.src[3]))
-            .max(s.ready(info.dst));
+            .ready(op.src[0])
+            .max(s.ready(op.src[1]))
+            .max(s.ready(op.src[2]))
+            .max(s.ready(op.src[3]))
+            .max(s.ready(op.dst));
         if latest > rel {
-            for r in info.src.into_iter().chain(std::iter::once(info.dst)) {
-                if r == 0 || s.ready(r) <= rel {
-                    continue;
-                }
-                c.tc.data_dependence += 1;
-                let p = (s.producer[r as usize & (SB_SLOTS - 1)] as usize).min(shape.info.len());
-                c.dep_by_producer[p] += 1;
-                let until = match s.ready(r) {
-                    PENDING32 => PENDING,
-                    r => self.epoch + u64::from(r),
-                };
-                charge!(dep_kind(&shape.info, p));
-                // Nothing to do until then.
-                self.sleep(tid, NapKind::Register, p as u32, now);
-                if until == PENDING {
-                    self.pending.insert(tid);
-                } else {
-                    self.wheel.put(tid, now, until);
-                }
-                return;
-            }
+            self.stall_on_register::<P>(shape, c, prof, tid, op, now);
+            return;
         }
         // Unit, memory or local store.
-        let t = &self.threads[tid];
+        let mut class = op.class;
         let mut ready_at = now + 1;
         let mut pending_load = false;
-        if let Some(mo) = info.mem {
-            let addr = if mo.base == PC_BASE {
-                pc.wrapping_add(mo.off as u32)
-            } else {
-                t.regs.gpr[mo.base as usize].wrapping_add(mo.off as u32)
-            };
-            if addr >= shared.mem.global_end() {
-                info.class = UnitClass::LocalStore;
-                c.local_accesses += 1;
-                ready_at = now + shape.local_latency;
-            } else {
-                let req = MemRequest {
-                    addr,
-                    kind: if mo.store {
-                        AccessKind::Write
-                    } else {
-                        AccessKind::Read
-                    },
-                    size: mo.size as u32,
-                    requester: t.gid,
-                    id: ((tid as u64) << 8) | info.dst as u64,
+        match op.claim {
+            Claim::Unit { latency, busy } => {
+                let free = &mut self.unit_free[lane.units[class as usize] as usize];
+                if *free > now {
+                    c.tc.unit_conflict += 1;
+                    c.unit_conflicts[class as usize] += 1;
+                    charge!(CostKind::ResourceStall);
+                    return;
+                }
+                *free = now + u64::from(busy);
+                ready_at = now + u64::from(latency);
+            }
+            Claim::Mem(mo) => {
+                let t = &self.threads[tid];
+                let addr = if mo.base == PC_BASE {
+                    pc.wrapping_add(mo.off as u32)
+                } else {
+                    t.regs.gpr[mo.base as usize & 31].wrapping_add(mo.off as u32)
                 };
-                match self.mem.access(&req, now) {
-                    Access::Ready(r) => ready_at = r.max(now + 1),
-                    Access::Pending => pending_load = true,
-                    Access::Stall(st) => {
-                        let kind = match st {
-                            Stall::L1Bank => {
-                                c.tc.l1_bank_conflict += 1;
-                                CostKind::ResourceStall
-                            }
-                            Stall::L1Mshr => {
-                                c.tc.l1_mshr_full += 1;
-                                CostKind::MemoryStall
-                            }
-                        };
-                        charge!(kind);
-                        return;
-                    }
-                }
-            }
-        } else {
-            match info.class {
-                // Global-register throughput is chip-wide: the serial phase orders them.
-                UnitClass::RegFile | UnitClass::GlobalRegs => {}
-                // The TM's one fused pipeline: an initiation every `ii` cycles, each
-                // taking up to `width` tests issued in its cycle.
-                UnitClass::BoxPipe | UnitClass::TriPipe => {
-                    let p = &shape.pipes[(info.class == UnitClass::TriPipe) as usize];
-                    if now >= self.pipe_next {
-                        self.pipe_init = now;
-                        self.pipe_used = 1;
-                        self.pipe_next = now + p.ii;
-                    } else if now == self.pipe_init && self.pipe_used < p.width {
-                        self.pipe_used += 1;
-                    } else {
-                        c.tc.unit_conflict += 1;
-                        c.unit_conflicts[info.class as usize] += 1;
-                        charge!(CostKind::ResourceStall);
-                        return;
-                    }
-                    ready_at = now + p.latency;
-                }
-                class => {
-                    let u = &shape.units[class as usize];
-                    let unit = self.unit_of[class as usize * self.threads.len() + tid] as usize;
-                    let free = &mut self.unit_free[unit];
-                    if *free > now {
-                        c.tc.unit_conflict += 1;
-                        c.unit_conflicts[class as usize] += 1;
-                        charge!(CostKind::ResourceStall);
-                        return;
-                    }
-                    *free = if u.pipelined {
-                        now + 1
-                    } else {
-                        now + u.latency
+                if addr >= shared.mem.global_end() {
+                    class = UnitClass::LocalStore;
+                    c.local_accesses += 1;
+                    ready_at = now + shape.local_latency;
+                } else {
+                    let req = MemRequest {
+                        addr,
+                        kind: if mo.store {
+                            AccessKind::Write
+                        } else {
+                            AccessKind::Read
+                        },
+                        size: mo.size as u32,
+                        requester: t.gid,
+                        id: ((tid as u64) << 8) | op.dst as u64,
                     };
-                    ready_at = now + u.latency;
+                    match self.mem.access(&req, now) {
+                        Access::Ready(r) => ready_at = r.max(now + 1),
+                        Access::Pending => pending_load = true,
+                        Access::Stall(st) => {
+                            let kind = match st {
+                                Stall::L1Bank => {
+                                    c.tc.l1_bank_conflict += 1;
+                                    CostKind::ResourceStall
+                                }
+                                Stall::L1Mshr => {
+                                    c.tc.l1_mshr_full += 1;
+                                    CostKind::MemoryStall
+                                }
+                            };
+                            charge!(kind);
+                            return;
+                        }
+                    }
                 }
             }
+            // The TM's one fused pipeline: an initiation every `ii` cycles, each taking
+            // up to `width` tests issued in its cycle.
+            Claim::Pipe(k) => {
+                let p = &shape.pipes[k as usize & 1];
+                if now >= self.pipe_next {
+                    self.pipe_init = now;
+                    self.pipe_used = 1;
+                    self.pipe_next = now + p.ii;
+                } else if now == self.pipe_init && self.pipe_used < p.width {
+                    self.pipe_used += 1;
+                } else {
+                    c.tc.unit_conflict += 1;
+                    c.unit_conflicts[class as usize] += 1;
+                    charge!(CostKind::ResourceStall);
+                    return;
+                }
+                ready_at = now + p.latency;
+            }
+            // Global-register throughput is chip-wide: the serial phase orders them.
+            Claim::Free | Claim::Slow => {}
         }
         // Issue: execute functionally now. The issue cycle belongs to the stack and pc
         // before execution (a call pushes, a return pops).
         charge!(CostKind::Issue);
+        let op = Op { class, ..*op };
         match self.execute(shared, c, tid, idx, now) {
             Executed::Done => {}
-            Executed::Halted => self.record(tid, idx, info, now, ready_at, true),
+            Executed::Halted => self.record(tid, idx, op, now, ready_at, true),
             Executed::Defer => {
-                self.defer(c, prof, tid, idx, info, now, ready_at);
+                self.defer(c, prof.as_deref_mut(), tid, idx, op, now, ready_at);
                 return;
             }
             // Barriers and semaphores are chip-wide (deferred); a fault was recorded.
             Executed::Stopped => return,
         }
         let ready = if pending_load { PENDING } else { ready_at };
-        self.retire(c, tid, &info, idx, ready);
+        self.retire(c, tid, &op, idx, ready);
+    }
+
+    /// Thread `tid` cannot issue `op` at cycle `now`: a source or its destination is not
+    /// ready. The cycle is charged to the first such register's producer and the thread
+    /// sleeps until the register is ready (or its load completes).
+    #[inline(never)]
+    fn stall_on_register<const P: bool>(
+        &mut self,
+        shape: &Shape,
+        c: &mut Counters,
+        prof: &mut Option<&mut Profiler>,
+        tid: usize,
+        op: &Op,
+        now: u64,
+    ) {
+        let s = &self.lanes[tid];
+        let rel = (now - self.epoch) as u32;
+        for r in op.src.into_iter().chain(std::iter::once(op.dst)) {
+            if r == 0 || s.ready(r) <= rel {
+                continue;
+            }
+            c.tc.data_dependence += 1;
+            let p = (s.producer[r as usize & (SB_SLOTS - 1)] as usize).min(shape.info.len());
+            c.dep_by_producer[p] += 1;
+            let until = match s.ready(r) {
+                PENDING32 => PENDING,
+                r => self.epoch + u64::from(r),
+            };
+            if P {
+                charge(prof, &self.threads[tid], dep_kind(&shape.info, p));
+            }
+            // Nothing to do until then.
+            self.sleep(tid, NapKind::Register, p as u32, now);
+            if until == PENDING {
+                self.pending.insert(tid);
+            } else {
+                self.wheel.put(tid, now, until);
+            }
+            return;
+        }
     }
 
     /// Counts an issued instruction of thread `tid` (text word `idx`) and makes its
     /// destination ready at `ready` ([`PENDING`] for a load waiting for memory).
-    pub fn retire(&mut self, c: &mut Counters, tid: usize, info: &OpInfo, idx: usize, ready: u64) {
+    #[inline(always)]
+    pub fn retire(&mut self, c: &mut Counters, tid: usize, op: &Op, idx: usize, ready: u64) {
         c.tc.issued += 1;
-        c.class_ops[info.class as usize] += 1;
-        c.reg_accesses += u64::from(info.reg_accesses);
-        self.fetched.remove(tid);
-        if info.dst != 0 {
+        c.class_ops[op.class as usize] += 1;
+        c.reg_accesses += u64::from(op.reg_accesses);
+        self.lanes[tid].fetched = false;
+        if op.dst != 0 {
             let ready = self.rel(ready);
-            let s = &mut self.sb[tid];
-            let slot = info.dst as usize & (SB_SLOTS - 1);
+            let s = &mut self.lanes[tid];
+            let slot = op.dst as usize & (SB_SLOTS - 1);
             s.ready[slot] = ready;
             s.producer[slot] = idx as u32;
         }
@@ -681,11 +792,11 @@ impl TmSim {
         prof: Option<&mut Profiler>,
         tid: usize,
         idx: usize,
-        info: OpInfo,
+        op: Op,
         now: u64,
         ready_at: u64,
     ) {
-        self.record(tid, idx, info, now, ready_at, false);
+        self.record(tid, idx, op, now, ready_at, false);
         self.active.remove(tid);
         self.frozen.insert(tid);
         let rest = self.quantum_end - now - 1;
@@ -772,21 +883,13 @@ impl TmSim {
     }
 
     /// Leaves an instruction (or a halt) for the serial phase.
-    fn record(
-        &mut self,
-        tid: usize,
-        idx: usize,
-        info: OpInfo,
-        now: u64,
-        ready_at: u64,
-        halted: bool,
-    ) {
+    fn record(&mut self, tid: usize, idx: usize, op: Op, now: u64, ready_at: u64, halted: bool) {
         self.deferred.push(Deferred {
             cycle: now,
             tm: self.tm as u32,
             tid: tid as u32,
             idx: idx as u32,
-            info,
+            op,
             ready_at,
             halted,
         });
@@ -815,6 +918,9 @@ impl TmSim {
             Stop::Fault(f) => {
                 if self.crash.is_none() {
                     self.crash = Some((now, tid, Box::new(Crash::capture(t, f))));
+                    // It stops here: it is not visited again (the run ends with the
+                    // quantum).
+                    self.active.remove(tid);
                 }
                 return Executed::Stopped;
             }
@@ -876,7 +982,10 @@ mod tests {
     /// leaves past cycles past.
     #[test]
     fn rebasing_the_scoreboard_keeps_what_is_not_ready() {
-        let mut s = Sb {
+        let mut s = Lane {
+            fetched: false,
+            icache: 0,
+            units: [0; NUM_CLASSES],
             ready: [0; SB_SLOTS],
             producer: [0; SB_SLOTS],
         };

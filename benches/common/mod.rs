@@ -8,6 +8,7 @@ use trax::pipeline::{prepare, Prepared, Request};
 use trax_emulator::timing::{ChipConfig, TimingStats};
 use trax_emulator::{run, Limits, Mode};
 
+#[allow(dead_code)] // not every bench uses it
 /// One measured timing run of `prepared` (`name` in the failure message) on `host_threads`
 /// host threads, capped at `max_cycles`: its statistics, host wall seconds and CPU seconds
 /// (if known). Panics, after printing the summary, if the run did not finish.
@@ -41,6 +42,7 @@ pub fn simulate(
 
 /// `examples/{kernel}.rs` on `scene` (`None`: the default, the Cornell box), `size` x
 /// `size`, 1 sample, depth 4, for `chip`: built and laid out as `trax run` does.
+#[allow(dead_code)] // not every bench uses it
 pub fn prepare_example(
     kernel: &str,
     scene: Option<&str>,
@@ -70,6 +72,7 @@ pub fn env_u64(name: &str, default: u64) -> u64 {
     }
 }
 
+#[allow(dead_code)] // not every bench uses it
 /// CPU seconds this process has used so far (all its threads, live or finished), from
 /// `/proc/self/stat` (Linux; `None` elsewhere). Fields 14 and 15 count user and system
 /// time in USER_HZ ticks, which Linux fixes at 100 per second for user space.

@@ -4,6 +4,9 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+#[allow(dead_code)] // not every bench uses it
+pub mod functional;
+
 /// Start-up stub of a bare-metal kernel: stack at the top of the local store, call
 /// `trax_main`, then `trax.halt`.
 #[allow(dead_code)] // not every bench uses it

@@ -32,7 +32,7 @@ use trax_runtime::isa::UnitClass;
 use super::config::ChipConfig;
 use super::intervals::Snapshot;
 use super::operands::{classify, OpInfo};
-use super::tm::{retire, Deferred, Summary, TmSim};
+use super::tm::{Claim, Deferred, Op, Summary, TmSim};
 use super::workers::{rebalance, Batch, Crew, RoundCell, Rounds};
 use crate::chip::Effects;
 use crate::exec::Stop;
@@ -150,6 +150,8 @@ pub(crate) struct PipeSpec {
 pub(crate) struct Shape {
     /// Timing facts per text word.
     pub info: Vec<OpInfo>,
+    /// Per text word, what issuing it needs (`info` resolved against the units).
+    pub ops: Vec<Op>,
     /// First text address.
     pub base: u32,
     /// Per unit class (index = `UnitClass as usize`).
@@ -191,6 +193,11 @@ impl Shape {
     pub fn reserved(&self, mode: u8) -> u64 {
         self.pipe(mode)
             .map_or(0, |p| u64::from(p.fp_mul + p.fp_add))
+    }
+
+    /// What issuing an instruction of timing facts `info` needs on this chip.
+    pub fn resolve(&self, info: &OpInfo) -> Op {
+        resolve(info, &self.units)
     }
 
     /// Text index of `pc` (`info.len()` when outside the text or misaligned).
@@ -263,7 +270,7 @@ impl<'c> Engine<'c> {
         let tms = cfg.tms as usize;
         let mem = MemSystem::new(&cfg.memory, tms, cfg.tms_per_l2 as usize, cfg.clock_mhz())
             .map_err(|e| e.to_string())?;
-        let units = (0..NUM_CLASSES)
+        let units: Vec<UnitSpec> = (0..NUM_CLASSES)
             .map(|k| match class_from_index(k).map(|c| cfg.unit(c)) {
                 Some(u) => UnitSpec {
                     count: u.count,
@@ -279,12 +286,14 @@ impl<'c> Engine<'c> {
             .collect();
         let prog = &machine.shared.program;
         let info: Vec<OpInfo> = prog.insts.iter().map(classify).collect();
+        let ops = info.iter().map(|i| resolve(i, &units)).collect();
         let n = info.len() + 1;
         let ic = &cfg.icache;
         Ok(Engine {
             cfg,
             shape: Shape {
                 info,
+                ops,
                 base: prog.base,
                 units,
                 icaches: ic.per_tm as usize,
@@ -426,6 +435,7 @@ impl<'c> Engine<'c> {
                 let crew = rounds.spawn(scope, &member_job);
                 let mut d = Driver {
                     cfg,
+                    shape,
                     mem,
                     now,
                     limits,
@@ -462,6 +472,8 @@ impl<'c> Engine<'c> {
         let mut tm_mems = Vec::with_capacity(tms);
         for t in sims {
             let mut t = t.into_inner();
+            // The sleeping threads' cycles.
+            t.flush(&self.shape, &mut self.c, self.profiler.as_mut());
             // The last pipeline mode's reserved unit-cycles.
             let mode = t.mode;
             t.set_mode(&self.shape, &mut self.c, mode, self.now);
@@ -551,6 +563,7 @@ impl StreamTiming {
 /// What the leader thread changes while the TMs run.
 struct Driver<'a, 'p> {
     cfg: &'a ChipConfig,
+    shape: &'a Shape,
     mem: &'a mut MemSystem,
     now: &'a mut u64,
     limits: Limits,
@@ -588,7 +601,14 @@ impl Driver<'_, '_> {
     /// it was without intervals.
     #[cold]
     #[inline(never)]
-    fn sample(&mut self, sh: &Shared, sims: &[&mut TmSim], parts: &[Mutex<Part>], at: u64) {
+    fn sample(&mut self, sh: &Shared, sims: &mut [&mut TmSim], parts: &[Mutex<Part>], at: u64) {
+        // The sleeping threads' cycles so far.
+        {
+            let mut p = parts[0].lock().unwrap_or_else(|e| e.into_inner());
+            for t in sims.iter_mut() {
+                t.flush(self.shape, &mut p.c, None);
+            }
+        }
         let mut c = Counters::default();
         c.add_scalars(&self.base);
         for p in parts {
@@ -740,7 +760,7 @@ impl Driver<'_, '_> {
                         // for the spill sentinel: retry next quantum.
                         Stop::Retry | Stop::Defer => {
                             c.tc.sync_wait += 1;
-                            if d.info.class == UnitClass::Stream {
+                            if d.op.class == UnitClass::Stream {
                                 let gid = d.tm as usize * sim.threads.len() + tid;
                                 let n = tms as usize * sim.threads.len();
                                 self.streams.spill_wait(c, n, gid, d.cycle, true);
@@ -762,9 +782,9 @@ impl Driver<'_, '_> {
                 let idx = d.idx as usize;
                 let last = c.issued_at.len() - 1;
                 c.issued_at[idx.min(last)] += 1;
-                let info = d.info;
+                let op = d.op;
                 let mut ready = d.ready_at;
-                if info.class == UnitClass::Stream {
+                if op.class == UnitClass::Stream {
                     let gid = d.tm as usize * sim.threads.len() + tid;
                     let n = tms as usize * sim.threads.len();
                     self.streams.spill_wait(c, n, gid, d.cycle, false);
@@ -775,7 +795,7 @@ impl Driver<'_, '_> {
                         self.streams.rays(c, d.cycle, sh.streams.in_flight);
                     }
                 }
-                if info.class == UnitClass::GlobalRegs {
+                if op.class == UnitClass::GlobalRegs {
                     let g = &self.cfg.global_registers;
                     if gr.0 < d.cycle {
                         gr = (d.cycle, 0);
@@ -787,7 +807,7 @@ impl Driver<'_, '_> {
                     c.unit_conflicts[UnitClass::GlobalRegs as usize] += gr.0 - d.cycle;
                     ready = gr.0 + g.latency as u64;
                 }
-                retire(c, &mut sim.sb[tid], &info, idx, ready.max(to));
+                sim.retire(c, tid, &op, idx, ready.max(to));
             }
             // Stop on a fault.
             if let Some((cyc, mut cr)) = crash {
@@ -855,7 +875,7 @@ impl Driver<'_, '_> {
             }
             *self.now = to;
             if to >= self.next_sample {
-                self.sample(sh, &sims, parts, to);
+                self.sample(sh, &mut sims, parts, to);
             }
             if let Some(limit) = self.limits.max_instructions {
                 if executed(parts) >= limit {
@@ -982,6 +1002,32 @@ impl Counters {
         self.stream_conflict_cycles += o.stream_conflict_cycles;
         self.stream_ray_cycles += o.stream_ray_cycles;
         self.stream_spill_stall_cycles += o.stream_spill_stall_cycles;
+    }
+}
+
+/// What issuing an instruction of timing facts `info` needs, on a chip of `units`.
+fn resolve(info: &OpInfo, units: &[UnitSpec]) -> Op {
+    let claim = match (info.class, info.mem) {
+        (UnitClass::Debug, _) => Claim::Slow,
+        (_, Some(mo)) => Claim::Mem(mo),
+        (UnitClass::RegFile | UnitClass::GlobalRegs, None) => Claim::Free,
+        (UnitClass::BoxPipe, None) => Claim::Pipe(0),
+        (UnitClass::TriPipe, None) => Claim::Pipe(1),
+        (class, None) => {
+            let u = &units[class as usize];
+            let latency = u32::try_from(u.latency).expect("unit latencies are configured as u32");
+            Claim::Unit {
+                latency,
+                busy: if u.pipelined { 1 } else { latency },
+            }
+        }
+    };
+    Op {
+        src: info.src,
+        dst: info.dst,
+        class: info.class,
+        reg_accesses: info.reg_accesses,
+        claim,
     }
 }
 

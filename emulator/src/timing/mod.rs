@@ -16,6 +16,7 @@
 mod config;
 pub(crate) mod engine;
 pub mod intervals;
+mod naps;
 pub(crate) mod operands;
 pub mod sample;
 pub(crate) mod stats;

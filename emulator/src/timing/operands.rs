@@ -42,6 +42,8 @@ pub struct OpInfo {
     pub dst: u8,
     /// Memory access, if any (the class is `Memory`, refined to `LocalStore` by address).
     pub mem: Option<MemOp>,
+    /// Register-file accesses: the slots read and written other than 0 (for energy).
+    pub reg_accesses: u8,
 }
 
 fn info(class: UnitClass, src: &[u8], dst: u8) -> OpInfo {
@@ -54,6 +56,7 @@ fn info(class: UnitClass, src: &[u8], dst: u8) -> OpInfo {
         src: s,
         dst,
         mem: None,
+        reg_accesses: 0,
     }
 }
 
@@ -68,6 +71,7 @@ fn load(dst: u8, base: u8, off: i32, size: u8) -> OpInfo {
             size,
             store: false,
         }),
+        reg_accesses: 0,
     }
 }
 
@@ -82,6 +86,7 @@ fn store(val: u8, base: u8, off: i32, size: u8) -> OpInfo {
             size,
             store: true,
         }),
+        reg_accesses: 0,
     }
 }
 
@@ -96,6 +101,13 @@ const fn f(n: u8) -> u8 {
 
 /// Classifies one instruction.
 pub fn classify(inst: &Inst) -> OpInfo {
+    let mut o = classify_operands(inst);
+    o.reg_accesses = o.src.iter().filter(|&&r| r != 0).count() as u8 + u8::from(o.dst != 0);
+    o
+}
+
+/// [`classify`] without `reg_accesses`.
+fn classify_operands(inst: &Inst) -> OpInfo {
     use Inst::*;
     use UnitClass as U;
     match *inst {
@@ -265,6 +277,7 @@ fn trax(op: TraxOp, rd: u8, rs: u8, rt: u8) -> OpInfo {
         src,
         dst,
         mem: None,
+        reg_accesses: 0,
     }
 }
 

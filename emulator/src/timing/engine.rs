@@ -113,8 +113,13 @@ pub struct Counters {
 /// Receives a [`Progress`] report every few host milliseconds.
 pub type ProgressFn<'a> = &'a mut dyn FnMut(&Progress);
 
-/// Quanta between checks of the host clock for progress reports.
+/// Quanta between checks of the host clock for progress reports, at most.
 const PROGRESS_EVERY: u64 = 1024;
+
+/// Thread-cycles between checks of the host clock for progress reports (1024 quanta of the
+/// `tiny` chip): a chip of many threads or a long quantum checks every few quanta, every
+/// quantum at worst, so its reports come as often as a small chip's.
+const PROGRESS_THREAD_CYCLES: u64 = 1024 * 4 * 8;
 
 /// Quanta between rebalancings of TMs over host threads (tens of host milliseconds: long
 /// enough to measure loads and to repay moving a TM's state to another core).
@@ -341,7 +346,7 @@ impl<'c> Engine<'c> {
     /// Cycles per quantum: the L1 plus L2 hit latency (an L2 reply is never due sooner).
     pub fn quantum(cfg: &ChipConfig) -> u64 {
         let m = &cfg.memory;
-        u64::from(m.l1.hit_latency + m.l2.hit_latency).max(1)
+        (u64::from(m.l1.hit_latency) + u64::from(m.l2.hit_latency)).max(1)
     }
 
     /// The memory system (for statistics).
@@ -625,6 +630,8 @@ impl Driver<'_, '_> {
     ) -> Outcome {
         let q = self.quantum();
         let tms = self.cfg.tms as u64;
+        let threads = tms * u64::from(self.cfg.threads_per_tm);
+        let progress_every = (PROGRESS_THREAD_CYCLES / (q * threads)).clamp(1, PROGRESS_EVERY);
         let mut idle_cycles = 0u64;
         let mut deferred: Vec<Deferred> = Vec::new();
         let mut gr = (0u64, 0u32); // global registers: (cycle, ops served in it)
@@ -862,7 +869,7 @@ impl Driver<'_, '_> {
                     return Outcome::InstructionLimit;
                 }
             }
-            if crossed(PROGRESS_EVERY) {
+            if crossed(progress_every) {
                 if let Some(report) = self.progress.as_deref_mut() {
                     if last_report.elapsed().as_millis() >= 100 {
                         last_report = std::time::Instant::now();
@@ -879,9 +886,13 @@ impl Driver<'_, '_> {
             }
             sims.clear();
             // Nobody issued for a long time: a deadlock (or a memory system that stopped
-            // making progress).
-            if (idle_cycles > 1_000_000 && self.mem.chip_mut().next_event().is_none())
-                || idle_cycles > 10_000_000
+            // making progress). While the memory system owes the TMs data, a wait is as
+            // long as its latencies and queues make it (each bounded by the config's
+            // validation): ten times longer before it counts as stopped.
+            let chip = self.mem.chip_mut();
+            if (idle_cycles > 1_000_000 && chip.next_event().is_none())
+                || (idle_cycles > 10_000_000 && chip.owes_nothing())
+                || idle_cycles > 100_000_000
             {
                 return Outcome::Deadlock {
                     waiting: sh.live_threads,

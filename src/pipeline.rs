@@ -232,7 +232,10 @@ pub fn prepare(req: &Request) -> Result<Prepared, PrepareError> {
         }
     }
     let elf = executable_of(&req.files(), req.opt_level)?;
-    let scene = load_scene(&req.scene, &req.load)?;
+    let referenced = Executable::parse("program ELF", &elf)
+        .map(|e| e.referenced)
+        .unwrap_or_default();
+    let scene = load_scene_for(req, &referenced)?;
     lay_out(
         &req.kernel.display().to_string(),
         elf,
@@ -420,8 +423,7 @@ pub fn lay_out(
 /// compiler at the default level to read its references; if that fails, every component
 /// is laid out and the second value says why.
 pub fn scene_image(req: &Request) -> Result<(SceneImage, Vec<String>), PrepareError> {
-    let scene = load_scene(&req.scene, &req.load)?;
-    let mut warnings = scene.warnings.clone();
+    let mut warnings = Vec::new();
     let referenced = match build_executable_of(&req.files(), DEFAULT_OPT_LEVEL)
         .map_err(|e| e.to_string())
         .and_then(|elf| Executable::parse("program ELF", &elf).map_err(|e| e.to_string()))
@@ -439,6 +441,8 @@ pub fn scene_image(req: &Request) -> Result<(SceneImage, Vec<String>), PrepareEr
                 .collect()
         }
     };
+    let scene = load_scene_for(req, &referenced)?;
+    warnings.splice(0..0, scene.warnings.iter().cloned());
     let referenced: Vec<&str> = referenced.iter().map(String::as_str).collect();
     let image = lay_out_scene(&scene, &referenced, &req.render, &req.chip).map_err(|source| {
         PrepareError::Image {
@@ -447,6 +451,18 @@ pub fn scene_image(req: &Request) -> Result<(SceneImage, Vec<String>), PrepareEr
         }
     })?;
     Ok((image, warnings))
+}
+
+/// Loads the request's scene, refusing one larger than a program that reads the header
+/// fields `referenced` can lay out before it is built (`image::max_triangles`).
+fn load_scene_for(req: &Request, referenced: &[String]) -> Result<Scene, PrepareError> {
+    let refs: Vec<&str> = referenced.iter().map(String::as_str).collect();
+    let opts = image_options(&req.render, &req.chip).map_err(PrepareError::Flag)?;
+    let load = LoadOptions {
+        max_triangles: Some(trax_assembler::image::max_triangles(&refs, &opts)),
+        ..req.load.clone()
+    };
+    Ok(load_scene(&req.scene, &load)?)
 }
 
 /// The memory image of `scene` alone (no program) for `chip` ([`image_options`]), with the

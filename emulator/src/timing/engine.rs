@@ -30,7 +30,7 @@ use std::sync::Mutex;
 use trax_runtime::isa::UnitClass;
 
 use super::config::ChipConfig;
-use super::intervals::Snapshot;
+use super::intervals::{IntervalStream, Snapshot};
 use super::operands::{classify, OpInfo};
 use super::tm::{retire, Deferred, Summary, TmSim};
 use super::workers::{rebalance, Batch, Crew, RoundCell, Rounds};
@@ -243,8 +243,9 @@ pub struct Engine<'c> {
     /// Cycles per statistics interval (`--stats-interval`; a multiple of the quantum,
     /// see [`Self::quantum`]): the counters are sampled at every multiple.
     pub interval: Option<u64>,
-    /// The samples taken at interval ends and at [`Self::snap_at`] (after [`Self::run`];
-    /// the run's end is not one).
+    /// Where the samples at interval ends go (required with [`Self::interval`]).
+    pub intervals: Option<IntervalStream<'c>>,
+    /// The sample taken at [`Self::snap_at`] (after [`Self::run`]).
     pub samples: Vec<Snapshot>,
     /// Also sample the counters at this cycle (a quantum end), for sampled simulation.
     pub snap_at: Option<u64>,
@@ -319,6 +320,7 @@ impl<'c> Engine<'c> {
             profiler: None,
             progress: None,
             interval: None,
+            intervals: None,
             samples: Vec::new(),
             snap_at: None,
             pause_at: None,
@@ -390,6 +392,7 @@ impl<'c> Engine<'c> {
             .collect();
         let mut profiler = self.profiler.take();
         let mut progress = self.progress.take();
+        let mut intervals = self.intervals.take();
         let mut halted_excess = 0u64;
         let mut paused = false;
         let mut base = Counters::default();
@@ -439,6 +442,7 @@ impl<'c> Engine<'c> {
                     fx: Effects::default(),
                     streams: StreamTiming::default(),
                     interval: self.interval,
+                    intervals: intervals.as_mut(),
                     snap_at: self.snap_at,
                     next_sample: u64::MAX,
                     samples: Vec::new(),
@@ -459,6 +463,7 @@ impl<'c> Engine<'c> {
         m.shared.sched.finish(self.now);
         self.profiler = profiler;
         self.progress = progress;
+        self.intervals = intervals;
         // Take everything back.
         for p in parts {
             let p = p.into_inner().unwrap_or_else(|e| e.into_inner());
@@ -567,13 +572,14 @@ struct Driver<'a, 'p> {
     fx: Effects,
     /// The stream memory's timing.
     streams: StreamTiming,
-    /// Cycles per statistics interval.
+    /// Cycles per statistics interval, and where their samples go.
     interval: Option<u64>,
+    intervals: Option<&'a mut IntervalStream<'p>>,
     /// A single extra sample's cycle.
     snap_at: Option<u64>,
     /// The next interval end or `snap_at` (`u64::MAX`: none).
     next_sample: u64,
-    /// The counters at each interval end so far.
+    /// The counters at `snap_at`.
     samples: Vec<Snapshot>,
     /// Stop when a global register reaches a value, and whether it did.
     pause_at: Option<(u32, u32)>,
@@ -603,7 +609,14 @@ impl Driver<'_, '_> {
         let streams = sh.streams.sram_accesses();
         let mut snap = snapshot_of(self.cfg, &c, &mem, streams, at);
         snap.ray_cycles += self.streams.in_flight * at.saturating_sub(self.streams.last);
-        self.samples.push(snap);
+        if self.snap_at == Some(at) {
+            self.samples.push(snap.clone());
+        }
+        if self.interval.is_some_and(|n| at % n == 0) {
+            if let Some(st) = self.intervals.as_deref_mut() {
+                st.push(snap);
+            }
+        }
         self.next_sample = self.next_sample_after(at);
     }
 

@@ -11,4 +11,5 @@
 pub mod clang;
 pub mod compare;
 pub mod pipeline;
+pub mod resources;
 pub mod stats;

@@ -206,3 +206,265 @@ fn the_longest_allowed_dram_latency_runs_to_the_end() {
         slow.stderr
     );
 }
+
+/// The peak resident memory (VmHWM) of a running process, in KiB, if it can be read.
+fn peak_kib(pid: u32) -> Option<u64> {
+    let s = std::fs::read_to_string(format!("/proc/{pid}/status")).ok()?;
+    let l = s.lines().find(|l| l.starts_with("VmHWM:"))?;
+    l.split_whitespace().nth(1)?.parse().ok()
+}
+
+/// `trax ARGS` to its end (under `secs`): its exit code and the last peak memory seen.
+fn peak_of(args: &[&str], secs: u64) -> (Option<i32>, u64) {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_trax"))
+        .args(args)
+        .current_dir(root())
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("start trax");
+    let deadline = Instant::now() + Duration::from_secs(secs);
+    let mut peak = 0;
+    loop {
+        if let Some(p) = peak_kib(child.id()) {
+            peak = peak.max(p);
+        }
+        if let Some(s) = child.try_wait().unwrap() {
+            return (s.code(), peak);
+        }
+        assert!(Instant::now() < deadline, "`trax {}` hangs", args.join(" "));
+        std::thread::sleep(Duration::from_millis(5));
+    }
+}
+
+/// A run with `--stats-interval 4` (about 120 000 intervals) peaks within a few MB of the
+/// same run without intervals: intervals go to the document as they complete. (Each held
+/// about 1.25 KB, 150 MB here: a small interval on a long run aborted and lost everything.)
+#[test]
+fn stats_intervals_do_not_grow_memory() {
+    let json = scratch().join("intervals.json");
+    let json = json.to_str().unwrap();
+    let base = [
+        "run",
+        "examples/raycast.rs",
+        "--width",
+        "32",
+        "--height",
+        "32",
+        "--stats-json",
+        json,
+    ];
+    let (code, plain) = peak_of(&base, 300);
+    assert_eq!(code, Some(0));
+    let mut args = base.to_vec();
+    args.extend(["--stats-interval", "4"]);
+    let (code, with) = peak_of(&args, 300);
+    assert_eq!(code, Some(0));
+    let doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(json).unwrap()).unwrap();
+    let t = &doc["timing"];
+    let n = t["intervals"].as_array().unwrap().len() as u64;
+    assert_eq!(n, t["cycles"].as_u64().unwrap().div_ceil(4), "every interval written");
+    assert!(n > 100_000, "{n}");
+    assert!(
+        with < plain + 30 * 1024,
+        "peak {with} KiB with {n} intervals, {plain} KiB without"
+    );
+    // Without a document to write them to, intervals are refused up front.
+    let r = trax(
+        "interval-no-json",
+        &["run", "examples/raycast.rs", "--stats-interval", "4"],
+        60,
+    );
+    assert_eq!(r.code, Some(1));
+    assert!(r.stderr.contains("--stats-json"), "{}", r.stderr);
+}
+
+/// Values that ran and recorded nonsense, or failed only after the whole simulation, are
+/// refused before anything runs.
+#[test]
+fn bad_run_values_are_refused_before_the_run() {
+    // --spp 0 was accepted and recorded.
+    let r = trax("spp0", &["run", hello(), "--spp", "0"], 60);
+    assert_eq!(r.code, Some(2), "{}", r.stderr);
+    assert!(r.stderr.contains("--spp") && r.stdout.is_empty(), "{}", r.stderr);
+    // A zero-size .view window drew every pixel the same.
+    let view = scratch().join("flat.view");
+    std::fs::write(&view, "0 0 5\n0 0 -1\n0 1 0\n0\n-1 1\n0.5\n0.5\n1\n").unwrap();
+    let r = trax(
+        "flat-view",
+        &["run", hello(), "--view", view.to_str().unwrap()],
+        60,
+    );
+    assert_eq!(r.code, Some(1));
+    assert!(
+        r.stderr.contains("flat.view:7") && r.stderr.contains("zero size"),
+        "{}",
+        r.stderr
+    );
+    // --stats-json to a directory failed after the simulation (its output already printed).
+    let dir = scratch();
+    let r = trax(
+        "json-dir",
+        &["run", hello(), "--stats-json", dir.to_str().unwrap()],
+        60,
+    );
+    assert_eq!(r.code, Some(1));
+    assert!(r.stdout.is_empty(), "the run started: {}", r.stdout);
+    assert!(r.stderr.contains("is a directory"), "{}", r.stderr);
+}
+
+/// Scenes larger than the kernel can lay out are refused before they are built, with the
+/// count and the limit: `subdivide` against the path tracer's own limit (it once used the
+/// triangle array's alone, 3x higher, and split for minutes before the image refused), an
+/// OBJ by its faces before tobj parses it (a 20 M-triangle file took 51 s).
+#[test]
+fn oversized_scenes_are_refused_before_they_are_built() {
+    // 32 Cornell triangles x 4^11 = 134 M: over every limit; x 4^10 = 33.6 M, under the
+    // triangle array's 59.7 M but over the path tracer's 19.9 M.
+    let r = trax(
+        "subdivide",
+        &[
+            "run",
+            "examples/pathtracer.rs",
+            "--scene",
+            "subdivide:10:cornell",
+        ],
+        120,
+    );
+    assert_eq!(r.code, Some(1));
+    assert!(
+        r.stderr.contains("33554432 triangles") && r.stderr.contains("19871662"),
+        "{}",
+        r.stderr
+    );
+    // One face of 20 000 002 vertices: 20 M triangles, in a 40 MB file.
+    let obj = scratch().join("huge.obj");
+    {
+        use std::io::Write;
+        let mut f = std::io::BufWriter::new(std::fs::File::create(&obj).unwrap());
+        f.write_all(b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf").unwrap();
+        for _ in 0..20_000_002 / 2 {
+            f.write_all(b" 1 2").unwrap();
+        }
+        f.write_all(b"\n").unwrap();
+    }
+    let t = Instant::now();
+    let r = trax(
+        "huge-obj",
+        &[
+            "run",
+            "examples/pathtracer.rs",
+            "--scene",
+            obj.to_str().unwrap(),
+        ],
+        120,
+    );
+    let secs = t.elapsed().as_secs_f64();
+    let _ = std::fs::remove_file(&obj);
+    assert_eq!(r.code, Some(1));
+    assert!(
+        r.stderr.contains("huge.obj")
+            && r.stderr.contains("20000000 triangles")
+            && r.stderr.contains("19871662"),
+        "{}",
+        r.stderr
+    );
+    // Counted, not parsed: well under the seconds a parse takes (the kernel's build is
+    // most of it).
+    assert!(secs < 30.0, "{secs} s");
+}
+
+/// Chips that validate but that the host cannot hold are refused before anything is
+/// allocated, with the estimate and the host's limit (they once allocated until SIGABRT).
+#[test]
+fn chips_too_large_for_the_host_are_refused_with_the_estimate() {
+    // 2^20 threads x 64 KiB local stores = 64 GiB, more than this machine class has.
+    let r = trax(
+        "huge-chip",
+        &["run", hello(), "--tms", "1024", "--threads", "1024"],
+        60,
+    );
+    assert_eq!(r.code, Some(1), "{}", r.stderr);
+    assert!(
+        r.stderr.contains("needs about") && r.stderr.contains("local stores 64.0 GiB"),
+        "{}",
+        r.stderr
+    );
+    // 80 L1s of 2 GiB: 30 GiB of tags.
+    let r = trax(
+        "huge-l1",
+        &[
+            "run",
+            hello(),
+            "--config",
+            "baseline",
+            "--set",
+            "memory.l1.capacity_bytes=2147483648",
+        ],
+        60,
+    );
+    assert_eq!(r.code, Some(1), "{}", r.stderr);
+    assert!(r.stderr.contains("L1 tags 30.0 GiB"), "{}", r.stderr);
+    // Under an address-space limit (RLIMIT_AS of 3 GB), 16 L1s of 1 GiB (3 GiB of tags)
+    // are refused naming that limit; the same chip without the limit is not refused for
+    // memory (the functional run below allocates no caches).
+    let big = [
+        "--tms",
+        "16",
+        "--set",
+        "memory.l1.capacity_bytes=1073741824",
+    ];
+    let mut args = vec!["-c", "ulimit -v 3000000 && exec \"$0\" \"$@\"", env!("CARGO_BIN_EXE_trax"), "run", hello()];
+    args.extend(big);
+    let out = Command::new("sh")
+        .args(&args)
+        .current_dir(root())
+        .output()
+        .expect("sh");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("RLIMIT_AS") && err.contains("L1 tags 3.0 GiB"), "{err}");
+    let mut f = vec!["run", hello(), "--functional"];
+    f.extend(big);
+    let r = trax("big-functional", &f, 60);
+    assert_eq!(r.code, Some(0), "{}", r.stderr);
+}
+
+/// A kernel from `fuzz/seeds/kernel/`, built by `trax build` under a deadline.
+fn build_seed(name: &str, secs: u64) -> (Ran, PathBuf) {
+    let elf = scratch().join(format!("{name}.elf"));
+    let src = format!("fuzz/seeds/kernel/{name}.rs");
+    let r = trax(
+        &format!("build-{name}"),
+        &["build", &src, "-o", elf.to_str().unwrap()],
+        secs,
+    );
+    (r, elf)
+}
+
+/// Deep but valid programs compile and run: a 4000-term `+` chain and 3000 nested `if`s
+/// overflowed the compiler's stack (exit 134); a local `[0u32; 4·10^6]` was built as one
+/// aggregate value (10^6 took 32 s and 1.3 GB, 4·10^6 crashed the compiler); an array
+/// above the in-place fill threshold holds its values.
+#[test]
+fn deep_programs_and_large_arrays_compile() {
+    for (name, expect) in [
+        ("deep_add", "3999\n"),
+        ("deep_if", "deep 0\n"),
+        ("repeat_fill", "14330\n"),
+    ] {
+        let (r, elf) = build_seed(name, 240);
+        assert_eq!(r.code, Some(0), "{name}: {}", r.stderr);
+        let r = trax(
+            &format!("run-{name}"),
+            &["run", elf.to_str().unwrap(), "--functional", "--threads", "1"],
+            120,
+        );
+        assert_eq!(r.code, Some(0), "{name}: {}", r.stderr);
+        assert_eq!(r.stdout, expect, "{name}");
+    }
+    let (r, _) = build_seed("large_array", 60);
+    assert_eq!(r.code, Some(0), "{}", r.stderr);
+}

@@ -327,6 +327,7 @@ pub fn execute(a: &ExecArgs, extras: &Extras) -> Result<Executed, String> {
         check_writable(out)?;
     }
     let chip = p.chip_config()?;
+    trax::resources::check_chip_memory(&chip, !a.functional)?;
     let sample = match a.sample {
         Some(n) => Some(a.sampling.request(n, p.pixels(), &chip)?),
         None => {

@@ -86,19 +86,13 @@ pub fn estimate(cfg: &ChipConfig, timing: bool) -> Footprint {
     Footprint {
         parts: vec![
             ("thread state", threads * thread_bytes()),
-            (
-                "local stores",
-                threads * u64::from(cfg.local_store.bytes),
-            ),
+            ("local stores", threads * u64::from(cfg.local_store.bytes)),
             ("L1 tags", t * u64::from(cfg.tms) * l1_lines * line_bytes(1)),
             (
                 "L2 tags",
                 t * l2s * l2_lines * line_bytes(m.l2.associativity),
             ),
-            (
-                "stream memory",
-                u64::from(cfg.stream_memory.capacity_bytes),
-            ),
+            ("stream memory", u64::from(cfg.stream_memory.capacity_bytes)),
             ("DRAM queues", t * dram),
         ],
     }
@@ -118,7 +112,11 @@ mod tests {
         big.threads_per_tm = 1024;
         let e = estimate(&big, false);
         assert!(e.total() > 1 << 36, "{}", e.describe());
-        assert!(e.describe().contains("local stores 64.0 GiB"), "{}", e.describe());
+        assert!(
+            e.describe().contains("local stores 64.0 GiB"),
+            "{}",
+            e.describe()
+        );
         let mut l1 = tiny.clone();
         l1.memory.l1.capacity_bytes = 1 << 31;
         assert_eq!(

@@ -300,10 +300,9 @@ pub fn execute(a: &ExecArgs, extras: &Extras) -> Result<Executed, String> {
         return Err("--quantum must be at least 1".into());
     }
     if a.stats_interval.is_some() && a.stats_json.is_none() {
-        return Err(
-            "--stats-interval needs --stats-json FILE: the intervals are written only to the \
-             statistics document"
-                .into(),
+        eprintln!(
+            "warning: --stats-interval without --stats-json: the intervals are written only \
+             to the statistics document, so none is kept"
         );
     }
     let p = &a.program;
@@ -364,7 +363,7 @@ pub fn execute(a: &ExecArgs, extras: &Extras) -> Result<Executed, String> {
     req.host_threads = p.host_threads;
     req.stats_interval = a.stats_interval;
     // Intervals go to a spool file as they complete (the run keeps none).
-    let mut spool = match a.stats_interval {
+    let mut spool = match a.stats_interval.and(a.stats_json.as_ref()) {
         Some(_) => Some(
             trax::stats::IntervalSpool::new()
                 .map_err(|e| format!("statistics intervals: cannot make a spool file: {e}"))?,

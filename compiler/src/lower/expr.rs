@@ -83,7 +83,13 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                             let v = self.expr(&r.expr)?;
                             self.set_loc(pi.ident.span());
                             let slot = self.alloca(&ty, &pi.ident.to_string())?;
-                            self.declare_var(slot, &pi.ident.to_string(), &ty, pi.ident.span(), None);
+                            self.declare_var(
+                                slot,
+                                &pi.ident.to_string(),
+                                &ty,
+                                pi.ident.span(),
+                                None,
+                            );
                             if let Some(v) = v {
                                 if !self.terminated() {
                                     let v = self.val(Some(v), et);

@@ -462,7 +462,7 @@ fn load_scene_for(req: &Request, referenced: &[String]) -> Result<Scene, Prepare
         max_triangles: Some(trax_assembler::image::max_triangles(&refs, &opts)),
         ..req.load.clone()
     };
-    Ok(load_scene(&req.scene, &load)?)
+    load_scene(&req.scene, &load)
 }
 
 /// The memory image of `scene` alone (no program) for `chip` ([`image_options`]), with the

@@ -38,6 +38,7 @@ pub mod parse;
 pub mod pretty;
 pub mod resolve;
 pub mod rtlib;
+pub mod span;
 pub mod target;
 pub mod ty;
 pub mod typeck;
@@ -142,11 +143,12 @@ pub fn render(d: &[Diagnostic]) -> String {
 const COMPILER_STACK_BYTES: usize = 512 << 20;
 
 /// Runs `f` on a thread with [`COMPILER_STACK_BYTES`] of stack (on this one if no thread
-/// can be made), passing its panics on.
+/// can be made) with an empty span memo ([`span::forget`]), passing its panics on.
 fn on_compiler_stack<T: Send>(f: impl FnOnce() -> T + Send) -> T {
     let f = std::sync::Mutex::new(Some(f));
     let call = || {
         let f = f.lock().unwrap_or_else(|e| e.into_inner()).take();
+        span::forget();
         (f.expect("called once"))()
     };
     std::thread::scope(|s| {

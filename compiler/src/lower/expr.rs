@@ -2,12 +2,12 @@
 
 use super::{int_of, internal, LResult, LoopTarget, Lowerer, V};
 use crate::ops::{BinOp, UnOp};
+use crate::span::Spanned;
 use crate::ty::{FloatTy, IntTy, SimdTy, Ty};
 use crate::typeck::{key, Adjust, OpCall, Res};
 use inkwell::types::BasicTypeEnum;
 use inkwell::values::{BasicValueEnum, IntValue};
 use inkwell::{FloatPredicate, IntPredicate};
-use syn::spanned::Spanned;
 use syn::{Expr, Lit, Pat, Stmt};
 use trax_runtime::isa::AbortKind;
 

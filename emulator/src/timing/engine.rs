@@ -612,7 +612,7 @@ impl Driver<'_, '_> {
         if self.snap_at == Some(at) {
             self.samples.push(snap.clone());
         }
-        if self.interval.is_some_and(|n| at % n == 0) {
+        if self.interval.is_some_and(|n| at.is_multiple_of(n)) {
             if let Some(st) = self.intervals.as_deref_mut() {
                 st.push(snap);
             }

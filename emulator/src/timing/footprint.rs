@@ -27,7 +27,7 @@ impl Footprint {
     /// `total (part bytes, ...)` in human units, the largest parts first.
     pub fn describe(&self) -> String {
         let mut parts: Vec<_> = self.parts.iter().filter(|p| p.1 > 0).collect();
-        parts.sort_by(|a, b| b.1.cmp(&a.1));
+        parts.sort_by_key(|p| std::cmp::Reverse(p.1));
         let list: Vec<String> = parts
             .iter()
             .map(|(n, b)| format!("{n} {}", human_bytes(*b)))

@@ -18,5 +18,6 @@ pub mod compare;
 pub mod fuzzing;
 pub mod native;
 pub mod pipeline;
+pub mod resources;
 pub mod stats;
 pub mod sweep;

@@ -242,7 +242,10 @@ pub fn prepare(req: &Request) -> Result<Prepared, PrepareError> {
         }
     }
     let elf = executable_of(&req.files(), req.opt_level)?;
-    let scene = request_scene(req)?;
+    let referenced = Executable::parse("program ELF", &elf)
+        .map(|e| e.referenced)
+        .unwrap_or_default();
+    let scene = request_scene(req, &referenced)?;
     lay_out(
         &req.kernel.display().to_string(),
         elf,
@@ -439,11 +442,19 @@ pub fn load_scene(scene: &str, opts: &LoadOptions) -> Result<Scene, PrepareError
     })
 }
 
-/// The scene of a request: loaded, or read from its scene cache.
-pub fn request_scene(req: &Request) -> Result<Scene, PrepareError> {
+/// The scene of a request (loaded, or read from its scene cache), refusing one larger
+/// than a program that reads the header fields `referenced` can lay out, before it is
+/// built (`image::max_triangles`).
+pub fn request_scene(req: &Request, referenced: &[String]) -> Result<Scene, PrepareError> {
+    let refs: Vec<&str> = referenced.iter().map(String::as_str).collect();
+    let opts = image_options(&req.render, &req.chip).map_err(PrepareError::Flag)?;
+    let load = LoadOptions {
+        max_triangles: Some(trax_assembler::image::max_triangles(&refs, &opts)),
+        ..req.load.clone()
+    };
     match &req.scene_cache {
-        None => load_scene(&req.scene, &req.load),
-        Some(dir) => trax_assembler::scene::cache::load_scene_cached(&req.scene, &req.load, dir)
+        None => load_scene(&req.scene, &load),
+        Some(dir) => trax_assembler::scene::cache::load_scene_cached(&req.scene, &load, dir)
             .map(|(scene, _)| scene)
             .map_err(|source| PrepareError::Scene {
                 scene: req.scene.clone(),
@@ -481,8 +492,7 @@ pub fn lay_out(
 /// `trax native` has built it with rustc); if that fails, every component is laid out
 /// and the second value says why.
 pub fn scene_image(req: &Request) -> Result<(SceneImage, Vec<String>), PrepareError> {
-    let scene = request_scene(req)?;
-    let mut warnings = scene.warnings.clone();
+    let mut warnings = Vec::new();
     let referenced = match build_executable_checked(
         &req.files(),
         DEFAULT_OPT_LEVEL,
@@ -504,6 +514,8 @@ pub fn scene_image(req: &Request) -> Result<(SceneImage, Vec<String>), PrepareEr
                 .collect()
         }
     };
+    let scene = request_scene(req, &referenced)?;
+    warnings.splice(0..0, scene.warnings.iter().cloned());
     let referenced: Vec<&str> = referenced.iter().map(String::as_str).collect();
     let image = lay_out_scene(&scene, &referenced, &req.render, &req.chip).map_err(|source| {
         PrepareError::Image {

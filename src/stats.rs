@@ -6,17 +6,105 @@
 //! These are mirror types, built at the edge from the run's inputs and its report; the
 //! emulator's statistics records ([`TimingStats`]) are embedded as the `timing` object.
 
+use std::fs::File;
+use std::io::{BufRead, BufReader, BufWriter, Seek, SeekFrom, Write};
+
 use serde::Serialize;
 use trax_assembler::image::SceneImage;
 use trax_assembler::scene::Source;
-use trax_emulator::timing::{ChipConfig, SampledStats, TimingStats};
+use trax_emulator::timing::{ChipConfig, Interval, SampledStats, TimingStats};
 use trax_emulator::{Outcome, RunReport};
 
-use crate::pipeline::{left_out, KernelFile, Request};
+use crate::pipeline::{left_out, KernelFile, Prepared, Request};
 
 /// The schema version written as `schema`; it changes when a field changes meaning or
 /// goes away (new fields may be added within a version).
 pub const SCHEMA: u32 = 1;
+
+/// The `timing` object: the run's [`TimingStats`] and its intervals.
+#[derive(Debug, Serialize)]
+pub struct TimingDoc<'a> {
+    /// The statistics.
+    #[serde(flatten)]
+    pub stats: &'a TimingStats,
+    /// `timing.intervals`: the run over time (`[]` without `--stats-interval`).
+    pub intervals: Intervals<'a>,
+}
+
+/// The intervals of a run as a JSON array, read one at a time from their spool file
+/// ([`IntervalSpool::finish`]), so writing the document holds one interval in memory.
+#[derive(Debug)]
+pub struct Intervals<'a>(pub Option<&'a File>);
+
+impl Serialize for Intervals<'_> {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::{Error, SerializeSeq};
+        let mut seq = s.serialize_seq(None)?;
+        if let Some(mut f) = self.0 {
+            f.seek(SeekFrom::Start(0)).map_err(S::Error::custom)?;
+            for line in BufReader::new(f).lines() {
+                let line = line.map_err(S::Error::custom)?;
+                // As written (exact floats, field order): one interval per line.
+                let v: Box<serde_json::value::RawValue> =
+                    serde_json::from_str(&line).map_err(S::Error::custom)?;
+                seq.serialize_element(&v)?;
+            }
+        }
+        seq.end()
+    }
+}
+
+/// The intervals of a timing run (`--stats-interval`), written as they complete to an
+/// unnamed temporary file (created in the system's temporary directory and unlinked at
+/// once, so nothing is left behind even when the process is killed): the run's memory does
+/// not grow with their number.
+pub struct IntervalSpool {
+    out: BufWriter<File>,
+    error: Option<std::io::Error>,
+}
+
+impl IntervalSpool {
+    /// An empty spool.
+    pub fn new() -> std::io::Result<IntervalSpool> {
+        let dir = std::env::temp_dir();
+        let nanos = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(0, |d| d.as_nanos());
+        let path = dir.join(format!("trax-intervals-{}-{nanos}", std::process::id()));
+        let file = std::fs::OpenOptions::new()
+            .read(true)
+            .write(true)
+            .create_new(true)
+            .open(&path)
+            .map_err(|e| std::io::Error::new(e.kind(), format!("{}: {e}", path.display())))?;
+        std::fs::remove_file(&path)?;
+        Ok(IntervalSpool {
+            out: BufWriter::new(file),
+            error: None,
+        })
+    }
+
+    /// Appends one interval (the first write error is kept for [`Self::finish`]).
+    pub fn push(&mut self, iv: &Interval) {
+        if self.error.is_some() {
+            return;
+        }
+        let r = serde_json::to_writer(&mut self.out, iv)
+            .map_err(std::io::Error::from)
+            .and_then(|()| self.out.write_all(b"\n"));
+        if let Err(e) = r {
+            self.error = Some(e);
+        }
+    }
+
+    /// The spool file with every interval, one JSON object a line.
+    pub fn finish(self) -> std::io::Result<File> {
+        if let Some(e) = self.error {
+            return Err(e);
+        }
+        self.out.into_inner().map_err(|e| e.into_error())
+    }
+}
 
 /// The whole document.
 #[derive(Debug, Serialize)]
@@ -46,7 +134,7 @@ pub struct StatsDocument<'a> {
     /// sampled mode (a sampled run estimates them: `sampled.estimates.cycles`).
     pub cycles: Option<u64>,
     /// Timing-model statistics, `null` in functional and sampled mode.
-    pub timing: Option<&'a TimingStats>,
+    pub timing: Option<TimingDoc<'a>>,
     /// A sampled run's estimates with confidence intervals, costs and parameters (`null`
     /// unless `--sample`).
     pub sampled: Option<&'a SampledStats>,
@@ -187,16 +275,16 @@ impl SceneData {
 }
 
 impl<'a> StatsDocument<'a> {
-    /// The document of `run`, prepared from `req` with memory `image`, with the limits
-    /// and quantum it ran under.
+    /// The document of `run` of `prepared` (from `req`), with the limits and quantum it
+    /// ran under.
     pub fn new(
         req: &Request,
-        image: &SceneImage,
-        scene_sources: &[Source],
+        prepared: &Prepared,
         run: &'a RunReport,
         chip: &'a ChipConfig,
         quantum: u32,
         limits: trax_emulator::Limits,
+        intervals: Option<&'a File>,
     ) -> StatsDocument<'a> {
         let functional = run.mode == trax_emulator::Mode::Functional;
         let path = |p: &Option<std::path::PathBuf>| p.as_ref().map(|p| p.display().to_string());
@@ -228,7 +316,7 @@ impl<'a> StatsDocument<'a> {
                 quantum: functional.then_some(quantum),
                 max_instructions: limits.max_instructions,
                 max_cycles: limits.max_cycles,
-                scene_files: scene_sources.iter().map(source_json).collect(),
+                scene_files: prepared.scene_sources.iter().map(source_json).collect(),
             },
             chip,
             threads: run.threads,
@@ -236,9 +324,12 @@ impl<'a> StatsDocument<'a> {
             rays: run.rays(),
             counters: &run.counters,
             cycles: run.cycles,
-            timing: run.timing.as_ref(),
+            timing: run.timing.as_ref().map(|stats| TimingDoc {
+                stats,
+                intervals: Intervals(intervals),
+            }),
             sampled: run.sampled.as_ref(),
-            scene: SceneData::of(image),
+            scene: SceneData::of(&prepared.image),
         }
     }
 }

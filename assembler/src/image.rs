@@ -276,30 +276,7 @@ pub fn build_image_from_symbols(
         limit,
     };
     // A conservative pre-check with upper bounds of the sizes, before anything is built.
-    {
-        let pixels = opts.width as u64 * opts.height as u64;
-        let mut probe = placer.cursor;
-        let mut fb_bytes = 0;
-        for c in &wanted {
-            let bytes = c.element_bytes as u64 * count_bound(c, scene, pixels)?;
-            if c.name == "framebuffer" {
-                fb_bytes = bytes;
-            }
-            probe += bytes + (GUARD_GAP + COMPONENT_ALIGN) as u64;
-        }
-        if probe > limit {
-            let what = if fb_bytes > limit {
-                "framebuffer"
-            } else {
-                "scene"
-            };
-            return Err(ImageError::TooLarge {
-                what,
-                end: probe,
-                limit,
-            });
-        }
-    }
+    precheck(&wanted, &Sizes::of(scene, opts), placer.cursor, limit)?;
 
     // The BVH, only when the program reads a component built from it.
     let bvh = if wanted.iter().any(|c| from_bvh(c.name)) {
@@ -456,20 +433,106 @@ fn from_bvh(name: &str) -> bool {
     )
 }
 
+/// What the sizes of the components depend on, known before anything is built.
+struct Sizes {
+    tris: u64,
+    materials: u64,
+    lights: u64,
+    pixels: u64,
+}
+
+impl Sizes {
+    fn of(scene: &Scene, opts: &RenderOptions) -> Sizes {
+        Sizes {
+            tris: scene.triangles.len() as u64,
+            materials: scene.materials.len() as u64,
+            lights: scene.point_lights.len() as u64,
+            pixels: opts.width as u64 * opts.height as u64,
+        }
+    }
+}
+
 /// An upper bound of component `c`'s element count, known before anything is built.
-fn count_bound(c: &ComponentDesc, scene: &Scene, pixels: u64) -> Result<u64, ImageError> {
-    let tris = scene.triangles.len() as u64;
+fn count_bound(c: &ComponentDesc, n: &Sizes) -> Result<u64, ImageError> {
     Ok(match c.name {
         "camera" => 1,
-        "framebuffer" => pixels,
+        "framebuffer" => n.pixels,
         // A binary BVH over n triangles has fewer than 2n nodes.
-        "bvh_nodes" | "bvh_parents" | "treelet_ids" => 2 * tris,
+        "bvh_nodes" | "bvh_parents" | "treelet_ids" => 2 * n.tris,
         "triangles" | "normals" | "texcoords" | "material_ids" | "emitters" | "tri_treelet_ids"
-        | "tri_leaf_ids" => tris,
-        "materials" => scene.materials.len() as u64,
-        "point_lights" => scene.point_lights.len() as u64,
+        | "tri_leaf_ids" => n.tris,
+        "materials" => n.materials,
+        "point_lights" => n.lights,
         other => return Err(ImageError::NoProducer(table_name(other))),
     })
+}
+
+/// Refuses components of sizes `n` that cannot fit between `start` and `limit` (upper
+/// bounds of their sizes, guard gaps and alignment included): the image's pre-check.
+fn precheck(
+    wanted: &[&ComponentDesc],
+    n: &Sizes,
+    start: u64,
+    limit: u64,
+) -> Result<(), ImageError> {
+    let mut probe = start;
+    let mut fb_bytes = 0;
+    for c in wanted {
+        let bytes = c.element_bytes as u64 * count_bound(c, n)?;
+        if c.name == "framebuffer" {
+            fb_bytes = bytes;
+        }
+        probe += bytes + (GUARD_GAP + COMPONENT_ALIGN) as u64;
+    }
+    if probe > limit {
+        let what = if fb_bytes > limit {
+            "framebuffer"
+        } else {
+            "scene"
+        };
+        return Err(ImageError::TooLarge {
+            what,
+            end: probe,
+            limit,
+        });
+    }
+    Ok(())
+}
+
+/// The most triangles a scene can have for a program that reads the `referenced` header
+/// fields, rendered with `opts`: the largest count the image's pre-check accepts with an
+/// empty program, one material and no point lights (so an upper bound: a real program and
+/// its materials take a little more). Scene loaders refuse larger scenes before building
+/// them (`LoadOptions::max_triangles`).
+pub fn max_triangles(referenced: &[&str], opts: &RenderOptions) -> u64 {
+    let wanted: Vec<&ComponentDesc> = SCENE_COMPONENTS
+        .iter()
+        .filter(|c| c.need == Need::Always || referenced.contains(&c.name))
+        .collect();
+    let limit = (abi::STACK_TOP as u64).saturating_sub(opts.stack_size as u64);
+    let fits = |tris: u64| {
+        let n = Sizes {
+            tris,
+            materials: 1,
+            lights: 0,
+            pixels: opts.width as u64 * opts.height as u64,
+        };
+        precheck(&wanted, &n, abi::TEXT_BASE as u64, limit).is_ok()
+    };
+    if !fits(0) {
+        return 0;
+    }
+    // The largest count that fits: fits(lo), not fits(hi).
+    let (mut lo, mut hi) = (0u64, 1u64 << 32);
+    while hi - lo > 1 {
+        let mid = lo + (hi - lo) / 2;
+        if fits(mid) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    lo.min(crate::scene::MAX_TRIANGLES)
 }
 
 /// The elements of component `c`.
@@ -586,6 +649,11 @@ fn check_options(o: &RenderOptions) -> Result<(), ImageError> {
             o.width, o.height
         )));
     }
+    if o.spp == 0 {
+        return Err(ImageError::BadOption(
+            "samples per pixel (spp) must be at least 1".into(),
+        ));
+    }
     if o.stack_size == 0
         || !o.stack_size.is_multiple_of(8)
         || o.stack_size > abi::STACK_TOP - abi::TEXT_BASE
@@ -650,4 +718,55 @@ fn check_program(program: &[Segment], limit: u64) -> Result<(), ImageError> {
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `max_triangles` is the image pre-check's boundary: that many triangles pass it, one
+    /// more does not, for a triangle-only program, a path tracer's fields and every field.
+    /// (`subdivide` once estimated with the triangle array alone, 3x too many for a path
+    /// tracer: its scenes were built for minutes, then refused by the image.)
+    #[test]
+    fn max_triangles_is_the_precheck_boundary() {
+        let every: Vec<&str> = SCENE_COMPONENTS.iter().map(|c| c.name).collect();
+        let pathtracer = [
+            "bvh_nodes",
+            "triangles",
+            "material_ids",
+            "materials",
+            "emitters",
+        ];
+        let opts = RenderOptions::default();
+        let mut seen = Vec::new();
+        for refs in [&["triangles"][..], &pathtracer[..], &every[..]] {
+            let n = max_triangles(refs, &opts);
+            let wanted: Vec<&ComponentDesc> = SCENE_COMPONENTS
+                .iter()
+                .filter(|c| c.need == Need::Always || refs.contains(&c.name))
+                .collect();
+            let sizes = |tris| Sizes {
+                tris,
+                materials: 1,
+                lights: 0,
+                pixels: u64::from(opts.width) * u64::from(opts.height),
+            };
+            let limit = abi::STACK_TOP as u64 - opts.stack_size as u64;
+            let start = abi::TEXT_BASE as u64;
+            assert!(
+                precheck(&wanted, &sizes(n), start, limit).is_ok(),
+                "{refs:?}: {n}"
+            );
+            assert!(
+                precheck(&wanted, &sizes(n + 1), start, limit).is_err(),
+                "{refs:?}"
+            );
+            seen.push(n);
+        }
+        // More fields, fewer triangles; the path tracer's limit is under half the
+        // triangle array's alone.
+        assert!(seen[0] > seen[1] && seen[1] > seen[2], "{seen:?}");
+        assert!(seen[1] * 2 < seen[0], "{seen:?}");
+    }
 }

@@ -23,6 +23,11 @@ pub fn simulate(
     let mut req = prepared.run_request(chip, Mode::Timing);
     req.host_threads = Some(host_threads);
     req.stats_interval = stats_interval;
+    // The intervals are computed and dropped (their cost is what is measured).
+    let mut drop_it = |_: &trax_emulator::timing::Interval| {};
+    if stats_interval.is_some() {
+        req.interval_sink = Some(&mut drop_it);
+    }
     req.limits = Limits {
         max_cycles: Some(max_cycles),
         ..Limits::default()

@@ -39,6 +39,7 @@ pub mod parse;
 pub mod pretty;
 pub mod resolve;
 pub mod rtlib;
+pub mod span;
 pub mod target;
 pub mod ty;
 pub mod typeck;
@@ -136,8 +137,40 @@ pub fn render(d: &[Diagnostic]) -> String {
     s
 }
 
+/// Stack of the thread the compiler runs on: deep but valid programs (thousands of nested
+/// blocks, operator chains of thousands of terms) recurse deeply in syn's parser and in every
+/// walk over the tree, and overflowed the 8 MiB of a main thread. Only the pages a
+/// compilation touches are ever used.
+const COMPILER_STACK_BYTES: usize = 512 << 20;
+
+/// Runs `f` on a thread with [`COMPILER_STACK_BYTES`] of stack (on this one if no thread
+/// can be made) with an empty span memo ([`span::forget`]), passing its panics on.
+fn on_compiler_stack<T: Send>(f: impl FnOnce() -> T + Send) -> T {
+    let f = std::sync::Mutex::new(Some(f));
+    let call = || {
+        let f = f.lock().unwrap_or_else(|e| e.into_inner()).take();
+        span::forget();
+        (f.expect("called once"))()
+    };
+    std::thread::scope(|s| {
+        match std::thread::Builder::new()
+            .name("trax-compiler".into())
+            .stack_size(COMPILER_STACK_BYTES)
+            .spawn_scoped(s, call)
+        {
+            Ok(h) => h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)),
+            Err(_) => call(),
+        }
+    })
+}
+
 /// Compiles the kernel whose root file is `path`.
 pub fn compile_file(path: &Path, opts: &CompileOptions) -> Result<Output, CompileError> {
+    on_compiler_stack(|| compile_file_here(path, opts))
+}
+
+/// [`compile_file`] on the current thread.
+fn compile_file_here(path: &Path, opts: &CompileOptions) -> Result<Output, CompileError> {
     let mut sources = SourceMap::default();
     let kernel = parse::parse_crate(&mut sources, &CrateSource::Disk(path.to_path_buf()))
         .map_err(|d| CompileError::Diagnostics(vec![d]))?;
@@ -169,6 +202,15 @@ pub fn compile_file(path: &Path, opts: &CompileOptions) -> Result<Output, Compil
 /// Compiles a kernel given as text (`name` is its crate and file name in diagnostics),
 /// with the prelude of `opts`.
 pub fn compile_source(
+    name: &str,
+    text: &str,
+    opts: &CompileOptions,
+) -> Result<Output, CompileError> {
+    on_compiler_stack(|| compile_source_here(name, text, opts))
+}
+
+/// [`compile_source`] on the current thread.
+fn compile_source_here(
     name: &str,
     text: &str,
     opts: &CompileOptions,

@@ -144,6 +144,94 @@ fn not_utf8(display: &Path, bytes: &[u8], e: std::str::Utf8Error) -> Diagnostic 
         .with_note("Rust source files must be UTF-8 text")
 }
 
+/// How deep a file's syntax may nest ([`check_nesting`]'s measure): syn's parser and
+/// every pass of the compiler recurse once per level, on the compiler thread's stack
+/// (`COMPILER_STACK_BYTES`); 10^6 levels overflowed it. Real kernels nest a few dozen;
+/// `tests/robustness.rs` compiles each kind of nesting at this depth.
+pub const MAX_NESTING: usize = 20_000;
+
+/// Refuses a file whose syntax nests deeper than [`MAX_NESTING`], counted on its tokens
+/// before syn parses them (an upper bound on the depth of the tree syn would build):
+/// a bracketed group is one level below its opening, and within a statement every
+/// operator and `else` one more (`a + b + c` and `else if` chains nest one level per
+/// link); `;`, `,` and a block that ends a statement or item start again at the group's
+/// level. Files the lexer refuses are left to syn's diagnostics.
+fn check_nesting(sources: &SourceMap, id: FileId) -> DResult<()> {
+    use proc_macro2::{Delimiter, TokenStream, TokenTree};
+    let Ok(tokens) = sources.get(id).src.parse::<TokenStream>() else {
+        return Ok(());
+    };
+    // Per open group: its tokens, its own level, the level reached in its current
+    // statement, and whether the last token was a `{...}` block.
+    struct Open {
+        tokens: proc_macro2::token_stream::IntoIter,
+        base: usize,
+        level: usize,
+        after_block: bool,
+    }
+    let mut stack = vec![Open {
+        tokens: tokens.into_iter(),
+        base: 0,
+        level: 0,
+        after_block: false,
+    }];
+    while let Some(top) = stack.last_mut() {
+        let Some(t) = top.tokens.next() else {
+            stack.pop();
+            continue;
+        };
+        // After a block, a statement or item ends unless an operator, `.`, `?`, `else`
+        // or `as` continues the expression.
+        let continues = match &t {
+            TokenTree::Punct(p) => !matches!(p.as_char(), '#' | ';' | ','),
+            TokenTree::Ident(i) => i == "else" || i == "as",
+            _ => false,
+        };
+        if top.after_block && !continues {
+            top.level = top.base;
+        }
+        top.after_block = false;
+        let (level, span) = match &t {
+            TokenTree::Punct(p) if matches!(p.as_char(), ';' | ',') => {
+                top.level = top.base;
+                continue;
+            }
+            TokenTree::Punct(p) => {
+                top.level += 1;
+                (top.level, p.span())
+            }
+            TokenTree::Ident(i) if i == "else" => {
+                top.level += 1;
+                (top.level, i.span())
+            }
+            TokenTree::Group(g) => {
+                top.after_block = g.delimiter() == Delimiter::Brace;
+                let level = top.level + 1;
+                stack.push(Open {
+                    tokens: g.stream().into_iter(),
+                    base: level,
+                    level,
+                    after_block: false,
+                });
+                (level, g.span_open())
+            }
+            _ => continue,
+        };
+        if level > MAX_NESTING {
+            return Err(Diagnostic::new(
+                sources,
+                id,
+                span,
+                "nesting-too-deep",
+                format!("this code nests more than {MAX_NESTING} levels deep"),
+            )
+            .with_label(format!("{MAX_NESTING} levels of brackets, operators or `else`s reached here"))
+            .with_note("the compiler recurses once per level; split the expression or the nesting into functions or `let` statements"));
+        }
+    }
+    Ok(())
+}
+
 fn load_file(
     sources: &mut SourceMap,
     source: &CrateSource<'_>,
@@ -154,6 +242,7 @@ fn load_file(
     owns_dir: bool,
 ) -> DResult<FileId> {
     let id = sources.add(display, text);
+    check_nesting(sources, id)?;
     let mut ast =
         syn::parse_file(&sources.get(id).src).map_err(|e| syntax_error(sources, id, &e))?;
     crate::derive::expand(&mut ast, sources, id)?;

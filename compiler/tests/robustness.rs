@@ -64,3 +64,71 @@ fn truncated_and_mutated_kernels_do_not_crash() {
         }
     }
 }
+
+/// `fn trax_main` whose body is `body`, compiled alone at -O0 on the compiler's own thread.
+fn compile_body(body: &str) -> Result<trax_compiler::Output, CompileError> {
+    let text = format!("fn trax_main() {{\n    let x = 3u32;\n{body}\n}}\n");
+    let opts = CompileOptions::default();
+    trax_compiler::compile_source("deep", &text, &opts)
+}
+
+/// Each kind of nesting compiles at the compiler's nesting limit (less the few levels of
+/// the function around it); 10^6 levels, which overflowed the compiler thread's stack and
+/// aborted the process, are refused with a diagnostic at the line where the limit is
+/// passed.
+#[test]
+fn nesting_compiles_up_to_the_limit_and_deeper_is_refused() {
+    let n = trax_compiler::parse::MAX_NESTING - 8;
+    let kinds = [
+        (
+            "parentheses",
+            format!("let y = {}x{};", "(".repeat(n), ")".repeat(n)),
+        ),
+        ("+ chain", format!("let y = x{};", " + 1".repeat(n))),
+        ("unary !", format!("let y = {}x;", "!".repeat(n))),
+        (
+            "blocks",
+            format!("let y = {}x{};", "{".repeat(n), "}".repeat(n)),
+        ),
+        (
+            "method chain",
+            format!("let y = x{};", ".wrapping_add(1)".repeat(n)),
+        ),
+        (
+            "nested ifs",
+            format!(
+                "{}let y = x;{}",
+                "if x < 9 {\n".repeat(n / 2),
+                "}\n".repeat(n / 2)
+            ),
+        ),
+        (
+            "else-if chain",
+            format!(
+                "let y = if x < 1 {{ 0 }}{} else {{ 2 }};",
+                " else if x < 2 { 1 }".repeat(n / 2)
+            ),
+        ),
+    ];
+    for (what, body) in &kinds {
+        if let Err(e) = compile_body(body) {
+            panic!("{what} at the limit: {e}");
+        }
+    }
+    let deep = format!(
+        "let y = {}x{};",
+        "(".repeat(1_000_000),
+        ")".repeat(1_000_000)
+    );
+    match compile_body(&deep) {
+        Err(CompileError::Diagnostics(d)) => {
+            let text = trax_compiler::render(&d);
+            assert_eq!(d[0].id, "nesting-too-deep", "{text:.2000}");
+            assert!(
+                text.contains("lib.rs:3:") && text.contains("levels deep"),
+                "{text:.2000}"
+            );
+        }
+        r => panic!("10^6 parentheses: {:.2000}", format!("{r:?}")),
+    }
+}

@@ -86,9 +86,12 @@ pub struct RunRequest<'a> {
     pub gdb: Option<TcpListener>,
     /// Called with the run's [`Progress`] about every 100 ms of host time.
     pub progress: Option<&'a mut dyn FnMut(&Progress)>,
-    /// Timing mode: record statistics for every interval of this many cycles (a multiple
-    /// of the quantum, the L1 plus L2 hit latency) in [`crate::timing::TimingStats`].
+    /// Timing mode: statistics for every interval of this many cycles (a multiple of the
+    /// quantum, the L1 plus L2 hit latency), each handed to [`Self::interval_sink`] (which
+    /// it needs) as it completes; the run keeps none of them.
     pub stats_interval: Option<u64>,
+    /// Receives the intervals of [`Self::stats_interval`], in order.
+    pub interval_sink: Option<crate::timing::intervals::IntervalSink<'a>>,
     /// Timing mode: simulate sampled windows in detail and fast-forward between them
     /// ([`crate::timing::sample`]); the report then has estimates with confidence
     /// intervals ([`RunReport::sampled`]) instead of exact timing statistics.
@@ -116,6 +119,7 @@ impl<'a> RunRequest<'a> {
             gdb: None,
             progress: None,
             stats_interval: None,
+            interval_sink: None,
             sample: None,
             reference: false,
         }
@@ -367,6 +371,11 @@ fn run_timing(mut req: RunRequest<'_>, out: &mut dyn Write) -> Result<RunReport,
     chip.validate()?;
     let (exe, mut machine) = load(&req, 1)?;
     if let Some(n) = req.stats_interval {
+        if req.interval_sink.is_none() {
+            return Err(RunError::Request(
+                "statistics intervals need an interval sink (the run keeps none of them)".into(),
+            ));
+        }
         let q = timing::engine::Engine::quantum(chip);
         if n == 0 || n % q != 0 {
             return Err(RunError::Request(format!(
@@ -404,6 +413,17 @@ fn run_timing(mut req: RunRequest<'_>, out: &mut dyn Write) -> Result<RunReport,
         );
     }
     engine.interval = req.stats_interval;
+    let threads = u64::from(chip.tms) * u64::from(chip.threads_per_tm);
+    let stream = chip.stream_memory.capacity_bytes > 0;
+    if let (Some(n), Some(sink)) = (req.stats_interval, req.interval_sink.take()) {
+        engine.intervals = Some(timing::intervals::IntervalStream::new(
+            n,
+            threads,
+            chip.clock_ghz,
+            stream,
+            sink,
+        ));
+    }
     if req.profile {
         engine.profiler = Some(Profiler::new(
             &machine.shared.program,
@@ -422,19 +442,12 @@ fn run_timing(mut req: RunRequest<'_>, out: &mut dyn Write) -> Result<RunReport,
         engine.mem().stats(),
         &machine.shared,
     );
-    if let Some(n) = req.stats_interval {
-        let mut samples = std::mem::take(&mut engine.samples);
-        let last = timing::intervals::Snapshot::of_stats(&stats, engine.c.stream_ray_cycles);
-        // A run that ended on an interval end: its final statistics are that sample.
-        if samples.last().is_some_and(|s| s.cycle >= last.cycle) {
-            samples.pop();
-        }
-        samples.push(last);
-        let threads = u64::from(chip.tms) * u64::from(chip.threads_per_tm);
-        let stream = chip.stream_memory.capacity_bytes > 0;
-        stats.intervals =
-            timing::intervals::intervals(&samples, n, threads, chip.clock_ghz, stream);
-        stats.interval_cycles = Some(n);
+    if let Some(st) = engine.intervals.take() {
+        st.finish(timing::intervals::Snapshot::of_stats(
+            &stats,
+            engine.c.stream_ray_cycles,
+        ));
+        stats.interval_cycles = req.stats_interval;
     }
     finish(
         &req,

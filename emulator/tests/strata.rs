@@ -555,15 +555,17 @@ fn stream_intervals_integrate_rays_in_flight() {
         let mut req = RunRequest::new(&path, &data, &chip, Mode::Timing);
         req.host_threads = Some(threads);
         req.stats_interval = Some(n);
+        let mut intervals = Vec::new();
+        let mut keep = |iv: &trax_emulator::timing::Interval| intervals.push(iv.clone());
+        req.interval_sink = Some(&mut keep);
         let r = run(req, &mut Vec::new()).unwrap();
         assert!(matches!(r.outcome, Outcome::Finished), "{:?}", r.failure);
-        r.timing.unwrap()
+        (r.timing.unwrap(), intervals)
     };
-    let (t1, t2) = (go(1), go(2));
-    assert_eq!(t1.intervals, t2.intervals);
-    assert_eq!(t1.intervals.len() as u64, t1.cycles.div_ceil(n));
-    let integral: f64 = t1
-        .intervals
+    let ((t1, i1), (_, i2)) = (go(1), go(2));
+    assert_eq!(i1, i2);
+    assert_eq!(i1.len() as u64, t1.cycles.div_ceil(n));
+    let integral: f64 = i1
         .iter()
         .map(|i| i.mean_rays_in_flight.unwrap() * i.cycles as f64)
         .sum();

@@ -122,8 +122,8 @@ pub struct RenderArgs {
     /// Image height in pixels.
     #[arg(long, default_value_t = 128)]
     pub height: u32,
-    /// Samples per pixel (header field `spp`).
-    #[arg(long, default_value_t = 1)]
+    /// Samples per pixel (header field `spp`), at least 1.
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
     pub spp: u32,
     /// Maximum path depth (header field `max_depth`).
     #[arg(long, default_value_t = 4)]
@@ -160,6 +160,7 @@ impl RenderArgs {
             view: self.view.clone(),
             light: self.light.clone(),
             scale: self.scene_scale,
+            max_triangles: None,
         }
     }
 

@@ -299,6 +299,12 @@ pub fn execute(a: &ExecArgs, extras: &Extras) -> Result<Executed, String> {
     if a.quantum == 0 {
         return Err("--quantum must be at least 1".into());
     }
+    if a.stats_interval.is_some() && a.stats_json.is_none() {
+        eprintln!(
+            "warning: --stats-interval without --stats-json: the intervals are written only \
+             to the statistics document, so none is kept"
+        );
+    }
     let p = &a.program;
     if p.host_threads == Some(0) {
         return Err("--host-threads must be at least 1".into());
@@ -317,8 +323,10 @@ pub fn execute(a: &ExecArgs, extras: &Extras) -> Result<Executed, String> {
                 ));
             }
         }
+        check_writable(out)?;
     }
     let chip = p.chip_config()?;
+    trax::resources::check_chip_memory(&chip, !a.functional)?;
     let sample = match a.sample {
         Some(n) => Some(a.sampling.request(n, p.pixels(), &chip)?),
         None => {
@@ -354,6 +362,22 @@ pub fn execute(a: &ExecArgs, extras: &Extras) -> Result<Executed, String> {
     req.limits = limits;
     req.host_threads = p.host_threads;
     req.stats_interval = a.stats_interval;
+    // Intervals go to a spool file as they complete (the run keeps none).
+    let mut spool = match a.stats_interval.and(a.stats_json.as_ref()) {
+        Some(_) => Some(
+            trax::stats::IntervalSpool::new()
+                .map_err(|e| format!("statistics intervals: cannot make a spool file: {e}"))?,
+        ),
+        None => None,
+    };
+    let mut to_spool = |iv: &trax_emulator::timing::Interval| {
+        if let Some(s) = spool.as_mut() {
+            s.push(iv);
+        }
+    };
+    if a.stats_interval.is_some() {
+        req.interval_sink = Some(&mut to_spool);
+    }
     req.sample = sample;
     req.profile = extras.profile;
     if let Some((addr, allow_remote)) = &extras.gdb {
@@ -424,18 +448,22 @@ pub fn execute(a: &ExecArgs, extras: &Extras) -> Result<Executed, String> {
             );
         }
     }
+    let intervals = spool
+        .take()
+        .map(trax::stats::IntervalSpool::finish)
+        .transpose()
+        .map_err(|e| format!("statistics intervals: {e}"))?;
     if let Some(path) = &a.stats_json {
         let doc = StatsDocument::new(
             &request,
-            &prepared.image,
-            &prepared.scene_sources,
+            &prepared,
             &r,
             &chip,
             a.quantum,
             limits,
+            intervals.as_ref(),
         );
-        let text = serde_json::to_string_pretty(&doc).map_err(|e| e.to_string())?;
-        std::fs::write(path, text + "\n").map_err(|e| format!("{}: {e}", path.display()))?;
+        write_json(path, &doc).map_err(|e| format!("{}: {e}", path.display()))?;
     }
     if r.finished() && (a.output.is_some() || a.raw_framebuffer.is_some()) {
         let bytes = prepared.framebuffer(&r).unwrap_or_default();
@@ -457,6 +485,35 @@ pub fn execute(a: &ExecArgs, extras: &Extras) -> Result<Executed, String> {
     };
     let profile = r.profile.take().map(|p| (p, r.debug.take()));
     Ok(Executed { code, profile })
+}
+
+/// Writes `doc` as pretty JSON to `path`, streamed (the intervals are read from their
+/// spool as they are written).
+fn write_json(path: &std::path::Path, doc: &StatsDocument) -> std::io::Result<()> {
+    use std::io::Write;
+    let mut w = std::io::BufWriter::new(std::fs::File::create(path)?);
+    serde_json::to_writer_pretty(&mut w, doc)?;
+    w.write_all(b"\n")?;
+    w.flush()
+}
+
+/// Refuses an output path that cannot be written (a directory, a read-only file or
+/// directory) before a run whose results would be lost: opens it for writing without
+/// truncating it, and removes it again when it did not exist.
+fn check_writable(path: &std::path::Path) -> Result<(), String> {
+    if path.is_dir() {
+        return Err(format!("{}: is a directory, not a file", path.display()));
+    }
+    let existed = path.exists();
+    std::fs::OpenOptions::new()
+        .append(true)
+        .create(true)
+        .open(path)
+        .map_err(|e| format!("{}: cannot be written: {e}", path.display()))?;
+    if !existed {
+        let _ = std::fs::remove_file(path);
+    }
+    Ok(())
 }
 
 fn with_newline(mut s: String) -> String {

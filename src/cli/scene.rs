@@ -116,6 +116,7 @@ fn info(a: &InfoArgs) -> Result<(), Box<dyn std::error::Error>> {
             view: a.view.clone(),
             light: a.light.clone(),
             scale: a.scene_scale,
+            max_triangles: None,
         },
     )?;
     let load_time = t0.elapsed();

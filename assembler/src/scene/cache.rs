@@ -54,6 +54,16 @@ pub fn load_scene_cached(
     if let Ok(bytes) = std::fs::read(&file) {
         if let Ok(scene) = decode(&bytes) {
             if scene.sources.iter().all(|s| s.holds().is_ok()) {
+                // The limit is not part of the key: a cached scene is held to it here.
+                let count = scene.len() as u64;
+                let limit = opts.triangle_limit();
+                if count > limit {
+                    return Err(SceneError::TooManyTriangles {
+                        scene: spec.to_string(),
+                        count,
+                        limit,
+                    });
+                }
                 return Ok((scene, CacheUse::Hit));
             }
         }

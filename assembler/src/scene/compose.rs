@@ -84,22 +84,28 @@ const MAX_LEVELS: u32 = 16;
 /// smoothing scheme), materials kept, normals and texture coordinates interpolated.
 /// A midpoint is computed from the two endpoints' bits alone, so triangles that shared an
 /// edge share its midpoint bit for bit: a watertight mesh stays watertight.
-pub fn subdivide(mut scene: Scene, levels: u32, spec: &str) -> Result<Scene, SceneError> {
-    let too_many = |n: Option<u64>| {
-        SceneError::Procedural {
+/// At most `limit` triangles (see [`super::LoadOptions::triangle_limit`]): more are refused
+/// before any is split.
+pub fn subdivide(
+    mut scene: Scene,
+    levels: u32,
+    spec: &str,
+    limit: u64,
+) -> Result<Scene, SceneError> {
+    let too_many = |n: Option<u64>| SceneError::Procedural {
         spec: spec.into(),
         message: format!(
-            "{} triangles × 4^{levels} = {} triangles, more than the {MAX_TRIANGLES} that fit in memory",
+            "{} triangles × 4^{levels} = {} triangles, more than the {limit} that fit in memory \
+             with the scene data the kernel reads",
             scene.len(),
             n.map_or("over 2^64".to_string(), |n| n.to_string())
         ),
-    }
     };
     let total = (levels <= MAX_LEVELS)
         .then(|| (scene.len() as u64).checked_mul(1u64 << (2 * levels)))
         .flatten();
     match total {
-        Some(n) if n <= MAX_TRIANGLES => {}
+        Some(n) if n <= limit.min(MAX_TRIANGLES) => {}
         n => return Err(too_many(n)),
     }
     for _ in 0..levels {
@@ -228,7 +234,7 @@ mod tests {
         for levels in 0..3u32 {
             let base = icosphere(1).unwrap();
             let a0: f64 = base.triangles.iter().map(area).sum();
-            let s = subdivide(base, levels, "t").unwrap();
+            let s = subdivide(base, levels, "t", MAX_TRIANGLES).unwrap();
             assert_eq!(s.len(), 80 * 4usize.pow(levels));
             assert!(closed(&s.triangles), "level {levels}: not watertight");
             let a1: f64 = s.triangles.iter().map(area).sum();
@@ -239,9 +245,9 @@ mod tests {
                 .flatten()
                 .all(|n| { ((n.iter().map(|&x| x * x).sum::<f32>()) - 1.0).abs() < 1e-5 }));
         }
-        let e = subdivide(cornell_box(), 11, "subdivide:11:cornell").unwrap_err();
+        let e = subdivide(cornell_box(), 11, "subdivide:11:cornell", MAX_TRIANGLES).unwrap_err();
         assert!(e.to_string().contains("subdivide:11:cornell"), "{e}");
-        assert!(subdivide(cornell_box(), u32::MAX, "x").is_err());
+        assert!(subdivide(cornell_box(), u32::MAX, "x", MAX_TRIANGLES).is_err());
     }
 
     #[test]

@@ -337,6 +337,16 @@ pub enum SceneError {
     /// Per-triangle arrays disagree, or an index is out of range (a scene built by hand).
     #[error("{0}")]
     Inconsistent(String),
+    /// More triangles than the limit in force ([`LoadOptions::max_triangles`]).
+    #[error("scene `{scene}` has {count} triangles, more than the {limit} that fit in memory with the scene data the kernel reads (refused before parsing)")]
+    TooManyTriangles {
+        /// Scene (file or spec).
+        scene: String,
+        /// Triangles it has (or would have).
+        count: u64,
+        /// The limit.
+        limit: u64,
+    },
     /// The scene does not fit in the 32-bit address space.
     #[error("scene `{scene}` is too large: {what} needs {bytes} bytes, more than the 32-bit address space")]
     TooLarge {
@@ -637,6 +647,19 @@ pub struct LoadOptions {
     /// Scale factor applied to the whole scene after the camera and lights are in place
     /// (see [`Scene::scale`]); `None` leaves it as loaded.
     pub scale: Option<f64>,
+    /// Refuse scenes of more triangles than this, before building them (OBJ files are
+    /// counted before they are parsed, `subdivide:` levels before they are split); `None`:
+    /// [`MAX_TRIANGLES`]. `trax::pipeline` sets the program's own limit,
+    /// [`crate::image::max_triangles`] of the fields it reads.
+    pub max_triangles: Option<u64>,
+}
+
+impl LoadOptions {
+    /// The triangle limit in force ([`Self::max_triangles`], at most [`MAX_TRIANGLES`]).
+    pub fn triangle_limit(&self) -> u64 {
+        self.max_triangles
+            .map_or(MAX_TRIANGLES, |n| n.min(MAX_TRIANGLES))
+    }
 }
 
 /// Where a scene's camera came from, for error messages.
@@ -774,13 +797,20 @@ fn load_nested(spec: &str, opts: &LoadOptions, depth: usize) -> Result<Scene, Sc
         };
         let levels = spec_number(spec, n, "a subdivision count")?;
         let levels = u32::try_from(levels).unwrap_or(u32::MAX);
-        subdivide(inner(rest, "subdivide:N:SCENE")?, levels, spec)?
+        subdivide(
+            inner(rest, "subdivide:N:SCENE")?,
+            levels,
+            spec,
+            opts.triangle_limit(),
+        )?
     } else {
         is_file = true;
         let path = Path::new(spec);
         match path.extension().and_then(|e| e.to_str()) {
-            Some(e) if e.eq_ignore_ascii_case("obj") => obj::read_obj(path)?,
-            Some(e) if e.eq_ignore_ascii_case("objl") => obj::read_objl(path)?,
+            Some(e) if e.eq_ignore_ascii_case("obj") => obj::read_obj(path, opts.triangle_limit())?,
+            Some(e) if e.eq_ignore_ascii_case("objl") => {
+                obj::read_objl(path, opts.triangle_limit())?
+            }
             _ if [
                 "procedural",
                 "icosphere",

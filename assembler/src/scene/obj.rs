@@ -10,7 +10,7 @@ use std::cell::RefCell;
 use std::io::Cursor;
 use std::path::{Path, PathBuf};
 
-use super::{geometric_normal, Material, Scene, SceneError, View};
+use super::{geometric_normal, Material, Scene, SceneError, View, MAX_TRIANGLES};
 
 fn syntax(path: &Path, line: usize, message: impl Into<String>) -> SceneError {
     SceneError::Syntax {
@@ -259,15 +259,30 @@ fn convert_material(m: &tobj::Material) -> Material {
 /// Loads one OBJ file and its MTL libraries into `scene`, offsetting material ids by the
 /// materials already in the scene. Unknown material names map to `u32::MAX` (resolved to
 /// the grey default by [`Scene::validate`]).
-fn append_obj(scene: &mut Scene, path: &Path) -> Result<(), SceneError> {
-    append_obj_with(scene, path, &|p| std::fs::read_to_string(p))
+fn append_obj(scene: &mut Scene, path: &Path, limit: u64) -> Result<(), SceneError> {
+    append_obj_with(scene, path, &|p| std::fs::read_to_string(p), limit)
+}
+
+/// Triangles the faces of an OBJ text make (a face of k vertices is k - 2 triangles), counted
+/// without parsing anything else: a scene too large is refused before the full parse.
+fn count_triangles(text: &str) -> u64 {
+    text.lines()
+        .filter_map(|l| l.trim_start().strip_prefix("f"))
+        .filter(|rest| rest.starts_with([' ', '\t']))
+        .map(|rest| (rest.split_whitespace().count() as u64).saturating_sub(2))
+        .sum()
 }
 
 /// Reads a file's text for the OBJ loader (the file system, or memory when fuzzing).
 pub type ReadText<'a> = &'a dyn Fn(&Path) -> std::io::Result<String>;
 
 /// [`append_obj`] reading files (the OBJ and its MTL libraries) through `read_text`.
-fn append_obj_with(scene: &mut Scene, path: &Path, read_text: ReadText) -> Result<(), SceneError> {
+fn append_obj_with(
+    scene: &mut Scene,
+    path: &Path,
+    read_text: ReadText,
+    limit: u64,
+) -> Result<(), SceneError> {
     let text = read_text(path).map_err(|source| SceneError::Io {
         path: path.to_path_buf(),
         source,
@@ -276,6 +291,14 @@ fn append_obj_with(scene: &mut Scene, path: &Path, read_text: ReadText) -> Resul
         path: path.to_path_buf(),
         sha256: super::sha256_hex(text.as_bytes()),
     });
+    let count = scene.len() as u64 + count_triangles(&text);
+    if count > limit {
+        return Err(SceneError::TooManyTriangles {
+            scene: path.display().to_string(),
+            count,
+            limit,
+        });
+    }
     check_obj(path, &text)?;
     let text = if text.contains('\t') {
         text.replace('\t', " ")
@@ -403,7 +426,7 @@ pub fn load_obj(path: &Path) -> Result<Scene, SceneError> {
 
 /// [`load_obj`] reading the OBJ and MTL files through `read_text`.
 pub fn load_obj_with(path: &Path, read_text: ReadText) -> Result<Scene, SceneError> {
-    let mut scene = read_obj_with(path, read_text)?;
+    let mut scene = read_obj_with(path, read_text, MAX_TRIANGLES)?;
     scene.view = View::framing(&scene.bounds());
     scene.validate()?;
     Ok(scene)
@@ -421,28 +444,28 @@ fn unframed(path: &Path) -> Scene {
 }
 
 /// [`load_obj`] without the framing camera and validation (the caller sets the camera first).
-pub(crate) fn read_obj(path: &Path) -> Result<Scene, SceneError> {
-    read_obj_with(path, &|p| std::fs::read_to_string(p))
+pub(crate) fn read_obj(path: &Path, limit: u64) -> Result<Scene, SceneError> {
+    read_obj_with(path, &|p| std::fs::read_to_string(p), limit)
 }
 
 /// [`read_obj`] reading the OBJ and MTL files through `read_text`.
-fn read_obj_with(path: &Path, read_text: ReadText) -> Result<Scene, SceneError> {
+fn read_obj_with(path: &Path, read_text: ReadText, limit: u64) -> Result<Scene, SceneError> {
     let mut scene = unframed(path);
-    append_obj_with(&mut scene, path, read_text)?;
+    append_obj_with(&mut scene, path, read_text, limit)?;
     Ok(scene)
 }
 
 /// Loads a simtrax `.objl` list: one OBJ file name per line, relative to the list file;
 /// material ids of later files are offset by the materials loaded before them.
 pub fn load_objl(path: &Path) -> Result<Scene, SceneError> {
-    let mut scene = read_objl(path)?;
+    let mut scene = read_objl(path, MAX_TRIANGLES)?;
     scene.view = View::framing(&scene.bounds());
     scene.validate()?;
     Ok(scene)
 }
 
 /// [`load_objl`] without the framing camera and validation.
-pub(crate) fn read_objl(path: &Path) -> Result<Scene, SceneError> {
+pub(crate) fn read_objl(path: &Path, limit: u64) -> Result<Scene, SceneError> {
     let mut scene = unframed(path);
     let text = super::read_source(path, &mut scene.sources).map_err(|source| SceneError::Io {
         path: path.to_path_buf(),
@@ -475,7 +498,7 @@ pub(crate) fn read_objl(path: &Path) -> Result<Scene, SceneError> {
                 ),
             });
         }
-        append_obj(&mut scene, &file)?;
+        append_obj(&mut scene, &file, limit)?;
         files += 1;
     }
     if files == 0 {

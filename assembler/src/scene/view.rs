@@ -118,8 +118,9 @@ impl View {
     }
 }
 
-/// Reads whitespace-separated numbers from a file, exactly `want` of them, with file:line errors.
-fn read_numbers(path: &Path, want: usize, what: &str) -> Result<Vec<f32>, SceneError> {
+/// Reads whitespace-separated numbers from a file, exactly `want` of them, with file:line
+/// errors; each with its line.
+fn read_numbers(path: &Path, want: usize, what: &str) -> Result<Vec<(f32, usize)>, SceneError> {
     let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
         path: path.to_path_buf(),
         source,
@@ -127,8 +128,13 @@ fn read_numbers(path: &Path, want: usize, what: &str) -> Result<Vec<f32>, SceneE
     numbers(path, &text, want, what)
 }
 
-/// The numbers of a `.view`/`.light` text (`path` names it in errors).
-fn numbers(path: &Path, text: &str, want: usize, what: &str) -> Result<Vec<f32>, SceneError> {
+/// The numbers of a `.view`/`.light` text (`path` names it in errors), each with its line.
+fn numbers(
+    path: &Path,
+    text: &str,
+    want: usize,
+    what: &str,
+) -> Result<Vec<(f32, usize)>, SceneError> {
     let mut nums = Vec::with_capacity(want);
     let mut last_line = 1;
     for (i, line) in text.lines().enumerate() {
@@ -150,7 +156,7 @@ fn numbers(path: &Path, text: &str, want: usize, what: &str) -> Result<Vec<f32>,
             if !v.is_finite() {
                 return Err(syntax(format!("expected a finite number, found `{tok}`")));
             }
-            nums.push(v);
+            nums.push((v, i + 1));
         }
     }
     if nums.len() < want {
@@ -182,10 +188,24 @@ pub fn parse_view_str(path: &Path, text: &str) -> Result<View, SceneError> {
 /// Parses the text of a simtrax `.light` file (`path` names it in errors).
 pub fn parse_light_str(path: &Path, text: &str) -> Result<Vec3, SceneError> {
     let n = numbers(path, text, 3, ".light (position)")?;
-    Ok([n[0], n[1], n[2]])
+    Ok([n[0].0, n[1].0, n[2].0])
 }
 
-fn view_from(path: &Path, n: Vec<f32>) -> Result<View, SceneError> {
+fn view_from(path: &Path, numbers: Vec<(f32, usize)>) -> Result<View, SceneError> {
+    let n: Vec<f32> = numbers.iter().map(|x| x.0).collect();
+    // An empty image window (left = right or bottom = top) makes every pixel's ray the same.
+    for (lo, hi, what) in [(10, 11, "left = right"), (12, 13, "bottom = top")] {
+        if n[lo] == n[hi] {
+            return Err(SceneError::Syntax {
+                path: path.to_path_buf(),
+                line: numbers[hi].1,
+                message: format!(
+                    "the image window has zero size ({what} = {}): every pixel would be the same",
+                    n[hi]
+                ),
+            });
+        }
+    }
     let view = View {
         eye: [n[0], n[1], n[2]],
         gaze: [n[3], n[4], n[5]],
@@ -205,5 +225,5 @@ fn view_from(path: &Path, n: Vec<f32>) -> Result<View, SceneError> {
 /// Parses a simtrax `.light` file (one point-light position).
 pub fn parse_light(path: &Path) -> Result<Vec3, SceneError> {
     let n = read_numbers(path, 3, ".light (position)")?;
-    Ok([n[0], n[1], n[2]])
+    Ok([n[0].0, n[1].0, n[2].0])
 }

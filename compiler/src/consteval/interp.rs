@@ -9,13 +9,13 @@ use super::{cast, int_binop, show_int, wrap, CVal};
 use crate::diag::{Diagnostic, FileId};
 use crate::ops::{BinOp, UnOp};
 use crate::resolve::{GlobalId, Program, Recv};
+use crate::span::Spanned;
 use crate::ty::{FloatTy, IntTy, Ty};
 use crate::typeck::{key, Adjust, BindMode, Body, Callee, Checked, MacroCall, PatKind, Res};
 use proc_macro2::Span;
 use std::cell::RefCell;
 use std::collections::HashMap;
 use std::rc::Rc;
-use syn::spanned::Spanned;
 use syn::{Expr, Lit, Pat, Stmt};
 
 /// A compile-time value.

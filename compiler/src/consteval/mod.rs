@@ -16,10 +16,10 @@ pub mod interp;
 use crate::diag::{DResult, Diagnostic, FileId};
 use crate::ops::BinOp as Op;
 use crate::resolve::{GlobalId, Program};
+use crate::span::Spanned;
 use crate::ty::{FloatTy, IntTy, Ty};
 use crate::typeck::{key, Body, Checked, Count, FmtPiece, LocalId, MacroCall, Res, TraxArg};
 use std::collections::HashMap;
-use syn::spanned::Spanned;
 use syn::visit::Visit;
 use syn::{BinOp, Expr, Lit, Pat, UnOp};
 

@@ -4,11 +4,11 @@
 use super::{internal, LResult, Lowerer, V};
 use crate::ops::BinOp;
 use crate::resolve::FnId;
+use crate::span::Spanned;
 use crate::ty::{LangTrait, TraitKind, Ty};
 use crate::typeck::{key, Callee, OpCall, RecvAdj};
 use inkwell::values::{BasicValueEnum, IntValue, PointerValue};
 use inkwell::IntPredicate;
-use syn::spanned::Spanned;
 use syn::Expr;
 
 impl<'ctx> Lowerer<'ctx, '_, '_> {

@@ -6,6 +6,7 @@
 
 use super::{internal, LResult, Lowerer, Work, V};
 use crate::diag::Loc;
+use crate::span::Spanned;
 use crate::ty::{ClosureTy, Ty};
 use crate::typeck::{key, Body, ClosureInfo};
 use inkwell::attributes::{Attribute, AttributeLoc};
@@ -14,7 +15,6 @@ use inkwell::module::Linkage;
 use inkwell::types::{BasicType, BasicTypeEnum, StructType};
 use inkwell::values::{BasicValueEnum, FunctionValue, PointerValue};
 use inkwell::AddressSpace;
-use syn::spanned::Spanned;
 use syn::visit::Visit;
 use syn::Expr;
 

@@ -9,6 +9,12 @@ use inkwell::values::PointerValue;
 use inkwell::AddressSpace;
 use proc_macro2::Span;
 
+/// Lexical blocks nest at most this deep in a function's DWARF (a variable of a deeper
+/// block is described in the deepest one; real kernels nest a few dozen). LLVM walks a
+/// location's chain of scopes up to its function for each instruction it verifies: 3000
+/// nested `if`s took seconds there, 10^4 most of a minute.
+const MAX_SCOPE_DEPTH: u32 = 256;
+
 const DW_ATE_BOOLEAN: u32 = 0x02;
 const DW_ATE_FLOAT: u32 = 0x04;
 const DW_ATE_SIGNED: u32 = 0x05;
@@ -421,12 +427,16 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
         }
     }
 
-    /// Opens a lexical block at `span`; returns the previous scope to restore.
+    /// Opens a lexical block at `span` (within [`MAX_SCOPE_DEPTH`] of the function's
+    /// scope: deeper blocks describe their variables in the deepest one); returns the
+    /// previous scope to restore.
     pub(super) fn push_scope(&mut self, span: Span) -> DIScope<'ctx> {
         let file = self.di_file(self.file);
         let l = Loc::of(span);
-        let prev = self.fs().scope;
-        if !self.fs().debug {
+        let fs = self.fs();
+        let prev = fs.scope;
+        fs.scope_depth += 1;
+        if !fs.debug || fs.scope_depth > MAX_SCOPE_DEPTH {
             return prev;
         }
         let lb = self.dib.create_lexical_block(prev, file, l.line, l.col);
@@ -436,6 +446,8 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
 
     /// Restores a scope saved by [`Self::push_scope`].
     pub(super) fn pop_scope(&mut self, prev: DIScope<'ctx>) {
-        self.fs().scope = prev;
+        let fs = self.fs();
+        fs.scope_depth -= 1;
+        fs.scope = prev;
     }
 }

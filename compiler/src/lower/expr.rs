@@ -2,14 +2,18 @@
 
 use super::{int_of, internal, LResult, LoopTarget, Lowerer, V};
 use crate::ops::{BinOp, UnOp};
+use crate::span::Spanned;
 use crate::ty::{FloatTy, IntTy, SimdTy, Ty};
 use crate::typeck::{key, Adjust, OpCall, Res};
 use inkwell::types::BasicTypeEnum;
 use inkwell::values::{BasicValueEnum, IntValue};
 use inkwell::{FloatPredicate, IntPredicate};
-use syn::spanned::Spanned;
 use syn::{Expr, Lit, Pat, Stmt};
 use trax_runtime::isa::AbortKind;
+
+/// Elements above which `let a = [v; N]` is filled in place by a loop instead of built as
+/// an aggregate value (local arrays of the examples and the prelude have at most 64).
+const LARGE_REPEAT: u32 = 1024;
 
 impl<'ctx> Lowerer<'ctx, '_, '_> {
     // ---------------------------------------------------------------- blocks
@@ -52,6 +56,7 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
         Ok(None)
     }
 
+    /// A `let` statement: its bindings' slots, filled from the initializer.
     fn let_stmt(&mut self, l: &syn::Local) -> LResult<()> {
         let pat = match &l.pat {
             Pat::Type(pt) => &*pt.pat,
@@ -68,8 +73,34 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
                 if let Some((id, crate::typeck::BindMode::Value)) =
                     self.body.binds.get(&key(pi)).copied()
                 {
-                    let v = self.expr(&init.expr)?;
                     let ty = self.body.locals[id].ty.clone();
+                    if let (Expr::Repeat(r), Ty::Array(et, n)) = (&*init.expr, &ty) {
+                        if *n > LARGE_REPEAT && self.ty_of(&init.expr) == ty {
+                            // `let a = [v; N]` with a large N: filled in place by a loop,
+                            // never an N-element aggregate value (LLVM's backend expands
+                            // those element by element: N = 10^6 took 32 s and 1.3 GB,
+                            // 4·10^6 crashed it).
+                            let v = self.expr(&r.expr)?;
+                            self.set_loc(pi.ident.span());
+                            let slot = self.alloca(&ty, &pi.ident.to_string())?;
+                            self.declare_var(
+                                slot,
+                                &pi.ident.to_string(),
+                                &ty,
+                                pi.ident.span(),
+                                None,
+                            );
+                            if let Some(v) = v {
+                                if !self.terminated() {
+                                    let v = self.val(Some(v), et);
+                                    self.fill_loop(slot, *n, v)?;
+                                }
+                            }
+                            self.fs().locals.insert(id, slot);
+                            return Ok(());
+                        }
+                    }
+                    let v = self.expr(&init.expr)?;
                     self.set_loc(pi.ident.span());
                     let slot = self.alloca(&ty, &pi.ident.to_string())?;
                     self.declare_var(slot, &pi.ident.to_string(), &ty, pi.ident.span(), None);
@@ -353,6 +384,7 @@ impl<'ctx> Lowerer<'ctx, '_, '_> {
     }
 
     /// Stores `v` into each of the `n` elements of the array at `slot`.
+    /// Fills the `n` elements of the array at `slot` with `v`, in a loop.
     pub(super) fn fill_loop(
         &mut self,
         slot: inkwell::values::PointerValue<'ctx>,

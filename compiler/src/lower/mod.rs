@@ -92,6 +92,9 @@ struct FnState<'ctx> {
     locals: HashMap<LocalId, PointerValue<'ctx>>,
     loops: Vec<LoopTarget<'ctx>>,
     scope: DIScope<'ctx>,
+    /// Lexical blocks open around the current point ([`Self::scope`] is the innermost of
+    /// the first `debug::MAX_SCOPE_DEPTH`).
+    scope_depth: u32,
     ret: Ty,
     /// False while evaluating constant initializers (no subprogram to describe).
     debug: bool,
@@ -448,7 +451,7 @@ impl<'ctx, 'p, 'a> Lowerer<'ctx, 'p, 'a> {
                             slot,
                             "_",
                             &ty,
-                            syn::spanned::Spanned::span(pt),
+                            crate::span::Spanned::span(pt),
                             Some(i as u32 + 1),
                         );
                         pending_pats.push((other, slot, ty));
@@ -548,6 +551,7 @@ impl<'ctx, 'p, 'a> Lowerer<'ctx, 'p, 'a> {
             locals: HashMap::new(),
             loops: Vec::new(),
             scope: sp.as_debug_info_scope(),
+            scope_depth: 0,
             ret,
             debug: true,
             panic_args: None,
@@ -696,6 +700,7 @@ impl<'ctx, 'p, 'a> Lowerer<'ctx, 'p, 'a> {
             locals: HashMap::new(),
             loops: Vec::new(),
             scope: di_file.as_debug_info_scope(),
+            scope_depth: 0,
             ret: Ty::Unit,
             debug: false,
             panic_args: None,
@@ -715,7 +720,7 @@ impl<'ctx, 'p, 'a> Lowerer<'ctx, 'p, 'a> {
         let v = r?;
         let v = self.val(v, ty);
         if !is_const(v) {
-            let l = Loc::of(syn::spanned::Spanned::span(expr));
+            let l = Loc::of(crate::span::Spanned::span(expr));
             return Err(internal(format!(
                 "initializer of `{}` at {}:{} did not fold to a constant",
                 gd.name,

@@ -7,10 +7,10 @@
 
 use super::fmt::{MsgArg, Part};
 use super::{internal, LResult, Lowerer};
+use crate::span::Spanned;
 use crate::ty::{IntTy, Ty};
 use crate::typeck::MacroCall;
 use inkwell::values::IntValue;
-use syn::spanned::Spanned;
 use trax_runtime::abortmsg::{Spec, ABORT_FORMATTED};
 use trax_runtime::isa::{instr, AbortKind, TraxOp};
 

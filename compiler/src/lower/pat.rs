@@ -3,13 +3,13 @@
 //! `matches!`, `for` loop variables and destructuring parameters.
 
 use super::{internal, LResult, Lowerer, V};
+use crate::span::Spanned;
 use crate::ty::Ty;
 use crate::typeck::{key, BindMode, PatInfo, PatKind};
 use inkwell::basic_block::BasicBlock;
 use inkwell::types::BasicType;
 use inkwell::values::{BasicValueEnum, IntValue, PointerValue};
 use inkwell::{AddressSpace, FloatPredicate, IntPredicate};
-use syn::spanned::Spanned;
 use syn::{Expr, Pat};
 use trax_runtime::isa::AbortKind;
 

@@ -2,13 +2,13 @@
 //! messages), dereferences and `Index` impls; slices (`{ptr, len}`) and sub-slicing.
 
 use super::{internal, LResult, Lowerer};
+use crate::span::Spanned;
 use crate::ty::{IntTy, Ty};
 use crate::typeck::{key, OpCall, Res};
 use inkwell::types::BasicType;
 use inkwell::values::{BasicValueEnum, IntValue, PointerValue, StructValue};
 use inkwell::AddressSpace;
 use inkwell::IntPredicate;
-use syn::spanned::Spanned;
 use syn::{Expr, UnOp};
 
 /// A sequence reached from an expression: an array (pointer to it) or a slice (pointer

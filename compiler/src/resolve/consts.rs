@@ -3,9 +3,9 @@
 
 use super::{ModId, Ns, PathRes, Program};
 use crate::diag::{DResult, FileId};
+use crate::span::Spanned;
 use crate::ty::{IntTy, Ty};
 use proc_macro2::Span;
-use syn::spanned::Spanned;
 use syn::{Expr, Type};
 
 /// The most elements an array type or `[x; N]` may have (2^24).

@@ -10,9 +10,9 @@ use super::{
 };
 use crate::diag::{DResult, Diagnostic, FileId, SourceMap};
 use crate::parse::{cfg_enabled, ParsedCrate};
+use crate::span::Spanned;
 use crate::ty::{IntTy, LangTrait, SimdTy, TraitKind, TraitRef, Ty};
 use std::collections::HashMap;
-use syn::spanned::Spanned;
 use syn::visit::Visit;
 use syn::{Attribute, Expr, FnArg, Item, Meta, Pat, ReturnType, Type};
 

@@ -2,10 +2,10 @@
 
 use super::{ImplId, ModId, Ns, PathRes, Program};
 use crate::diag::{DResult, Diagnostic, FileId};
+use crate::span::Spanned;
 use crate::ty::{AdtId, TraitId, TraitKind, TraitRef, Ty};
 use proc_macro2::Span;
 use std::collections::HashMap;
-use syn::spanned::Spanned;
 use syn::Type;
 
 /// What `Self` and generic parameter names mean where a type is written.

@@ -10,9 +10,9 @@ use super::{key, Callee, RecvAdj, Res};
 use crate::builtins::{self, Builtin, Method, On, P};
 use crate::diag::DResult;
 use crate::resolve::{Ctor, FnId, FnParent, Recv};
+use crate::span::Spanned;
 use crate::ty::{FloatTy, IntTy, LangTrait, TraitKind, Ty};
 use proc_macro2::Span;
-use syn::spanned::Spanned;
 use syn::Expr;
 
 impl<'p, 'a> Cx<'p, 'a> {

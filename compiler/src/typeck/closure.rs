@@ -8,10 +8,10 @@ use super::infer::{ClosureFrame, Cx, VarKind};
 use super::{key, Callee, ClosureInfo};
 use crate::diag::DResult;
 use crate::resolve::FnId;
+use crate::span::Spanned;
 use crate::ty::{ClosureTy, TraitKind, Ty};
 use proc_macro2::Span;
 use std::collections::HashMap;
-use syn::spanned::Spanned;
 use syn::{Expr, Pat};
 
 impl<'p, 'a> Cx<'p, 'a> {

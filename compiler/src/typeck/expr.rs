@@ -4,10 +4,10 @@ use super::infer::{block_tail_expr, block_tail_span, Cx, LoopCx, VarKind};
 use super::{key, Adjust, IterInfo, OpCall, Res};
 use crate::diag::DResult;
 use crate::ops::{BinOp, UnOp};
+use crate::span::Spanned;
 use crate::ty::{FloatTy, IntTy, LangTrait, SimdTy, Ty};
 use proc_macro2::Span;
 use std::collections::HashMap;
-use syn::spanned::Spanned;
 use syn::{Expr, Lit, Pat, Stmt};
 
 /// How a `for` loop or `zip` iterates a sequence.

@@ -4,10 +4,10 @@
 use super::{Adjust, Body, Callee, LocalId, LocalInfo, Res};
 use crate::diag::{DResult, Diagnostic, FileId};
 use crate::resolve::{FnId, FnParent, GlobalId, ModId, Program, TyScope};
+use crate::span::Spanned;
 use crate::ty::{FloatTy, IntTy, TraitKind, Ty};
 use proc_macro2::Span;
 use std::collections::HashMap;
-use syn::spanned::Spanned;
 use syn::Stmt;
 
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]

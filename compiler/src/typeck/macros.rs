@@ -3,11 +3,11 @@
 
 use super::infer::{Cx, VarKind};
 use crate::diag::DResult;
+use crate::span::Spanned;
 use crate::ty::{FloatTy, IntTy, LangTrait, Ty};
 use proc_macro2::Span;
 use std::collections::HashMap;
 use syn::punctuated::Punctuated;
-use syn::spanned::Spanned;
 use syn::{Expr, Lit, Token};
 use trax_runtime::isa::{AbortKind, OperandKind, TraxInstr, TRAX_INSTRUCTIONS};
 

@@ -5,9 +5,9 @@ use super::infer::{Cx, VarKind};
 use super::{key, BindMode, PatInfo, PatKind};
 use crate::diag::DResult;
 use crate::resolve::{Ctor, Ns, PathRes};
+use crate::span::Spanned;
 use crate::ty::{AdtId, Ty};
 use std::collections::HashMap;
-use syn::spanned::Spanned;
 use syn::{Expr, Pat};
 
 /// What a pattern path names.

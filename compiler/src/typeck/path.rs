@@ -6,9 +6,9 @@ use super::infer::{Cx, Deferred, VarKind};
 use super::{key, Res};
 use crate::diag::DResult;
 use crate::resolve::{Ctor, FnId, GlobalId, Ns, PathRes};
+use crate::span::Spanned;
 use crate::ty::{FloatTy, IntTy, TraitKind, Ty};
 use proc_macro2::Span;
-use syn::spanned::Spanned;
 use syn::Expr;
 
 impl<'p, 'a> Cx<'p, 'a> {

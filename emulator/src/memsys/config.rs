@@ -31,7 +31,8 @@ pub struct L1Config {
     pub banks: u32,
     /// Bank selection. Default `word`.
     pub interleave: BankInterleave,
-    /// Hit latency in core cycles (load issue to data ready). Default 1 (thesis §2.2.1.1).
+    /// Hit latency in core cycles (load issue to data ready), 0 to [`MAX_HIT_LATENCY`].
+    /// Default 1 (thesis §2.2.1.1).
     pub hit_latency: u32,
     /// Miss-status holding registers: distinct lines that may wait on memory at once. Default 64.
     pub mshrs: u32,
@@ -75,7 +76,8 @@ pub struct L2Config {
     pub interleave: BankInterleave,
     /// Ways per set (power of two); 1 = direct-mapped. Replacement is LRU. Default 1.
     pub associativity: u32,
-    /// Hit latency in core cycles, added on top of the L1's. Default 3 (thesis §2.2.1.1).
+    /// Hit latency in core cycles, added on top of the L1's, 0 to [`MAX_HIT_LATENCY`].
+    /// Default 3 (thesis §2.2.1.1).
     pub hit_latency: u32,
     /// Distinct lines that may wait on DRAM at once. Default 256.
     pub mshrs: u32,
@@ -99,6 +101,34 @@ impl Default for L2Config {
             energy_nj: None,
         }
     }
+}
+
+/// Longest cache hit latency, core cycles (L1 and L2 alike). A last-level cache of today
+/// hits in about 50; the timing model advances in quanta of the L1 plus L2 hit latency, so
+/// this also bounds the time between two of its chip-wide phases (progress, limits).
+pub const MAX_HIT_LATENCY: u32 = 1000;
+
+/// Checks that `field` = `value` lies in `range` (`unit` after it in the message), the one
+/// wording of a range error in chip and memory configs.
+pub fn check_range(
+    field: &str,
+    value: u64,
+    range: std::ops::RangeInclusive<u64>,
+    unit: &str,
+) -> Result<(), String> {
+    if range.contains(&value) {
+        return Ok(());
+    }
+    let unit = if unit.is_empty() {
+        String::new()
+    } else {
+        format!(" {unit}")
+    };
+    Err(format!(
+        "{field} = {value} must be in {}..={}{unit}",
+        range.start(),
+        range.end()
+    ))
 }
 
 /// The whole memory system below the thread processors.
@@ -139,6 +169,13 @@ impl MemSysConfig {
 
     /// Checks cross-field constraints of all parts.
     pub fn validate(&self) -> Result<(), MemSysError> {
+        for (field, v) in [
+            ("l1.hit_latency", self.l1.hit_latency),
+            ("l2.hit_latency", self.l2.hit_latency),
+        ] {
+            check_range(field, v.into(), 0..=MAX_HIT_LATENCY.into(), "core cycles")
+                .map_err(MemSysError::Config)?;
+        }
         check_cache(
             "l1",
             self.l1.capacity_bytes,

@@ -43,18 +43,39 @@ pub const USIMM_READ_TERMINATION_MW: f64 = 32.0;
 /// Names of the DRAM presets, for help texts.
 pub const DRAM_PRESETS: &[&str] = &["gddr5-thesis", "gddr5-usimm", "ddr4-2400", "hbm2", "simple"];
 
+/// Longest simple-DRAM latency, core cycles: 10^6 (1 ms at 1 GHz, ten thousand times a
+/// DRAM access; far memories of a few microseconds fit).
+pub const MAX_SIMPLE_LATENCY: u32 = 1_000_000;
+
+/// Largest DRAM request (`dram.simple.line_bytes`), bytes.
+pub const MAX_LINE_BYTES: u32 = 4096;
+
+/// Fastest DRAM command clock, MHz (100 GHz).
+pub const MAX_CLOCK_MHZ: u32 = 100_000;
+
+/// Most entries of a detailed DRAM channel's read or write queue.
+pub const MAX_QUEUE: u32 = 65_536;
+
+/// Longest DRAM timing constraint except `tREFI`, ns: 10 µs (the longest of the JEDEC
+/// standards, `tRFC` of large DDR5 parts, is under 1 µs).
+pub const MAX_TIMING_NS: u32 = 10_000;
+
+/// Longest refresh interval `tREFI`, ns: 1 ms (standards use 3.9 or 7.8 µs; longer ones
+/// model refresh-reduction studies).
+pub const MAX_REFRESH_INTERVAL_NS: u32 = 1_000_000;
+
 /// Fixed-latency, bandwidth-limited memory (the original's `--disable-usimm` model, minus its
 /// per-L2 bandwidth split).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct SimpleDramConfig {
-    /// Latency in core cycles from the request to the data, on top of transfer time. Default 100
-    /// (original `MEMORY 100`).
+    /// Latency in core cycles from the request to the data, on top of transfer time, 0 to
+    /// [`MAX_SIMPLE_LATENCY`]. Default 100 (original `MEMORY 100`).
     pub latency: u32,
     /// Peak transfer rate in bytes per core cycle (>= 1). Default 512 (512 GB/s at 1 GHz, the
     /// thesis GDDR5 peak).
     pub bandwidth_bytes_per_cycle: u32,
-    /// Bytes moved per request (one cache line). Default 64.
+    /// Bytes moved per request (one cache line), 1 to [`MAX_LINE_BYTES`]. Default 64.
     pub line_bytes: u32,
     /// Requests in flight at most (0 = unlimited); more are refused (the caller stalls). Default 0.
     pub max_outstanding: u32,
@@ -87,7 +108,8 @@ pub enum AddressMapping {
     RowColumnRankBankChannel,
 }
 
-/// Timing constraints, each in DRAM command-clock cycles (integer) or nanoseconds (`"13.75ns"`).
+/// Timing constraints, each in DRAM command-clock cycles (integer) or nanoseconds (`"13.75ns"`),
+/// each at most [`MAX_TIMING_NS`] (`tREFI`: [`MAX_REFRESH_INTERVAL_NS`]).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct DramTimingSpec {
@@ -186,7 +208,8 @@ pub struct DramEnergyConfig {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct DetailedDramConfig {
-    /// DRAM command-clock frequency in MHz (timing cycles count this clock).
+    /// DRAM command-clock frequency in MHz (timing cycles count this clock), 1 to
+    /// [`MAX_CLOCK_MHZ`].
     pub clock_mhz: u32,
     /// Independent channels (power of two).
     pub channels: u32,
@@ -202,9 +225,10 @@ pub struct DetailedDramConfig {
     pub line_bytes: u32,
     /// Address mapping policy.
     pub mapping: AddressMapping,
-    /// Read-queue entries per channel; a full queue refuses requests (the caller stalls).
+    /// Read-queue entries per channel, 1 to [`MAX_QUEUE`]; a full queue refuses requests (the
+    /// caller stalls).
     pub read_queue: u32,
-    /// Write-queue entries per channel.
+    /// Write-queue entries per channel, 1 to [`MAX_QUEUE`].
     pub write_queue: u32,
     /// Write drain starts when a channel holds this many writes.
     pub write_high_watermark: u32,
@@ -236,6 +260,30 @@ pub struct DramTiming {
     pub t_burst: u64,
     pub t_rfc: u64,
     pub t_refi: u64,
+}
+
+impl DramTiming {
+    /// Every constraint with its config name (`tRCD`, ...).
+    pub fn named(&self) -> [(&'static str, u64); 16] {
+        [
+            ("tRCD", self.t_rcd),
+            ("tRP", self.t_rp),
+            ("tCAS", self.t_cas),
+            ("tRAS", self.t_ras),
+            ("tRC", self.t_rc),
+            ("tRRD", self.t_rrd),
+            ("tFAW", self.t_faw),
+            ("tWR", self.t_wr),
+            ("tWTR", self.t_wtr),
+            ("tRTP", self.t_rtp),
+            ("tCCD", self.t_ccd),
+            ("tCWD", self.t_cwd),
+            ("tRTRS", self.t_rtrs),
+            ("tBURST", self.t_burst),
+            ("tRFC", self.t_rfc),
+            ("tREFI", self.t_refi),
+        ]
+    }
 }
 
 impl DramTimingSpec {
@@ -548,17 +596,50 @@ impl DramConfig {
     /// Checks value ranges and cross-field constraints.
     pub fn validate(&self) -> Result<(), MemSysError> {
         let err = |m: String| Err(MemSysError::Config(m));
+        let range = |field: &str, v: u32, r: std::ops::RangeInclusive<u32>, unit: &str| {
+            super::config::check_range(
+                field,
+                v.into(),
+                (*r.start()).into()..=(*r.end()).into(),
+                unit,
+            )
+            .map_err(MemSysError::Config)
+        };
         let s = &self.simple;
         if s.bandwidth_bytes_per_cycle == 0 {
             return err("dram.simple.bandwidth_bytes_per_cycle must be >= 1".into());
         }
-        if s.line_bytes == 0 {
-            return err("dram.simple.line_bytes must be >= 1".into());
-        }
+        range(
+            "dram.simple.latency",
+            s.latency,
+            0..=MAX_SIMPLE_LATENCY,
+            "core cycles",
+        )?;
+        range(
+            "dram.simple.line_bytes",
+            s.line_bytes,
+            1..=MAX_LINE_BYTES,
+            "bytes",
+        )?;
         let d = &self.detailed;
-        if d.clock_mhz == 0 {
-            return err("dram.detailed.clock_mhz must be >= 1".into());
-        }
+        range(
+            "dram.detailed.clock_mhz",
+            d.clock_mhz,
+            1..=MAX_CLOCK_MHZ,
+            "MHz",
+        )?;
+        range(
+            "dram.detailed.read_queue",
+            d.read_queue,
+            1..=MAX_QUEUE,
+            "entries",
+        )?;
+        range(
+            "dram.detailed.write_queue",
+            d.write_queue,
+            1..=MAX_QUEUE,
+            "entries",
+        )?;
         for (name, v) in [
             ("channels", d.channels),
             ("ranks", d.ranks),
@@ -577,9 +658,6 @@ impl DramConfig {
                 d.ranks * d.banks
             ));
         }
-        if d.read_queue == 0 || d.write_queue == 0 {
-            return err("dram.detailed.read_queue and write_queue must be >= 1".into());
-        }
         if d.write_low_watermark >= d.write_high_watermark || d.write_high_watermark > d.write_queue
         {
             return err(format!(
@@ -588,6 +666,25 @@ impl DramConfig {
             ));
         }
         let t = d.timing.resolve(d.clock_mhz);
+        for (name, cycles) in t.named() {
+            let ns = if name == "tREFI" {
+                MAX_REFRESH_INTERVAL_NS
+            } else {
+                MAX_TIMING_NS
+            };
+            let max = u64::from(ns) * u64::from(d.clock_mhz) / 1000;
+            super::config::check_range(
+                &format!("dram.detailed.timing.{name}"),
+                cycles,
+                0..=max,
+                &format!(
+                    "DRAM cycles ({} us at clock_mhz {})",
+                    ns / 1000,
+                    d.clock_mhz
+                ),
+            )
+            .map_err(MemSysError::Config)?;
+        }
         if t.t_burst == 0 {
             return err("dram.detailed.timing.tBURST must be >= 1".into());
         }

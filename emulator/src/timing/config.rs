@@ -7,7 +7,12 @@
 //! fields, so a misspelt key is named in the error.
 //!
 //! Units: latencies in core cycles, areas in mm² (65 nm, thesis Table 2.2), energies in nJ per
-//! activation (thesis Tables 3.1 and 3.3 and the original simtrax defaults).
+//! activation (thesis Tables 3.1 and 3.3 and the original simtrax defaults). Every time-like
+//! field has a range, checked by [`ChipConfig::validate`] with an error naming the field and
+//! the range: on-chip latencies, initiation intervals, busy times and decision cycles 1 to
+//! [`MAX_UNIT_CYCLES`] (`schedule_cycles` and `reconfig_cycles` from 0), cache hit latencies
+//! 0 to [`memsys::config::MAX_HIT_LATENCY`], DRAM latencies and timings as in
+//! [`memsys::dram_config`].
 
 use std::collections::BTreeMap;
 
@@ -15,6 +20,13 @@ use serde::{Deserialize, Serialize};
 use trax_runtime::isa::UnitClass;
 
 use crate::memsys::{self, DramConfig, MemSysConfig};
+
+/// Longest latency, initiation interval or busy time of an on-chip unit, core cycles
+/// (execution units, pipelines and their reconfiguration, local stores, global registers,
+/// the stream memory and its scheduling decision): 10 µs at 1 GHz, a thousand times a
+/// divider's. Caches and DRAM have their own bounds (`memsys::config::MAX_HIT_LATENCY`,
+/// `memsys::dram_config`).
+pub const MAX_UNIT_CYCLES: u32 = 10_000;
 
 /// Names of the chip presets, for help texts.
 pub const CHIP_PRESETS: &[&str] = &[
@@ -1012,6 +1024,16 @@ impl ChipConfig {
     /// Checks ranges and cross-field constraints.
     pub fn validate(&self) -> Result<(), ConfigError> {
         let bad = |m: String| Err(ConfigError::Invalid(m));
+        // A time-like field: `min` to `MAX_UNIT_CYCLES` core cycles.
+        let cycles = |field: &str, v: u32, min: u32| {
+            memsys::config::check_range(
+                field,
+                v.into(),
+                min.into()..=MAX_UNIT_CYCLES.into(),
+                "core cycles",
+            )
+            .map_err(ConfigError::Invalid)
+        };
         if self.tms == 0 || self.tms > 4096 {
             return bad(format!("tms = {} must be in 1..=4096", self.tms));
         }
@@ -1046,12 +1068,7 @@ impl ChipConfig {
             if u.count == 0 {
                 return bad(format!("units.{k}.count must be >= 1"));
             }
-            if u.latency == 0 || u.latency > 10_000 {
-                return bad(format!(
-                    "units.{k}.latency = {} must be in 1..=10000",
-                    u.latency
-                ));
-            }
+            cycles(&format!("units.{k}.latency"), u.latency, 1)?;
             if !(u.area_mm2 >= 0.0 && u.energy_nj >= 0.0) {
                 return bad(format!("units.{k}: area_mm2 and energy_nj must be >= 0"));
             }
@@ -1062,9 +1079,7 @@ impl ChipConfig {
                 "icache.per_tm, icache.banks and icache.fetches_per_bank must be >= 1".into(),
             );
         }
-        if self.local_store.latency == 0 {
-            return bad("local_store.latency must be >= 1".into());
-        }
+        cycles("local_store.latency", self.local_store.latency, 1)?;
         let b = self.local_store.bytes;
         if b == 0 || !b.is_multiple_of(16) || b > 64 << 20 {
             return bad(format!(
@@ -1084,15 +1099,12 @@ impl ChipConfig {
                 sm.buffers
             ));
         }
-        if sm.banks == 0 || sm.bank_busy_cycles == 0 || sm.latency == 0 {
-            return bad("stream_memory.banks, bank_busy_cycles and latency must be >= 1".into());
+        if sm.banks == 0 {
+            return bad("stream_memory.banks must be >= 1".into());
         }
-        if sm.schedule_cycles > 1_000_000 {
-            return bad(format!(
-                "stream_memory.schedule_cycles = {} must be at most 1000000",
-                sm.schedule_cycles
-            ));
-        }
+        cycles("stream_memory.bank_busy_cycles", sm.bank_busy_cycles, 1)?;
+        cycles("stream_memory.latency", sm.latency, 1)?;
+        cycles("stream_memory.schedule_cycles", sm.schedule_cycles, 0)?;
         if sm.capacity_bytes > 0 && sm.geometry().capacity_rays() == 0 {
             return bad(format!(
                 "stream_memory.capacity_bytes = {} holds no ray: it needs {} bytes of head \
@@ -1106,15 +1118,20 @@ impl ChipConfig {
             return bad("stream_memory.energy_nj and area_mm2 must be >= 0".into());
         }
         sm.validate_spill(self.memory.l2.line_bytes)?;
+        cycles(
+            "pipelines.reconfig_cycles",
+            self.pipelines.reconfig_cycles,
+            0,
+        )?;
         for (name, p) in [
             ("box", &self.pipelines.box_pipe),
             ("tri", &self.pipelines.tri),
         ] {
-            if p.ii == 0 || p.latency == 0 || p.width == 0 || p.latency > 10_000 {
-                return bad(format!(
-                    "pipelines.{name}: ii, latency (<= 10000) and width must be >= 1"
-                ));
+            if p.width == 0 {
+                return bad(format!("pipelines.{name}.width must be >= 1"));
             }
+            cycles(&format!("pipelines.{name}.ii"), p.ii, 1)?;
+            cycles(&format!("pipelines.{name}.latency"), p.latency, 1)?;
         }
         let tb = self.treelets.bytes;
         if tb != 0 && !(256..=64 << 20).contains(&tb) {
@@ -1123,8 +1140,9 @@ impl ChipConfig {
             ));
         }
         self.treelet_align_bytes()?;
-        if self.global_registers.latency == 0 || self.global_registers.ops_per_cycle == 0 {
-            return bad("global_registers.latency and ops_per_cycle must be >= 1".into());
+        cycles("global_registers.latency", self.global_registers.latency, 1)?;
+        if self.global_registers.ops_per_cycle == 0 {
+            return bad("global_registers.ops_per_cycle must be >= 1".into());
         }
         self.memory
             .validate()

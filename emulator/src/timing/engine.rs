@@ -30,7 +30,7 @@ use std::sync::Mutex;
 use trax_runtime::isa::UnitClass;
 
 use super::config::ChipConfig;
-use super::intervals::Snapshot;
+use super::intervals::{IntervalStream, Snapshot};
 use super::operands::{classify, OpInfo};
 use super::tm::{Claim, Deferred, Op, Summary, TmSim};
 use super::workers::{rebalance, Batch, Crew, RoundCell, Rounds};
@@ -113,8 +113,13 @@ pub struct Counters {
 /// Receives a [`Progress`] report every few host milliseconds.
 pub type ProgressFn<'a> = &'a mut dyn FnMut(&Progress);
 
-/// Quanta between checks of the host clock for progress reports.
+/// Quanta between checks of the host clock for progress reports, at most.
 const PROGRESS_EVERY: u64 = 1024;
+
+/// Thread-cycles between checks of the host clock for progress reports (1024 quanta of the
+/// `tiny` chip): a chip of many threads or a long quantum checks every few quanta, every
+/// quantum at worst, so its reports come as often as a small chip's.
+const PROGRESS_THREAD_CYCLES: u64 = 1024 * 4 * 8;
 
 /// Quanta between rebalancings of TMs over host threads (tens of host milliseconds: long
 /// enough to measure loads and to repay moving a TM's state to another core).
@@ -245,8 +250,9 @@ pub struct Engine<'c> {
     /// Cycles per statistics interval (`--stats-interval`; a multiple of the quantum,
     /// see [`Self::quantum`]): the counters are sampled at every multiple.
     pub interval: Option<u64>,
-    /// The samples taken at interval ends and at [`Self::snap_at`] (after [`Self::run`];
-    /// the run's end is not one).
+    /// Where the samples at interval ends go (required with [`Self::interval`]).
+    pub intervals: Option<IntervalStream<'c>>,
+    /// The sample taken at [`Self::snap_at`] (after [`Self::run`]).
     pub samples: Vec<Snapshot>,
     /// Also sample the counters at this cycle (a quantum end), for sampled simulation.
     pub snap_at: Option<u64>,
@@ -323,6 +329,7 @@ impl<'c> Engine<'c> {
             profiler: None,
             progress: None,
             interval: None,
+            intervals: None,
             samples: Vec::new(),
             snap_at: None,
             pause_at: None,
@@ -350,7 +357,7 @@ impl<'c> Engine<'c> {
     /// Cycles per quantum: the L1 plus L2 hit latency (an L2 reply is never due sooner).
     pub fn quantum(cfg: &ChipConfig) -> u64 {
         let m = &cfg.memory;
-        u64::from(m.l1.hit_latency + m.l2.hit_latency).max(1)
+        (u64::from(m.l1.hit_latency) + u64::from(m.l2.hit_latency)).max(1)
     }
 
     /// The memory system (for statistics).
@@ -394,6 +401,7 @@ impl<'c> Engine<'c> {
             .collect();
         let mut profiler = self.profiler.take();
         let mut progress = self.progress.take();
+        let mut intervals = self.intervals.take();
         let mut halted_excess = 0u64;
         let mut paused = false;
         let mut base = Counters::default();
@@ -444,6 +452,7 @@ impl<'c> Engine<'c> {
                     fx: Effects::default(),
                     streams: StreamTiming::default(),
                     interval: self.interval,
+                    intervals: intervals.as_mut(),
                     snap_at: self.snap_at,
                     next_sample: u64::MAX,
                     samples: Vec::new(),
@@ -464,6 +473,7 @@ impl<'c> Engine<'c> {
         m.shared.sched.finish(self.now);
         self.profiler = profiler;
         self.progress = progress;
+        self.intervals = intervals;
         // Take everything back.
         for p in parts {
             let p = p.into_inner().unwrap_or_else(|e| e.into_inner());
@@ -575,13 +585,14 @@ struct Driver<'a, 'p> {
     fx: Effects,
     /// The stream memory's timing.
     streams: StreamTiming,
-    /// Cycles per statistics interval.
+    /// Cycles per statistics interval, and where their samples go.
     interval: Option<u64>,
+    intervals: Option<&'a mut IntervalStream<'p>>,
     /// A single extra sample's cycle.
     snap_at: Option<u64>,
     /// The next interval end or `snap_at` (`u64::MAX`: none).
     next_sample: u64,
-    /// The counters at each interval end so far.
+    /// The counters at `snap_at`.
     samples: Vec<Snapshot>,
     /// Stop when a global register reaches a value, and whether it did.
     pause_at: Option<(u32, u32)>,
@@ -618,7 +629,14 @@ impl Driver<'_, '_> {
         let streams = sh.streams.sram_accesses();
         let mut snap = snapshot_of(self.cfg, &c, &mem, streams, at);
         snap.ray_cycles += self.streams.in_flight * at.saturating_sub(self.streams.last);
-        self.samples.push(snap);
+        if self.snap_at == Some(at) {
+            self.samples.push(snap.clone());
+        }
+        if self.interval.is_some_and(|n| at.is_multiple_of(n)) {
+            if let Some(st) = self.intervals.as_deref_mut() {
+                st.push(snap);
+            }
+        }
         self.next_sample = self.next_sample_after(at);
     }
 
@@ -645,6 +663,8 @@ impl Driver<'_, '_> {
     ) -> Outcome {
         let q = self.quantum();
         let tms = self.cfg.tms as u64;
+        let threads = tms * u64::from(self.cfg.threads_per_tm);
+        let progress_every = (PROGRESS_THREAD_CYCLES / (q * threads)).clamp(1, PROGRESS_EVERY);
         let mut idle_cycles = 0u64;
         let mut deferred: Vec<Deferred> = Vec::new();
         let mut gr = (0u64, 0u32); // global registers: (cycle, ops served in it)
@@ -882,7 +902,7 @@ impl Driver<'_, '_> {
                     return Outcome::InstructionLimit;
                 }
             }
-            if crossed(PROGRESS_EVERY) {
+            if crossed(progress_every) {
                 if let Some(report) = self.progress.as_deref_mut() {
                     if last_report.elapsed().as_millis() >= 100 {
                         last_report = std::time::Instant::now();
@@ -899,9 +919,13 @@ impl Driver<'_, '_> {
             }
             sims.clear();
             // Nobody issued for a long time: a deadlock (or a memory system that stopped
-            // making progress).
-            if (idle_cycles > 1_000_000 && self.mem.chip_mut().next_event().is_none())
-                || idle_cycles > 10_000_000
+            // making progress). While the memory system owes the TMs data, a wait is as
+            // long as its latencies and queues make it (each bounded by the config's
+            // validation): ten times longer before it counts as stopped.
+            let chip = self.mem.chip_mut();
+            if (idle_cycles > 1_000_000 && chip.next_event().is_none())
+                || (idle_cycles > 10_000_000 && chip.owes_nothing())
+                || idle_cycles > 100_000_000
             {
                 return Outcome::Deadlock {
                     waiting: sh.live_threads,

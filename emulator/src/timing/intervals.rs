@@ -5,7 +5,9 @@
 //! The engine samples its cumulative counters at the serial phase that ends each interval
 //! ([`Snapshot`]; `N` is a multiple of the quantum, so interval ends are quantum ends and
 //! no sample needs a cycle inside a quantum); the intervals are differences of
-//! consecutive samples, the last one taken from the run's final statistics. Every sample
+//! consecutive samples, the last one taken from the run's final statistics. They are
+//! streamed ([`IntervalStream`]): each goes to the caller's sink as it completes and the run
+//! keeps none, so memory does not grow with the number of intervals. Every sample
 //! is a sum over TMs at a quantum boundary, so intervals do not depend on the host
 //! threads, and the intervals' counts add up to the run's totals exactly.
 
@@ -126,20 +128,91 @@ fn tc_diff(a: &ThreadCycles, b: &ThreadCycles) -> ThreadCycles {
     }
 }
 
-/// The intervals between consecutive `samples` (the first starts at cycle 0 with zero
-/// counters; the last sample is the run's end). `len` is the interval length, `threads`
-/// the chip's thread count, `stream` whether the chip has a stream memory.
-pub fn intervals(
-    samples: &[Snapshot],
+/// Receives each interval of a run as it completes (`RunRequest::interval_sink`): the run
+/// holds none of them, so a long run with a short interval keeps its memory.
+pub type IntervalSink<'a> = &'a mut dyn FnMut(&Interval);
+
+/// The intervals of a run as its samples come (the first interval starts at cycle 0 with
+/// zero counters): each is handed to the sink once the next sample shows it is not the
+/// run's last, and [`Self::finish`] closes the run with its final statistics. Holds two
+/// samples, whatever the length of the run.
+pub struct IntervalStream<'a> {
+    /// Interval length, cycles.
     len: u64,
+    /// The chip's threads, clock, and whether it has a stream memory.
     threads: u64,
     clock_ghz: f64,
     stream: bool,
-) -> Vec<Interval> {
-    let zero = Snapshot::default();
-    let mut prev = &zero;
-    let mut out = Vec::with_capacity(samples.len());
-    for s in samples {
+    /// The end of the last interval handed over, and the latest sample.
+    prev: Snapshot,
+    pending: Option<Snapshot>,
+    sink: IntervalSink<'a>,
+}
+
+impl<'a> IntervalStream<'a> {
+    /// Intervals of `len` cycles on a chip of `threads` threads at `clock_ghz`, with a
+    /// stream memory (`stream`) or not, into `sink`.
+    pub fn new(
+        len: u64,
+        threads: u64,
+        clock_ghz: f64,
+        stream: bool,
+        sink: IntervalSink<'a>,
+    ) -> Self {
+        IntervalStream {
+            len,
+            threads,
+            clock_ghz,
+            stream,
+            prev: Snapshot::default(),
+            pending: None,
+            sink,
+        }
+    }
+
+    /// The counters at an interval end.
+    pub fn push(&mut self, s: Snapshot) {
+        if let Some(p) = self.pending.replace(s) {
+            self.emit(p);
+        }
+    }
+
+    /// Closes the run with `last`, its final statistics (a sample at the same cycle, where
+    /// the run ended on an interval end, is replaced by them).
+    pub fn finish(mut self, last: Snapshot) {
+        if let Some(p) = self.pending.take() {
+            if p.cycle < last.cycle {
+                self.emit(p);
+            }
+        }
+        self.emit(last);
+    }
+
+    fn emit(&mut self, s: Snapshot) {
+        let iv = Interval::between(
+            &self.prev,
+            &s,
+            self.len,
+            self.threads,
+            self.clock_ghz,
+            self.stream,
+        );
+        (self.sink)(&iv);
+        self.prev = s;
+    }
+}
+
+impl Interval {
+    /// The interval from sample `prev` to sample `s` (`len` the interval length, `threads`
+    /// the chip's thread count, `stream` whether the chip has a stream memory).
+    pub fn between(
+        prev: &Snapshot,
+        s: &Snapshot,
+        len: u64,
+        threads: u64,
+        clock_ghz: f64,
+        stream: bool,
+    ) -> Interval {
         let cycles = s.cycle - prev.cycle;
         let secs = cycles as f64 / (clock_ghz * 1e9);
         let gbps = |bytes: u64| ratio(bytes as f64, secs) / 1e9;
@@ -150,7 +223,7 @@ pub fn intervals(
         let (l1h, l1m) = (l1(|c| c.hits), l1(|c| c.misses));
         let (l2h, l2m) = (l2(|c| c.hits), l2(|c| c.misses));
         let energy_j = s.energy_j - prev.energy_j;
-        out.push(Interval {
+        Interval {
             start_cycle: prev.cycle,
             end_cycle: s.cycle,
             cycles,
@@ -176,8 +249,6 @@ pub fn intervals(
             energy_j,
             power_w: ratio(energy_j, secs),
             thread_cycles: tc,
-        });
-        prev = s;
+        }
     }
-    out
 }

@@ -15,6 +15,7 @@
 
 mod config;
 pub(crate) mod engine;
+pub mod footprint;
 pub mod intervals;
 mod naps;
 pub(crate) mod operands;

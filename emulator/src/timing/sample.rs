@@ -1147,7 +1147,7 @@ struct FastForward<'a, 'p> {
 /// (measured in the detailed parts) past that.
 fn stall_costs(engine: &Engine<'_>, chip: &ChipConfig) -> [u64; 3] {
     let m = &chip.memory;
-    let l2 = u64::from(m.l1.hit_latency + m.l2.hit_latency);
+    let l2 = u64::from(m.l1.hit_latency) + u64::from(m.l2.hit_latency);
     let dram = engine.mem().stats().dram.avg_read_latency_cycles.round() as u64;
     [0, l2, l2 + dram]
 }

@@ -228,10 +228,10 @@ pub struct TimingStats {
     /// The `trax.stat` counters.
     #[serde(skip)]
     pub counters: Vec<u64>,
-    /// `--stats-interval`: cycles per interval (`None`: no intervals recorded).
+    /// `--stats-interval`: cycles per interval (`None`: no intervals recorded). The
+    /// intervals themselves went to the run's interval sink as they completed; the
+    /// statistics document adds them as `timing.intervals`.
     pub interval_cycles: Option<u64>,
-    /// The run over time, one entry per interval (empty without `--stats-interval`).
-    pub intervals: Vec<super::intervals::Interval>,
 }
 
 /// Energy so far, by component: `c` the engine's counters, `mem` the memory system's
@@ -463,7 +463,6 @@ pub fn build(
         stream,
         pipelines,
         interval_cycles: None,
-        intervals: Vec::new(),
     }
 }
 

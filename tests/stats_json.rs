@@ -190,6 +190,41 @@ fn values_match_the_run_summary() {
     assert_eq!(v["chip"]["name"], "tiny");
 }
 
+/// The simple DRAM model has no rows: no row-hit rate (`null`, `n/a` in the summary),
+/// where the detailed model has one in both.
+#[test]
+fn row_hit_rate_only_where_dram_has_rows() {
+    let (out, v) = run(
+        "simple-dram",
+        "examples/raycast.rs",
+        &["--set", "memory.dram.model=simple"],
+    );
+    assert!(out.status.success());
+    let err = text(&out.stderr);
+    assert!(v["timing"]["memory"]["dram"]["reads"].as_u64().unwrap() > 0);
+    assert!(
+        v["timing"]["memory"]["dram"]["row_hit_rate"].is_null(),
+        "{v}"
+    );
+    assert!(err.contains("row-hit n/a,"), "{err}");
+
+    let (out, v) = run(
+        "detailed-dram",
+        "examples/raycast.rs",
+        &["--set", "memory.dram.preset=gddr5-thesis"],
+    );
+    assert!(out.status.success());
+    let rate = v["timing"]["memory"]["dram"]["row_hit_rate"]
+        .as_f64()
+        .expect("a detailed DRAM has a row-hit rate");
+    assert!((0.0..=1.0).contains(&rate));
+    let err = text(&out.stderr);
+    assert!(
+        err.contains(&format!("row-hit {:.2}%,", rate * 100.0)),
+        "{err}"
+    );
+}
+
 #[test]
 fn max_instructions_counts_instructions_in_timing_mode() {
     const LIMIT: u64 = 20_000;

@@ -207,6 +207,10 @@ fn row_hit_rate_only_where_dram_has_rows() {
         "{v}"
     );
     assert!(err.contains("row-hit n/a,"), "{err}");
+    // A modified chip says so, in the summary and the document.
+    let label = "tiny + 1 override (memory.dram.model=simple)";
+    assert_eq!(v["chip"]["name"], label);
+    assert!(err.contains(&format!("chip: {label} (")), "{err}");
 
     let (out, v) = run(
         "detailed-dram",

@@ -14,8 +14,10 @@ use trax_runtime::abi::PIXEL_COUNTER_REG;
 /// The chip and its thread shape.
 #[derive(Args, Debug, Clone)]
 pub struct ShapeArgs {
-    /// Chip configuration: a preset (`tiny`, `baseline`, `strata`, `baseline-ch5`,
-    /// `strata-plus`) or a TOML file.
+    /// Chip configuration: a preset (`tiny`, `baseline`, `baseline-ch3`, `strata`,
+    /// `baseline-ch5`, `strata-plus`; `trax config list` describes them, `trax config show
+    /// NAME` prints one in full) or a TOML file (which may start with `preset = "NAME"` and
+    /// set only what differs).
     #[arg(long, default_value = DEFAULT_CHIP)]
     pub config: String,
     /// Thread multiprocessors (overrides the config).

@@ -51,6 +51,8 @@ pub struct StatsDocument<'a> {
     pub sampled: Option<&'a SampledStats>,
     /// The scene data in memory.
     pub scene: SceneData,
+    /// Where the threads were when a limit stopped the run (`null` otherwise).
+    pub threads_at_stop: Option<&'a trax_emulator::ThreadPlaces>,
 }
 
 /// The run's inputs.
@@ -192,6 +194,7 @@ impl<'a> StatsDocument<'a> {
             timing: run.timing.as_ref(),
             sampled: run.sampled.as_ref(),
             scene: SceneData::of(image),
+            threads_at_stop: run.stopped_at.as_ref(),
         }
     }
 }

@@ -521,3 +521,110 @@ fn messages_name_the_input_once_and_list_choices() {
         "{err}"
     );
 }
+
+/// A `.light` file's intensity reaches the kernel: Sponza (lit by its point light alone)
+/// with the light at intensity 4 is, value for value, 4 times the image at intensity 1
+/// (a power of two scales every path's contribution exactly), and an RGB intensity scales
+/// each channel.
+#[test]
+fn light_file_intensity_scales_the_image() {
+    let dir = scratch("light-intensity");
+    let raw = |name: &str, light: &str| -> Vec<f32> {
+        let l = dir.join(format!("{name}.light"));
+        std::fs::write(&l, light).unwrap();
+        let fb = dir.join(format!("{name}.raw"));
+        let out = Command::new(env!("CARGO_BIN_EXE_trax"))
+            .args(["run", "examples/pathtracer.rs", "--functional"])
+            .args(["--scene", "../shared/scenes/sponza/sponza.obj"])
+            .args(["--width", "12", "--height", "10", "--light"])
+            .arg(&l)
+            .arg("--raw-framebuffer")
+            .arg(&fb)
+            .current_dir(root())
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        std::fs::read(&fb)
+            .unwrap()
+            .chunks(4)
+            .map(|b| f32::from_le_bytes(b.try_into().unwrap()))
+            .collect()
+    };
+    let one = raw("one", "7.97 1.4 -1.74\n");
+    let four = raw("four", "7.97 1.4 -1.74\n4\n");
+    let rgb = raw("rgb", "7.97 1.4 -1.74  1 2 0.5\n");
+    assert!(one.iter().any(|v| *v > 0.0));
+    for (i, v) in one.iter().enumerate() {
+        assert_eq!(four[i], 4.0 * v, "value {i}");
+        assert_eq!(rgb[i], [1.0, 2.0, 0.5][i % 3] * v, "value {i}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// A run stopped by a limit says where its threads are, grouped by source stack with
+/// counts, in the text and the stats document, in both modes.
+#[test]
+fn a_limit_stop_says_where_the_threads_are() {
+    let dir = scratch("limit-places");
+    let k = dir.join("spin.rs");
+    std::fs::write(
+        &k,
+        "fn spin_a() -> u32 {\n    let mut x = 1u32;\n    loop { x = x.wrapping_mul(3) | 1; if x == 0 { return x; } }\n}\n\n\
+         fn spin_b() -> u32 {\n    let mut x = 1u32;\n    loop { x = x.wrapping_mul(5) | 1; if x == 0 { return x; } }\n}\n\n\
+         fn trax_main() {\n    if trax::global_id() % 2 == 0 {\n        spin_a();\n    } else {\n        spin_b();\n    }\n}\n",
+    )
+    .unwrap();
+    for mode in [&["--functional"][..], &["--host-threads", "2"][..]] {
+        let json = dir.join("stats.json");
+        let out = Command::new(env!("CARGO_BIN_EXE_trax"))
+            .arg("run")
+            .arg(&k)
+            .args([
+                "-O0",
+                "--tms",
+                "2",
+                "--threads",
+                "2",
+                "--max-instructions",
+                "20000",
+            ])
+            .args(mode)
+            .arg("--stats-json")
+            .arg(&json)
+            .current_dir(root())
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{mode:?}: {err}");
+        assert!(err.contains("error: instruction limit reached"), "{err}");
+        assert!(
+            err.contains("where the threads are: 4 live, 0 halted"),
+            "{err}"
+        );
+        for (ids, f, line) in [("0, 2", "spin_a", 3), ("1, 3", "spin_b", 8)] {
+            let group = format!(
+                "2 threads {ids} (running)\n        in spin::{f} at {}:{line}\n        called from trax_main at {}:",
+                k.display(),
+                k.display()
+            );
+            assert!(err.contains(&group), "{mode:?}: no {group:?} in\n{err}");
+        }
+        let v: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+        let p = &v["threads_at_stop"];
+        assert_eq!(p["live"], 4);
+        let groups = p["groups"].as_array().unwrap();
+        assert_eq!(groups.len(), 2, "{p}");
+        assert_eq!(groups[0]["count"], 2);
+        assert_eq!(groups[0]["threads"], "0, 2");
+        assert_eq!(groups[0]["frames"][0]["function"], "spin::spin_a");
+        assert_eq!(groups[0]["frames"][0]["line"], 3);
+        assert_eq!(groups[1]["frames"][0]["function"], "spin::spin_b");
+    }
+    // A finished run has none.
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -145,6 +145,27 @@ fn documented_fields_are_exactly_the_fields_of_every_mode() {
         tops.push(v.as_object().unwrap().keys().cloned().collect::<Vec<_>>());
         seen.extend(f);
     }
+    // A run stopped by a limit: where its threads were.
+    let (out, v) = run(
+        "limit",
+        "examples/pathtracer.rs",
+        &["--max-instructions", "30000"],
+    );
+    assert!(!out.status.success());
+    assert_eq!(v["outcome"], "instruction_limit");
+    let mut f = BTreeSet::new();
+    fields(&v, "", &maps, &mut f);
+    let undocumented: Vec<&String> = f
+        .iter()
+        .filter(|x| !doc.iter().any(|d| matches(d, x)))
+        .collect();
+    assert!(
+        undocumented.is_empty(),
+        "limit: undocumented {undocumented:?}"
+    );
+    tops.push(v.as_object().unwrap().keys().cloned().collect::<Vec<_>>());
+    seen.extend(f);
+    assert_eq!(tops[0], tops[3], "one shape: the same top-level fields");
     assert_eq!(tops[0], tops[1], "one shape: the same top-level fields");
     assert_eq!(tops[0], tops[2], "one shape: the same top-level fields");
     let absent: Vec<&String> = doc

@@ -46,6 +46,7 @@ mod thread;
 pub mod timing;
 mod tomlerr;
 mod trax;
+mod whereabouts;
 
 pub use crash::demangle;
 pub use debuginfo::{DebugInfo, DebugInfoError, SourceFrame};
@@ -61,3 +62,4 @@ pub use run::{
 };
 pub use sched::{Driven, Executor, PlainExec, Scheduler};
 pub use thread::{CallFrame, Fault, RunState, Shared, Thread};
+pub use whereabouts::{PlaceFrame, PlaceGroup, ThreadPlaces};

@@ -184,6 +184,9 @@ pub struct RunReport {
     pub warnings: Vec<String>,
     /// The text describing a run that did not finish (crash report, deadlock, limit).
     pub failure: Option<String>,
+    /// A run stopped by `--max-instructions` or `--max-cycles`: where its threads were
+    /// (also at the end of [`Self::failure`]).
+    pub stopped_at: Option<crate::ThreadPlaces>,
     /// The machine after the run (memory can be read back, e.g. the framebuffer).
     pub machine: Machine,
     /// The parsed executable.
@@ -458,11 +461,16 @@ fn finish(
     machine: Machine,
     exe: Executable,
 ) -> Result<RunReport, RunError> {
-    let needs_debug =
-        e.profiler.is_some() || matches!(e.outcome, Outcome::Crashed(_) | Outcome::Deadlock { .. });
+    let limit = matches!(e.outcome, Outcome::InstructionLimit | Outcome::CycleLimit);
+    let needs_debug = e.profiler.is_some()
+        || limit
+        || matches!(e.outcome, Outcome::Crashed(_) | Outcome::Deadlock { .. });
     let debug = needs_debug
         .then(|| DebugInfo::parse(req.elf_path, req.elf).ok())
         .flatten();
+    // A run stopped by a limit says where its threads are.
+    let stopped_at = limit
+        .then(|| crate::whereabouts::thread_places(&machine.threads, Some(&exe), debug.as_ref()));
     let failure = match (&e.outcome, e.cycles) {
         (Outcome::Finished, _) => None,
         (Outcome::Crashed(c), _) => Some(crash::report(
@@ -488,7 +496,11 @@ fn finish(
             "error: cycle limit reached after {} cycles",
             cycles.unwrap_or(0)
         )),
-    };
+    }
+    .map(|text| match &stopped_at {
+        Some(p) => format!("{text}\n{}", p.render()),
+        None => text,
+    });
     let profile = e
         .profiler
         .map(|p| Profile::build(&p, debug.as_ref(), Some(&exe)));
@@ -506,6 +518,7 @@ fn finish(
         host_threads: e.host_threads,
         warnings: e.warnings,
         failure,
+        stopped_at,
         machine,
         exe,
     })

@@ -29,9 +29,8 @@ use std::process::{Command, ExitCode, Stdio};
 
 use clap::Args;
 
-use super::common::{RenderArgs, ShapeArgs};
+use super::common::{PngArgs, RenderArgs, ShapeArgs};
 use trax::pipeline::{self, chip_config, scene_report, PrepareError, DEFAULT_OPT_LEVEL};
-use trax_runtime::host::framebuffer_rgb8;
 use trax_runtime::image::{ImageError, MemoryImage};
 use trax_runtime::prelude::{self, Fnv1a};
 
@@ -51,9 +50,9 @@ pub struct NativeArgs {
     /// The chip whose thread shape (TMs x threads) to run, as for `trax run`.
     #[command(flatten)]
     pub shape: ShapeArgs,
-    /// Write the framebuffer as PNG (clamped, top row first).
-    #[arg(short = 'o', long = "output")]
-    pub output: Option<PathBuf>,
+    /// The PNG and its exposure.
+    #[command(flatten)]
+    pub png: PngArgs,
     /// Also write the raw framebuffer: `width*height` pixels of 3 little-endian f32.
     #[arg(long)]
     pub raw_framebuffer: Option<PathBuf>,
@@ -129,7 +128,7 @@ fn native(a: &NativeArgs) -> Result<(), NativeError> {
     if total > 4096 {
         return Err(NativeError::TooManyThreads(total));
     }
-    for out in a.output.iter().chain(&a.raw_framebuffer) {
+    for out in a.png.output.iter().chain(&a.raw_framebuffer) {
         check_writable(out)?;
     }
     // rustc first: a kernel it rejects gets rustc's diagnostics and nothing else.
@@ -157,10 +156,9 @@ fn native(a: &NativeArgs) -> Result<(), NativeError> {
         .first()
         .map(|s| s.data.as_slice())
         .unwrap_or(&[]);
-    if let Some(out) = &a.output {
-        let (w, h) = (a.render.width, a.render.height);
-        write_png(out, w, h, &framebuffer_rgb8(bytes, w, h))?;
-    }
+    a.png
+        .write(bytes, a.render.width, a.render.height)
+        .map_err(NativeError::Files)?;
     if let Some(raw) = &a.raw_framebuffer {
         std::fs::write(raw, bytes).map_err(io_err(raw))?;
     }

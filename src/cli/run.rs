@@ -18,10 +18,8 @@ use trax::stats::StatsDocument;
 use trax_emulator::profile::Profile;
 use trax_emulator::timing::ChipConfig;
 use trax_emulator::{gdb, DebugInfo, Limits, Mode, DEFAULT_QUANTUM};
-use trax_runtime::host::framebuffer_rgb8;
 
-use super::common::{RenderArgs, SampleArgs, ShapeArgs};
-use super::native::write_png;
+use super::common::{PngArgs, RenderArgs, SampleArgs, ShapeArgs};
 use super::progress::ProgressLine;
 
 /// Arguments of `trax run`.
@@ -120,9 +118,9 @@ pub struct ExecArgs {
     /// How `--sample` samples.
     #[command(flatten)]
     pub sampling: SampleArgs,
-    /// Write the framebuffer as PNG (clamped, top row first).
-    #[arg(short = 'o', long = "output")]
-    pub output: Option<PathBuf>,
+    /// The PNG and its exposure.
+    #[command(flatten)]
+    pub png: PngArgs,
     /// Also write the raw framebuffer: `width*height` pixels of 3 little-endian f32 (as
     /// `trax native --raw-framebuffer`).
     #[arg(long)]
@@ -304,6 +302,7 @@ pub fn execute(a: &ExecArgs, extras: &Extras) -> Result<Executed, String> {
         return Err("--host-threads must be at least 1".into());
     }
     for out in a
+        .png
         .output
         .iter()
         .chain(&a.stats_json)
@@ -423,13 +422,9 @@ pub fn execute(a: &ExecArgs, extras: &Extras) -> Result<Executed, String> {
         let text = serde_json::to_string_pretty(&doc).map_err(|e| e.to_string())?;
         std::fs::write(path, text + "\n").map_err(|e| format!("{}: {e}", path.display()))?;
     }
-    if r.finished() && (a.output.is_some() || a.raw_framebuffer.is_some()) {
+    if r.finished() && (a.png.output.is_some() || a.raw_framebuffer.is_some()) {
         let bytes = prepared.framebuffer(&r).unwrap_or_default();
-        if let Some(path) = &a.output {
-            let (w, h) = (p.render.width, p.render.height);
-            write_png(path, w, h, &framebuffer_rgb8(&bytes, w, h)).map_err(|e| e.to_string())?;
-            eprintln!("wrote {}", path.display());
-        }
+        a.png.write(&bytes, p.render.width, p.render.height)?;
         if let Some(path) = &a.raw_framebuffer {
             std::fs::write(path, &bytes).map_err(|e| format!("{}: {e}", path.display()))?;
         }

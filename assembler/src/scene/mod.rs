@@ -718,10 +718,7 @@ fn load_nested(spec: &str, opts: &LoadOptions, depth: usize) -> Result<Scene, Sc
         .clone()
         .or_else(|| is_file.then(|| companion(file, "light")).flatten());
     if let Some(p) = light_path {
-        scene.point_lights = vec![PointLight {
-            position: parse_light(&p)?,
-            color: [1.0; 3],
-        }];
+        scene.point_lights = vec![parse_light(&p)?];
     }
     if let Some(s) = opts.scale {
         scene.scale(s)?;

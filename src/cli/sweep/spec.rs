@@ -310,6 +310,18 @@ pub struct PlotSpec {
     pub title: Option<String>,
     /// Only rows with these parameter values.
     pub filter: Vec<(String, String)>,
+    /// X axis label (default: the parameter's name and unit).
+    #[serde(default)]
+    pub xlabel: Option<String>,
+    /// Y axis label (default: the metric's name and unit).
+    #[serde(default)]
+    pub ylabel: Option<String>,
+    /// Log x axis (`None`: chosen from the data, see `plot::axis::Axis::fit`).
+    #[serde(default)]
+    pub log_x: Option<bool>,
+    /// Log y axis (`None`: chosen from the data).
+    #[serde(default)]
+    pub log_y: Option<bool>,
     /// Where the plot is in the sweep file.
     #[serde(skip)]
     pub loc: Option<Loc>,
@@ -816,6 +828,10 @@ fn parse_plots(src: &Src, item: &Item, kloc: Option<Loc>) -> Result<Vec<PlotSpec
             kind,
             title,
             filter,
+            xlabel: None,
+            ylabel: None,
+            log_x: None,
+            log_y: None,
             loc: tloc,
         });
     }

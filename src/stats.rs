@@ -51,8 +51,11 @@ pub struct StatsDocument<'a> {
     pub sampled: Option<&'a SampledStats>,
     /// The scene data in memory.
     pub scene: SceneData,
-    /// Where the threads were when a limit stopped the run (`null` otherwise).
+    /// Where the threads were when a limit or a livelock stopped the run (`null`
+    /// otherwise).
     pub threads_at_stop: Option<&'a trax_emulator::ThreadPlaces>,
+    /// The livelock found during the run (`null`: none).
+    pub livelock: Option<&'a trax_emulator::Livelock>,
 }
 
 /// The run's inputs.
@@ -112,7 +115,7 @@ pub struct Component {
     pub bytes: u32,
 }
 
-/// `finished`, `crashed`, `deadlock`, `instruction_limit` or `cycle_limit`.
+/// `finished`, `crashed`, `deadlock`, `instruction_limit`, `cycle_limit` or `livelock`.
 pub fn outcome_name(o: &Outcome) -> &'static str {
     match o {
         Outcome::Finished => "finished",
@@ -120,6 +123,7 @@ pub fn outcome_name(o: &Outcome) -> &'static str {
         Outcome::Deadlock { .. } => "deadlock",
         Outcome::InstructionLimit => "instruction_limit",
         Outcome::CycleLimit => "cycle_limit",
+        Outcome::Livelock => "livelock",
     }
 }
 
@@ -195,6 +199,7 @@ impl<'a> StatsDocument<'a> {
             sampled: run.sampled.as_ref(),
             scene: SceneData::of(image),
             threads_at_stop: run.stopped_at.as_ref(),
+            livelock: run.livelock.as_ref(),
         }
     }
 }

@@ -628,3 +628,118 @@ fn a_limit_stop_says_where_the_threads_are() {
     // A finished run has none.
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Runs `trax run KERNEL -O0 --tms 2 --threads 2 ARGS --stats-json JSON`: stderr, whether
+/// it succeeded, and the statistics document.
+fn run_small(k: &Path, args: &[&str], json: &Path) -> (String, bool, serde_json::Value) {
+    let out = Command::new(env!("CARGO_BIN_EXE_trax"))
+        .arg("run")
+        .arg(k)
+        .args(["-O0", "--tms", "2", "--threads", "2"])
+        .args(args)
+        .arg("--stats-json")
+        .arg(json)
+        .current_dir(root())
+        .output()
+        .unwrap();
+    let doc = serde_json::from_str(&std::fs::read_to_string(json).unwrap()).unwrap();
+    (text(&out.stderr), out.status.success(), doc)
+}
+
+/// Threads 0 and 2 wait for a global register nobody sets; 1 and 3 wait at a barrier
+/// the spinning ones never reach: a livelock, found in both modes, told with where the
+/// threads are (a looping thread at its loop), stopping the run only when asked.
+#[test]
+fn a_livelock_says_where_the_threads_are() {
+    let dir = scratch("livelock");
+    let k = dir.join("spin.rs");
+    std::fs::write(
+        &k,
+        "fn wait_for(reg: u32) {\n    while trax::global_read(reg) == 0 {}\n}\n\n\
+         fn trax_main() {\n    if trax::global_id() % 2 == 0 {\n        wait_for(5);\n    } else {\n        trax::barrier(7);\n    }\n}\n",
+    )
+    .unwrap();
+    let json = dir.join("stats.json");
+    let modes: [&[&str]; 3] = [
+        &["--functional"],
+        &["--host-threads", "1"],
+        &["--host-threads", "2"],
+    ];
+    let mut cycles = Vec::new();
+    for mode in modes {
+        let stop = [mode, &["--stop-on-livelock"]].concat();
+        let (err, ok, v) = run_small(&k, &stop, &json);
+        assert!(!ok, "{mode:?}: {err}");
+        assert!(err.contains("error: livelock at "), "{mode:?}: {err}");
+        assert!(err.contains("the run can never finish (stopped here)"), "{err}");
+        assert!(err.contains("where the threads are: 4 live, 0 halted"), "{err}");
+        let spinning = format!(
+            "2 threads 0, 2 (looping: 27 instructions, forever)\n        in spin::wait_for at {}:2\n        called from trax_main at {}:7\n",
+            k.display(),
+            k.display()
+        );
+        assert!(err.contains(&spinning), "{mode:?}: no {spinning:?} in\n{err}");
+        let waiting = format!(
+            "2 threads 1, 3 (barrier G[7])\n        in trax::barrier at "
+        );
+        assert!(err.contains(&waiting), "{mode:?}: no {waiting:?} in\n{err}");
+        assert_eq!(v["outcome"], "livelock");
+        let l = &v["livelock"];
+        assert_eq!(l["stopped"], true);
+        // Looked for after 2^18 quiet cycles (instructions per thread): found at the
+        // first look, within one check period (2^14 cycles; a round of 1000
+        // instructions per thread).
+        let quiet = l["quiet"].as_u64().unwrap();
+        assert!((1 << 18..(1 << 18) + (1 << 14)).contains(&quiet), "{l}");
+        assert_eq!(l["threads"]["groups"][0]["frames"][0]["line"], 2);
+        assert_eq!(v["threads_at_stop"], l["threads"]);
+        if mode[0] == "--host-threads" {
+            assert!(l["cycle"].is_u64(), "{l}");
+            cycles.push(l["cycle"].clone());
+        } else {
+            assert!(l["cycle"].is_null(), "{l}");
+        }
+
+        // Without --stop-on-livelock: told at once, the run goes on (here to a limit).
+        let limit = [mode, &["--max-instructions", "3000000"]].concat();
+        let (err, ok, v) = run_small(&k, &limit, &json);
+        assert!(!ok, "{err}");
+        let warn = err.find("warning: livelock at ").expect(&err);
+        let stop = err.find("error: instruction limit reached").expect(&err);
+        assert!(warn < stop, "{err}");
+        assert!(err.contains("(still running: stop it, or run with --stop-on-livelock)"));
+        assert_eq!(v["outcome"], "instruction_limit");
+        assert_eq!(v["livelock"]["stopped"], false);
+    }
+    // The same cycle for any host-thread count.
+    assert_eq!(cycles[0], cycles[1]);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The control: thread 0 computes in registers for longer than the quiet time (no store,
+/// nothing chip-wide), the others spin waiting for its result. The detector looks (the
+/// chip is quiet for 2^18 cycles or instructions per thread) but thread 0's state never
+/// repeats (its loop counts), so there is no alarm, and the run finishes.
+#[test]
+fn a_long_quiet_computation_is_no_livelock() {
+    let dir = scratch("no-livelock");
+    let k = dir.join("work.rs");
+    // About 6 instructions per iteration at -O0 and 400 000 iterations: 2.4 M
+    // instructions (cycles), more than 2^18 * 8, so the detector looks 3 times.
+    std::fs::write(
+        &k,
+        "fn trax_main() {\n    if trax::global_id() == 0 {\n        let mut x = 1u32;\n        let mut i = 0u32;\n        while i < 400000 {\n            x = x.wrapping_mul(3) ^ i;\n            i += 1;\n        }\n        trax::global_write(5, x | 1);\n    }\n    while trax::global_read(5) == 0 {}\n}\n",
+    )
+    .unwrap();
+    let json = dir.join("stats.json");
+    for mode in [&["--functional"][..], &["--host-threads", "2"][..]] {
+        let (err, ok, v) = run_small(&k, mode, &json);
+        assert!(ok, "{mode:?}: {err}");
+        assert!(!err.contains("livelock"), "{mode:?}: {err}");
+        assert_eq!(v["outcome"], "finished");
+        assert!(v["livelock"].is_null());
+        let n = v["instructions"].as_u64().unwrap();
+        assert!(n > 8 << 18, "{mode:?}: only {n} instructions");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -30,6 +30,7 @@ mod fpu;
 #[doc(hidden)]
 pub mod fuzzing;
 pub mod gdb;
+pub mod livelock;
 mod machine;
 mod memory;
 pub mod memsys;
@@ -58,8 +59,9 @@ pub use memory::{LayoutError, MemFault, MemFaultKind, Segment};
 pub use program::Program;
 pub use regs::RegFile;
 pub use run::{
-    host_threads, run, Limits, Mode, Progress, RunError, RunReport, RunRequest, DEFAULT_QUANTUM,
+    host_threads, run, Limits, Livelock, Mode, OnLivelock, Progress, RunError, RunReport,
+    RunRequest, DEFAULT_QUANTUM,
 };
 pub use sched::{Driven, Executor, PlainExec, Scheduler};
 pub use thread::{CallFrame, Fault, RunState, Shared, Thread};
-pub use whereabouts::{PlaceFrame, PlaceGroup, ThreadPlaces};
+pub use whereabouts::{PlaceFrame, PlaceGroup, ThreadAt, ThreadPlaces};

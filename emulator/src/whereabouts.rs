@@ -105,32 +105,72 @@ fn frames_at(pc: u32, exe: Option<&Executable>, dbg: Option<&DebugInfo>) -> Vec<
     }
 }
 
+/// One live thread's place: its state and its call stack as code addresses.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ThreadAt {
+    /// Global thread id.
+    pub gid: u32,
+    /// `running`, `barrier G[N]`, `stream wait`, or what a caller says of it.
+    pub state: String,
+    /// The address it is at, then the address of each call below it (innermost first).
+    pub pcs: Vec<u32>,
+    /// Calls not recorded (the shadow stack was full).
+    pub dropped_calls: u32,
+}
+
+impl ThreadAt {
+    /// Where thread `t` is (`None` once halted): a waiting thread at the instruction it
+    /// waits in.
+    pub fn of(t: &Thread) -> Option<ThreadAt> {
+        let (state, pc) = match t.state {
+            RunState::Halted => return None,
+            RunState::Barrier { reg, .. } => (format!("barrier G[{reg}]"), t.wait_pc),
+            RunState::StreamWait { .. } => ("stream wait".to_string(), t.wait_pc),
+            RunState::Running => ("running".to_string(), t.pc),
+        };
+        Some(ThreadAt {
+            gid: t.gid,
+            state,
+            pcs: std::iter::once(pc)
+                .chain(t.calls.iter().rev().map(|c| c.call_pc))
+                .collect(),
+            dropped_calls: t.dropped_calls,
+        })
+    }
+}
+
 /// Where the live threads of `threads` are.
 pub fn thread_places(
     threads: &[Thread],
     exe: Option<&Executable>,
     dbg: Option<&DebugInfo>,
 ) -> ThreadPlaces {
+    let live: Vec<ThreadAt> = threads.iter().filter_map(ThreadAt::of).collect();
+    let halted = (threads.len() - live.len()) as u32;
+    places(&live, halted, exe, dbg)
+}
+
+/// The summary of live threads `live` (and `halted` halted ones), their addresses
+/// resolved to source stacks with `exe` and `dbg`.
+pub fn places(
+    live: &[ThreadAt],
+    halted: u32,
+    exe: Option<&Executable>,
+    dbg: Option<&DebugInfo>,
+) -> ThreadPlaces {
     type Key = (String, Vec<PlaceFrame>, u32);
     let mut groups: BTreeMap<Key, Vec<u32>> = BTreeMap::new();
-    let mut halted = 0;
-    for t in threads {
-        let (state, pc) = match t.state {
-            RunState::Halted => {
-                halted += 1;
-                continue;
-            }
-            RunState::Barrier { reg, .. } => (format!("barrier G[{reg}]"), t.wait_pc),
-            RunState::StreamWait { .. } => ("stream wait".to_string(), t.wait_pc),
-            RunState::Running => ("running".to_string(), t.pc),
-        };
+    for t in live {
         let mut stack = Vec::new();
-        for p in std::iter::once(pc).chain(t.calls.iter().rev().map(|c| c.call_pc)) {
+        for &p in &t.pcs {
             stack.extend(frames_at(p, exe, dbg));
         }
         let more = stack.len().saturating_sub(MAX_FRAMES) as u32 + t.dropped_calls;
         stack.truncate(MAX_FRAMES);
-        groups.entry((state, stack, more)).or_default().push(t.gid);
+        groups
+            .entry((t.state.clone(), stack, more))
+            .or_default()
+            .push(t.gid);
     }
     let mut groups: Vec<PlaceGroup> = groups
         .into_iter()
@@ -151,7 +191,7 @@ pub fn thread_places(
             .then_with(|| first_id(&a.threads).cmp(&first_id(&b.threads)))
     });
     ThreadPlaces {
-        live: threads.len() as u32 - halted,
+        live: live.len() as u32,
         halted,
         groups,
     }

@@ -17,7 +17,7 @@ use trax::pipeline::{self, prepare, scene_report};
 use trax::stats::StatsDocument;
 use trax_emulator::profile::Profile;
 use trax_emulator::timing::ChipConfig;
-use trax_emulator::{gdb, DebugInfo, Limits, Mode, DEFAULT_QUANTUM};
+use trax_emulator::{gdb, DebugInfo, Limits, Mode, OnLivelock, DEFAULT_QUANTUM};
 
 use super::common::{PngArgs, RenderArgs, SampleArgs, ShapeArgs};
 use super::progress::ProgressLine;
@@ -103,6 +103,13 @@ pub struct ExecArgs {
     /// Timing mode: stop at this core cycle.
     #[arg(long, value_name = "N", conflicts_with = "functional")]
     pub max_cycles: Option<u64>,
+    /// Stop a run proved never to finish (a livelock: every running thread repeats a loop
+    /// that changes nothing outside it, every other one waits; looked for after 2^18
+    /// cycles, or instructions per thread, without a store to global memory, a
+    /// global-register, barrier or stream operation, a print, counter or halt). Without
+    /// it the run warns, says where the threads are, and goes on.
+    #[arg(long)]
+    pub stop_on_livelock: bool,
     /// Timing mode: record statistics for every N simulated cycles (issue rate, stalls,
     /// L1/L2/DRAM traffic, rays in flight, energy) as `timing.intervals` of the
     /// `--stats-json` document. N must be a multiple of the quantum (L1 + L2 hit latency).
@@ -372,6 +379,23 @@ pub fn execute(a: &ExecArgs, extras: &Extras) -> Result<Executed, String> {
     if line.is_some() {
         req.progress = Some(&mut show);
     }
+    req.livelock = if a.stop_on_livelock {
+        OnLivelock::Stop
+    } else {
+        OnLivelock::Warn
+    };
+    // A livelock the run goes on after is told at once (the run may never end); one
+    // that stops it, with the failure.
+    let mut tell = |l: &trax_emulator::Livelock| {
+        if !l.stopped {
+            let text = with_newline(l.render());
+            match &line {
+                Some(bar) => bar.print(&text),
+                None => eprint!("{text}"),
+            }
+        }
+    };
+    req.livelock_notice = Some(&mut tell);
     let stdout = std::io::stdout();
     let mut out = stdout.lock();
     let start = std::time::Instant::now();

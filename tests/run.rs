@@ -671,18 +671,27 @@ fn a_livelock_says_where_the_threads_are() {
         let (err, ok, v) = run_small(&k, &stop, &json);
         assert!(!ok, "{mode:?}: {err}");
         assert!(err.contains("error: livelock at "), "{mode:?}: {err}");
-        assert!(err.contains("the run can never finish (stopped here)"), "{err}");
-        assert!(err.contains("where the threads are: 4 live, 0 halted"), "{err}");
+        assert!(
+            err.contains("the run can never finish (stopped here)"),
+            "{err}"
+        );
+        assert!(
+            err.contains("where the threads are: 4 live, 0 halted"),
+            "{err}"
+        );
         let spinning = format!(
             "2 threads 0, 2 (looping: 27 instructions, forever)\n        in spin::wait_for at {}:2\n        called from trax_main at {}:7\n",
             k.display(),
             k.display()
         );
-        assert!(err.contains(&spinning), "{mode:?}: no {spinning:?} in\n{err}");
-        let waiting = format!(
-            "2 threads 1, 3 (barrier G[7])\n        in trax::barrier at "
+        assert!(
+            err.contains(&spinning),
+            "{mode:?}: no {spinning:?} in\n{err}"
         );
-        assert!(err.contains(&waiting), "{mode:?}: no {waiting:?} in\n{err}");
+        let waiting = "2 threads 1, 3 (barrier G[7])\n        in trax::hw::barrier at ";
+        assert!(err.contains(waiting), "{mode:?}: no {waiting:?} in\n{err}");
+        let waiter = format!("called from trax_main at {}:9\n", k.display());
+        assert!(err.contains(&waiter), "{mode:?}: no {waiter:?} in\n{err}");
         assert_eq!(v["outcome"], "livelock");
         let l = &v["livelock"];
         assert_eq!(l["stopped"], true);

@@ -145,27 +145,54 @@ fn documented_fields_are_exactly_the_fields_of_every_mode() {
         tops.push(v.as_object().unwrap().keys().cloned().collect::<Vec<_>>());
         seen.extend(f);
     }
-    // A run stopped by a limit: where its threads were.
-    let (out, v) = run(
-        "limit",
-        "examples/pathtracer.rs",
-        &["--max-instructions", "30000"],
-    );
-    assert!(!out.status.success());
-    assert_eq!(v["outcome"], "instruction_limit");
-    let mut f = BTreeSet::new();
-    fields(&v, "", &maps, &mut f);
-    let undocumented: Vec<&String> = f
-        .iter()
-        .filter(|x| !doc.iter().any(|d| matches(d, x)))
-        .collect();
-    assert!(
-        undocumented.is_empty(),
-        "limit: undocumented {undocumented:?}"
-    );
-    tops.push(v.as_object().unwrap().keys().cloned().collect::<Vec<_>>());
-    seen.extend(f);
+    // A run stopped by a limit: where its threads were; one stopped by a livelock (a
+    // thread spinning on a global register nobody sets): the livelock too.
+    let spin = scratch().join("spin.rs");
+    std::fs::write(
+        &spin,
+        "fn trax_main() {\n    while trax::global_read(5) == 0 {}\n}\n",
+    )
+    .unwrap();
+    let spin = spin.to_str().unwrap();
+    for (name, kernel, args, outcome) in [
+        (
+            "limit",
+            "examples/pathtracer.rs",
+            &["--max-instructions", "30000"][..],
+            "instruction_limit",
+        ),
+        (
+            "livelock",
+            spin,
+            &[
+                "--functional",
+                "--tms",
+                "1",
+                "--threads",
+                "1",
+                "--stop-on-livelock",
+            ][..],
+            "livelock",
+        ),
+    ] {
+        let (out, v) = run(name, kernel, args);
+        assert!(!out.status.success());
+        assert_eq!(v["outcome"], outcome);
+        let mut f = BTreeSet::new();
+        fields(&v, "", &maps, &mut f);
+        let undocumented: Vec<&String> = f
+            .iter()
+            .filter(|x| !doc.iter().any(|d| matches(d, x)))
+            .collect();
+        assert!(
+            undocumented.is_empty(),
+            "{name}: undocumented {undocumented:?}"
+        );
+        tops.push(v.as_object().unwrap().keys().cloned().collect::<Vec<_>>());
+        seen.extend(f);
+    }
     assert_eq!(tops[0], tops[3], "one shape: the same top-level fields");
+    assert_eq!(tops[0], tops[4], "one shape: the same top-level fields");
     assert_eq!(tops[0], tops[1], "one shape: the same top-level fields");
     assert_eq!(tops[0], tops[2], "one shape: the same top-level fields");
     let absent: Vec<&String> = doc

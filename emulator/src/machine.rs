@@ -11,9 +11,9 @@
 use std::io::Write;
 
 use crate::elf::Executable;
+use crate::livelock::Detection;
 use crate::memory::{LayoutError, Memory, Segment};
 use crate::program::Program;
-use crate::livelock::Detection;
 use crate::sched::{Executor, PlainExec, Scheduler};
 use crate::thread::{CallFrame, ChipShape, Fault, Shared, Thread};
 use crate::RegFile;

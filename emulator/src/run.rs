@@ -103,7 +103,10 @@ impl Livelock {
         let (level, then) = if self.stopped {
             ("error", "stopped here")
         } else {
-            ("warning", "still running: stop it, or run with --stop-on-livelock")
+            (
+                "warning",
+                "still running: stop it, or run with --stop-on-livelock",
+            )
         };
         format!(
             "{level}: livelock at {at}: every running thread repeats a loop that changes \
@@ -515,11 +518,10 @@ fn run_timing(mut req: RunRequest<'_>, out: &mut dyn Write) -> Result<RunReport,
     if watching {
         engine.on_livelock = Some(&mut hook);
     }
-    // Reborrowed: the engine lives shorter than the request.
-    let mut progress = req.progress.take();
-    engine.progress = progress
-        .as_deref_mut()
-        .map(|p| -> &mut dyn FnMut(&Progress) { p });
+    // Coerced to the engine's (shorter) lifetime.
+    if let Some(p) = req.progress.take() {
+        engine.progress = Some(p);
+    }
     if let Some(spec) = &req.sample {
         let s = timing::sample::run(&mut engine, &mut machine, chip, spec, out)
             .map_err(RunError::Request)?;

@@ -77,6 +77,11 @@ pub struct PlotArgs {
     /// Linear y axis.
     #[arg(long)]
     pub lin_y: bool,
+    /// Energy chart: the components to stack, bottom to top (comma-separated names such
+    /// as `dram,l2,l1`, or columns such as `energy_dram_j`; default: every energy
+    /// component the table has, in table order).
+    #[arg(long, value_delimiter = ',', value_name = "NAMES")]
+    pub components: Vec<String>,
     /// Output path without extension (`.png` and `.svg` are written); default:
     /// `plots/Y_vs_X[_by_BY]` in the results directory.
     #[arg(short = 'o', long)]
@@ -137,6 +142,7 @@ fn plot_cmd(a: &PlotArgs) -> Result<(PathBuf, PathBuf), String> {
         ylabel: a.ylabel.clone(),
         log_x: flag(a.log_x, a.lin_x),
         log_y: flag(a.log_y, a.lin_y),
+        components: a.components.clone(),
         loc: None,
     };
     let out = match &a.out {
@@ -431,7 +437,13 @@ fn gather(t: &Table, spec: &PlotSpec, ycols: &[&str]) -> Result<Data, String> {
 /// Draws a chart to `OUT.png` and `OUT.svg`.
 pub fn draw(t: &Table, spec: &PlotSpec, out: &Path) -> Result<(PathBuf, PathBuf), String> {
     register_font();
-    let parts: Vec<&Metric> = METRICS.iter().filter(|m| m.energy_part).collect();
+    let parts = match spec.kind {
+        PlotKind::Energy => energy_parts(t, &spec.components)?,
+        _ if !spec.components.is_empty() => {
+            return Err("--components is for energy charts (--kind energy)".into())
+        }
+        _ => Vec::new(),
+    };
     let ycols: Vec<&str> = match spec.kind {
         PlotKind::Energy => parts.iter().map(|m| m.column).collect(),
         _ => vec![spec.y.as_str()],
@@ -528,6 +540,45 @@ pub fn draw(t: &Table, spec: &PlotSpec, out: &Path) -> Result<(PathBuf, PathBuf)
     }
     std::fs::write(&svg, text).map_err(|e| format!("{}: {e}", svg.display()))?;
     Ok((png, svg))
+}
+
+/// The energy components a stacked chart draws: those named in `chosen` (a name such as
+/// `dram`, its label or its column), in that order, or every one `t` has.
+fn energy_parts(t: &Table, chosen: &[String]) -> Result<Vec<&'static Metric>, String> {
+    let have: Vec<&'static Metric> = METRICS
+        .iter()
+        .filter(|m| m.energy_part && t.col(m.column).is_some())
+        .collect();
+    let short = |m: &Metric| {
+        m.column
+            .trim_start_matches("energy_")
+            .trim_end_matches("_j")
+            .to_string()
+    };
+    if chosen.is_empty() {
+        return match have.is_empty() {
+            true => Err("no energy components in the table (a functional sweep?)".into()),
+            false => Ok(have),
+        };
+    }
+    let mut parts = Vec::new();
+    for name in chosen {
+        let name = name.trim();
+        let m = have
+            .iter()
+            .find(|m| m.column == name || short(m) == name || m.label.eq_ignore_ascii_case(name))
+            .ok_or_else(|| {
+                let names: Vec<String> = have.iter().map(|m| short(m)).collect();
+                format!(
+                    "--components: no energy component `{name}` in the table (components: {})",
+                    names.join(", ")
+                )
+            })?;
+        if !parts.iter().any(|p: &&Metric| p.column == m.column) {
+            parts.push(*m);
+        }
+    }
+    Ok(parts)
 }
 
 struct Labels {
@@ -631,10 +682,24 @@ fn render<DB: DrawingBackend>(
             ("sans-serif", title_size).into_font(),
         ))
         .map_err(e)?;
+    // Category labels too wide for their slot are drawn upright (rotated), the label area
+    // as tall as the longest (about 8.5 px a character at 15 px).
+    let longest = if categorical {
+        data.xs.iter().map(|x| x.chars().count()).max().unwrap_or(0) as f64 * 8.5
+    } else {
+        0.0
+    };
+    let slot_px = (SIZE.0 - legend_width) as f64 - 121.0;
+    let upright = categorical && longest > 0.9 * slot_px / n.max(1) as f64;
+    let x_area = if upright {
+        (longest as u32 + 40).min(220)
+    } else {
+        55
+    };
     let mut chart = ChartBuilder::on(&plot_area)
         .margin(18)
         .margin_top(4)
-        .x_label_area_size(55)
+        .x_label_area_size(x_area)
         .y_label_area_size(85)
         .build_cartesian_2d(xcoord.coord(), yaxis.coord())
         .map_err(e)?;
@@ -658,10 +723,24 @@ fn render<DB: DrawingBackend>(
         .y_label_formatter(&y_fmt);
     if categorical {
         mesh.x_label_formatter(&cat_fmt).disable_x_mesh();
+        if upright {
+            // Drawn below, each reading down from its tick.
+            mesh.x_label_formatter(&|_: &f64| String::new());
+        }
     } else {
         mesh.x_label_formatter(&x_fmt);
     }
     mesh.draw().map_err(e)?;
+    if upright {
+        let style = TextStyle::from(("sans-serif", 15).into_font())
+            .transform(FontTransform::Rotate90)
+            .pos(Pos::new(HPos::Left, VPos::Center));
+        for (i, x) in data.xs.iter().enumerate() {
+            let (px, py) = chart.backend_coord(&(i as f64, yaxis.range.start));
+            root.draw(&Text::new(x.clone(), (px, py + 12), style.clone()))
+                .map_err(e)?;
+        }
+    }
     // Points in axis coordinates.
     let px = |x: f64| xaxis.as_ref().map_or(x, |a| a.to_axis(x));
     let py = |y: f64| yaxis.to_axis(y);
@@ -764,7 +843,35 @@ pub fn draw_plan_plots(dir: &Path, plots: &[PlotSpec]) -> (Vec<PathBuf>, Vec<Str
 
 #[cfg(test)]
 mod tests {
-    use super::short_labels;
+    use super::{energy_parts, short_labels, Table};
+
+    /// `--components` picks energy components by name, label or column, in the order
+    /// given; an unknown one is an error naming those the table has; without it, every
+    /// component the table has (an older results.csv lacks the newer ones).
+    #[test]
+    fn energy_components_are_chosen_from_the_table() {
+        let t = Table {
+            header: owned(&["id", "tms", "energy_l1_j", "energy_l2_j", "energy_dram_j"]),
+            rows: Vec::new(),
+        };
+        let cols = |v: &[&str]| -> Vec<&str> {
+            energy_parts(&t, &owned(v))
+                .unwrap()
+                .iter()
+                .map(|m| m.column)
+                .collect()
+        };
+        assert_eq!(cols(&[]), ["energy_l1_j", "energy_l2_j", "energy_dram_j"]);
+        assert_eq!(
+            cols(&["dram", "L2", "energy_l1_j"]),
+            ["energy_dram_j", "energy_l2_j", "energy_l1_j"]
+        );
+        let err = energy_parts(&t, &owned(&["stream"])).unwrap_err();
+        assert!(
+            err.contains("`stream`") && err.contains("l1, l2, dram"),
+            "{err}"
+        );
+    }
 
     fn owned(v: &[&str]) -> Vec<String> {
         v.iter().map(|s| s.to_string()).collect()
@@ -829,6 +936,7 @@ mod tests {
                 ylabel: None,
                 log_x: None,
                 log_y: None,
+                components: Vec::new(),
                 loc: None,
             };
             let (png, svg) = draw(&table, &spec, &dir.join(format!("{kind:?}"))).unwrap();

@@ -26,8 +26,8 @@ use std::io::Write;
 pub use collect::{CostKind, ProfileExec, Profiler, KINDS};
 pub use report::{Frame, Profile, TreeNode};
 
-use crate::machine::{Machine, RunSummary};
 use crate::livelock::Detection;
+use crate::machine::{Machine, RunSummary};
 use crate::sched::Scheduler;
 
 /// Runs `m` to the end like [`Machine::run`], with every retired instruction charged to

@@ -223,9 +223,38 @@ impl Axis {
     }
 
     /// The text of the tick at axis coordinate `t`.
+    /// On a linear axis of numbers every tick takes the prefix of the axis's largest
+    /// value (`0, 5 m, 10 m`, never `5 m` beside `0.01`).
     pub fn label(&self, t: f64) -> String {
-        format_value(self.value(t), self.unit)
+        let v = self.value(t);
+        if self.scale != Scale::Linear || self.unit != Unit::Number || v == 0.0 {
+            return format_value(v, self.unit);
+        }
+        let big = self.range.start.abs().max(self.range.end.abs());
+        match si_prefix(big) {
+            Some((f, p)) => format!("{} {p}", digits3(v / f)),
+            None if (1e-2..1e4).contains(&big) => digits3(v),
+            None => format_value(v, self.unit),
+        }
     }
+}
+
+/// The SI prefix for magnitude `a` outside the plain range 10^-2..10^4 (`None` inside
+/// it, or beyond the prefixes).
+fn si_prefix(a: f64) -> Option<(f64, &'static str)> {
+    const SI: [(f64, &str); 7] = [
+        (1e12, "T"),
+        (1e9, "G"),
+        (1e6, "M"),
+        (1e3, "k"),
+        (1e-3, "m"),
+        (1e-6, "µ"),
+        (1e-9, "n"),
+    ];
+    if (1e-2..1e4).contains(&a) {
+        return None;
+    }
+    SI.iter().copied().find(|(f, _)| a >= *f * 0.9995)
 }
 
 /// `v` with three significant digits at most, trailing zeros dropped.
@@ -267,24 +296,11 @@ pub fn format_value(v: f64, unit: Unit) -> String {
             format!("{sign}{} {}", digits3(x), prefixes[i - 1])
         }
         Unit::Bytes => format!("{} B", digits3(v)),
-        Unit::Number => {
-            let si = [
-                (1e12, "T"),
-                (1e9, "G"),
-                (1e6, "M"),
-                (1e3, "k"),
-                (1e-3, "m"),
-                (1e-6, "µ"),
-                (1e-9, "n"),
-            ];
-            if (1e-2..1e4).contains(&a) {
-                return digits3(v);
-            }
-            match si.iter().find(|(f, _)| a >= *f * 0.9995) {
-                Some((f, p)) => format!("{} {p}", digits3(v / f)),
-                None => format!("{v:.1e}"),
-            }
-        }
+        Unit::Number if (1e-2..1e4).contains(&a) => digits3(v),
+        Unit::Number => match si_prefix(a) {
+            Some((f, p)) => format!("{} {p}", digits3(v / f)),
+            None => format!("{v:.1e}"),
+        },
     }
 }
 
@@ -301,6 +317,21 @@ mod tests {
         assert_eq!(format_value(0.05, Unit::Number), "0.05");
         assert_eq!(format_value(1234.0, Unit::Number), "1234");
         assert_eq!(format_value(2.5e9, Unit::Number), "2.5 G");
+    }
+
+    /// A linear axis labels every tick with the prefix of its largest value: never `5 m`
+    /// beside `0.01` (the stacked energy chart's axis once read 0, 5 m, 0.01, 0.015).
+    #[test]
+    fn linear_ticks_share_one_prefix() {
+        let a = Axis::fit(&[0.0, 0.025], Unit::Number, Some(false), true, 0.08).unwrap();
+        let labels: Vec<String> = a.ticks.iter().map(|t| a.label(*t)).collect();
+        assert_eq!(labels, ["0", "0.005", "0.01", "0.015", "0.02", "0.025"]);
+        let a = Axis::fit(&[0.0, 0.0042], Unit::Number, Some(false), true, 0.08).unwrap();
+        let labels: Vec<String> = a.ticks.iter().map(|t| a.label(*t)).collect();
+        assert!(
+            labels.iter().skip(1).all(|l| l.ends_with(" m")),
+            "{labels:?}"
+        );
     }
 
     /// Power-of-two sizes: a log2 axis with a tick per size, labelled in KiB/MiB.

@@ -322,6 +322,10 @@ pub struct PlotSpec {
     /// Log y axis (`None`: chosen from the data).
     #[serde(default)]
     pub log_y: Option<bool>,
+    /// Energy charts: the components to stack, by name (`dram`, `l2`, ...; empty: every
+    /// component the table has).
+    #[serde(default)]
+    pub components: Vec<String>,
     /// Where the plot is in the sweep file.
     #[serde(skip)]
     pub loc: Option<Loc>,
@@ -832,6 +836,7 @@ fn parse_plots(src: &Src, item: &Item, kloc: Option<Loc>) -> Result<Vec<PlotSpec
             ylabel: None,
             log_x: None,
             log_y: None,
+            components: Vec::new(),
             loc: tloc,
         });
     }

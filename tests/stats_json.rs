@@ -544,7 +544,8 @@ fn plot_over_time_writes_png_and_svg() {
     for want in [
         "simulated time (µs)",
         "DRAM bandwidth (GB/s)",
-        "dram_gbps over time",
+        // The title names the metric as its axis label does, not by its field.
+        "DRAM bandwidth over time",
     ] {
         assert!(svg.contains(want), "no {want:?} in the SVG");
     }

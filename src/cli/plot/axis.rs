@@ -183,11 +183,16 @@ impl Axis {
             Scale::Linear => {
                 let raw = (b - a) / 6.0;
                 let mag = 10f64.powf(raw.log10().floor());
-                let step = [1.0, 2.0, 5.0, 10.0]
-                    .iter()
-                    .map(|m| m * mag)
-                    .find(|s| *s >= raw)
-                    .unwrap_or(10.0 * mag);
+                let step = if self.unit == Unit::Bytes && raw >= 1.0 {
+                    // Byte counts step by powers of two (1 KiB, 2 KiB, ... not 1000 B).
+                    2f64.powf(raw.log2().ceil())
+                } else {
+                    [1.0, 2.0, 5.0, 10.0]
+                        .iter()
+                        .map(|m| m * mag)
+                        .find(|s| *s >= raw)
+                        .unwrap_or(10.0 * mag)
+                };
                 let first = (a / step).ceil() as i64;
                 let last = (b / step).floor() as i64;
                 (first..=last).map(|k| k as f64 * step).collect()
@@ -332,6 +337,14 @@ mod tests {
             labels.iter().skip(1).all(|l| l.ends_with(" m")),
             "{labels:?}"
         );
+    }
+
+    /// A linear byte axis steps by powers of two (no `1000 B` beside `1.95 KiB`).
+    #[test]
+    fn linear_byte_ticks_are_binary() {
+        let a = Axis::fit(&[0.0, 5000.0], Unit::Bytes, Some(false), true, 0.0).unwrap();
+        let labels: Vec<String> = a.ticks.iter().map(|t| a.label(*t)).collect();
+        assert_eq!(labels, ["0", "1 KiB", "2 KiB", "3 KiB", "4 KiB"]);
     }
 
     /// Power-of-two sizes: a log2 axis with a tick per size, labelled in KiB/MiB.

@@ -607,6 +607,65 @@ pub fn scene_report(image: &SceneImage) -> String {
 
 /// The chip: preset or TOML file `config` with the command-line overrides applied (`l2s`:
 /// number of L2s, TMs split evenly among them). Errors name the flag or field.
+/// What the run summary calls a chip: the preset's name, `FILE (preset P)` for a file
+/// (`NAME (FILE, preset P)` when the file names the chip), then `+ N overrides (PATH=VALUE,
+/// ...)` for `--set`, `--tms`, `--threads` and `--l2s`. [`chip_config`] puts it in
+/// `ChipConfig::name`.
+pub fn chip_label(
+    config: &str,
+    sets: &[(String, toml::Value)],
+    tms: Option<u32>,
+    threads: Option<u32>,
+    l2s: Option<u32>,
+) -> String {
+    let named = ChipConfig::load(config).map_or_else(|_| config.to_string(), |c| c.name);
+    chip_label_of(config, &named, sets, tms, threads, l2s)
+}
+
+/// [`chip_label`] for a config whose loaded name is `named`.
+fn chip_label_of(
+    config: &str,
+    named: &str,
+    sets: &[(String, toml::Value)],
+    tms: Option<u32>,
+    threads: Option<u32>,
+    l2s: Option<u32>,
+) -> String {
+    let base = if ChipConfig::preset(config).is_some() {
+        config.to_string()
+    } else {
+        // A file: its `preset` key, read as the loader reads it.
+        let preset = std::fs::read_to_string(config)
+            .ok()
+            .and_then(|t| toml::from_str::<toml::Table>(&t).ok())
+            .and_then(|t| t.get("preset").and_then(|p| p.as_str().map(str::to_string)));
+        let default_name = preset.clone().unwrap_or_else(|| ChipConfig::default().name);
+        match (preset, named != default_name) {
+            (Some(p), false) => format!("{config} (preset {p})"),
+            (Some(p), true) => format!("{named} ({config}, preset {p})"),
+            (None, false) => config.to_string(),
+            (None, true) => format!("{named} ({config})"),
+        }
+    };
+    let mut overrides: Vec<String> = sets
+        .iter()
+        .map(|(p, v)| match v {
+            toml::Value::String(s) => format!("{p}={s}"),
+            v => format!("{p}={v}"),
+        })
+        .collect();
+    for (flag, v) in [("tms", tms), ("threads", threads), ("l2s", l2s)] {
+        if let Some(v) = v {
+            overrides.push(format!("{flag}={v}"));
+        }
+    }
+    match overrides.len() {
+        0 => base,
+        1 => format!("{base} + 1 override ({})", overrides[0]),
+        n => format!("{base} + {n} overrides ({})", overrides.join(", ")),
+    }
+}
+
 pub fn chip_config(
     config: &str,
     sets: &[(String, toml::Value)],
@@ -616,6 +675,7 @@ pub fn chip_config(
 ) -> Result<ChipConfig, String> {
     let mut chip = ChipConfig::load(config).map_err(|e| e.to_string())?;
     chip.apply_overrides(sets).map_err(|e| e.to_string())?;
+    chip.name = chip_label_of(config, &chip.name, sets, tms, threads, l2s);
     for (flag, v) in [("tms", tms), ("threads", threads), ("l2s", l2s)] {
         if v == Some(0) {
             return Err(format!("--{flag} must be at least 1"));

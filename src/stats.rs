@@ -140,6 +140,11 @@ pub struct StatsDocument<'a> {
     pub sampled: Option<&'a SampledStats>,
     /// The scene data in memory.
     pub scene: SceneData,
+    /// Where the threads were when a limit or a livelock stopped the run (`null`
+    /// otherwise).
+    pub threads_at_stop: Option<&'a trax_emulator::ThreadPlaces>,
+    /// The livelock found during the run (`null`: none).
+    pub livelock: Option<&'a trax_emulator::Livelock>,
 }
 
 /// The run's inputs.
@@ -243,7 +248,7 @@ pub struct Component {
     pub bytes: u32,
 }
 
-/// `finished`, `crashed`, `deadlock`, `instruction_limit` or `cycle_limit`.
+/// `finished`, `crashed`, `deadlock`, `instruction_limit`, `cycle_limit` or `livelock`.
 pub fn outcome_name(o: &Outcome) -> &'static str {
     match o {
         Outcome::Finished => "finished",
@@ -251,6 +256,7 @@ pub fn outcome_name(o: &Outcome) -> &'static str {
         Outcome::Deadlock { .. } => "deadlock",
         Outcome::InstructionLimit => "instruction_limit",
         Outcome::CycleLimit => "cycle_limit",
+        Outcome::Livelock => "livelock",
     }
 }
 
@@ -330,6 +336,8 @@ impl<'a> StatsDocument<'a> {
             }),
             sampled: run.sampled.as_ref(),
             scene: SceneData::of(&prepared.image),
+            threads_at_stop: run.stopped_at.as_ref(),
+            livelock: run.livelock.as_ref(),
         }
     }
 }

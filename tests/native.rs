@@ -597,3 +597,67 @@ fn pipeline_modes_are_checked_natively_as_on_the_machine() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// The shipped scenes' path-traced images are viewable with default flags, their `.light`
+/// files (a position, intensity 1) as they are: auto exposure brightens the PNG by whole
+/// stops (before it, Sponza had a mean of 0.3% of white and 93% black pixels), and the raw
+/// framebuffer is the unscaled radiance. Bounds: mean between 5% and 40% of white (a dark
+/// interior lit by one point light, noisy at 4 spp; 0.09..0.18 is auto's target before
+/// clipping), at most 20% of pixels pure black.
+#[test]
+fn path_traced_shipped_scenes_are_viewable_with_default_flags() {
+    let dir = scratch("viewable");
+    for scene in ["sponza/sponza", "sibenik/sibenik"] {
+        let obj = format!("../shared/scenes/{scene}.obj");
+        let name = scene.split('/').next().unwrap();
+        let png = dir.join(format!("{name}.png"));
+        let raw = dir.join(format!("{name}.raw"));
+        let out = native(&[
+            "examples/pathtracer.rs",
+            "--scene",
+            &obj,
+            "--spp",
+            "4",
+            "--width",
+            "64",
+            "--height",
+            "64",
+            "-o",
+            png.to_str().unwrap(),
+            "--raw-framebuffer",
+            raw.to_str().unwrap(),
+        ]);
+        let err = text(&out.stderr);
+        assert!(out.status.success(), "{scene}: {err}");
+        let (w, h, px) = read_png(&png);
+        assert_eq!((w, h), (64, 64));
+        let mean = px.iter().map(|&v| f64::from(v)).sum::<f64>() / px.len() as f64 / 255.0;
+        let black = px.chunks(3).filter(|p| p == &[0, 0, 0]).count() as f64 / 4096.0;
+        assert!((0.05..0.4).contains(&mean), "{scene}: mean {mean}");
+        assert!(black <= 0.2, "{scene}: {black} black");
+        // The exposure is said, and the PNG is the raw framebuffer at that exposure.
+        let ev: f32 = err
+            .split("(exposure auto, ")
+            .nth(1)
+            .and_then(|s| s.split(" EV)").next())
+            .and_then(|s| s.parse().ok())
+            .unwrap_or_else(|| panic!("{scene}: no exposure in {err}"));
+        assert!(ev >= 1.0, "{scene}: a dark image is brightened ({ev})");
+        let fb = std::fs::read(&raw).unwrap();
+        let raw_mean = fb
+            .chunks(4)
+            .map(|b| f64::from(f32::from_le_bytes([b[0], b[1], b[2], b[3]])))
+            .sum::<f64>()
+            / 12288.0;
+        assert!(
+            raw_mean < 0.02,
+            "{scene}: the raw framebuffer is not scaled ({raw_mean})"
+        );
+        for (i, &p) in px.iter().enumerate() {
+            let v = f32::from_le_bytes(fb[4 * i..4 * i + 4].try_into().unwrap());
+            let want = ((v * ev.exp2()).clamp(0.0, 1.0) * 255.0 + 0.5) as u8;
+            assert_eq!(p, want, "{scene}: value {i}");
+        }
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

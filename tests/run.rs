@@ -525,3 +525,234 @@ fn messages_name_the_input_once_and_list_choices() {
         "{err}"
     );
 }
+
+/// A `.light` file's intensity reaches the kernel: Sponza (lit by its point light alone)
+/// with the light at intensity 4 is, value for value, 4 times the image at intensity 1
+/// (a power of two scales every path's contribution exactly), and an RGB intensity scales
+/// each channel.
+#[test]
+fn light_file_intensity_scales_the_image() {
+    let dir = scratch("light-intensity");
+    let raw = |name: &str, light: &str| -> Vec<f32> {
+        let l = dir.join(format!("{name}.light"));
+        std::fs::write(&l, light).unwrap();
+        let fb = dir.join(format!("{name}.raw"));
+        let out = Command::new(env!("CARGO_BIN_EXE_trax"))
+            .args(["run", "examples/pathtracer.rs", "--functional"])
+            .args(["--scene", "../shared/scenes/sponza/sponza.obj"])
+            .args(["--width", "12", "--height", "10", "--light"])
+            .arg(&l)
+            .arg("--raw-framebuffer")
+            .arg(&fb)
+            .current_dir(root())
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        std::fs::read(&fb)
+            .unwrap()
+            .chunks(4)
+            .map(|b| f32::from_le_bytes(b.try_into().unwrap()))
+            .collect()
+    };
+    let one = raw("one", "7.97 1.4 -1.74\n");
+    let four = raw("four", "7.97 1.4 -1.74\n4\n");
+    let rgb = raw("rgb", "7.97 1.4 -1.74  1 2 0.5\n");
+    assert!(one.iter().any(|v| *v > 0.0));
+    for (i, v) in one.iter().enumerate() {
+        assert_eq!(four[i], 4.0 * v, "value {i}");
+        assert_eq!(rgb[i], [1.0, 2.0, 0.5][i % 3] * v, "value {i}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// A run stopped by a limit says where its threads are, grouped by source stack with
+/// counts, in the text and the stats document, in both modes.
+#[test]
+fn a_limit_stop_says_where_the_threads_are() {
+    let dir = scratch("limit-places");
+    let k = dir.join("spin.rs");
+    std::fs::write(
+        &k,
+        "fn spin_a() -> u32 {\n    let mut x = 1u32;\n    loop { x = x.wrapping_mul(3) | 1; if x == 0 { return x; } }\n}\n\n\
+         fn spin_b() -> u32 {\n    let mut x = 1u32;\n    loop { x = x.wrapping_mul(5) | 1; if x == 0 { return x; } }\n}\n\n\
+         fn trax_main() {\n    if trax::global_id() % 2 == 0 {\n        spin_a();\n    } else {\n        spin_b();\n    }\n}\n",
+    )
+    .unwrap();
+    for mode in [&["--functional"][..], &["--host-threads", "2"][..]] {
+        let json = dir.join("stats.json");
+        let out = Command::new(env!("CARGO_BIN_EXE_trax"))
+            .arg("run")
+            .arg(&k)
+            .args([
+                "-O0",
+                "--tms",
+                "2",
+                "--threads",
+                "2",
+                "--max-instructions",
+                "20000",
+            ])
+            .args(mode)
+            .arg("--stats-json")
+            .arg(&json)
+            .current_dir(root())
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{mode:?}: {err}");
+        assert!(err.contains("error: instruction limit reached"), "{err}");
+        assert!(
+            err.contains("where the threads are: 4 live, 0 halted"),
+            "{err}"
+        );
+        for (ids, f, line) in [("0, 2", "spin_a", 3), ("1, 3", "spin_b", 8)] {
+            let group = format!(
+                "2 threads {ids} (running)\n        in spin::{f} at {}:{line}\n        called from trax_main at {}:",
+                k.display(),
+                k.display()
+            );
+            assert!(err.contains(&group), "{mode:?}: no {group:?} in\n{err}");
+        }
+        let v: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+        let p = &v["threads_at_stop"];
+        assert_eq!(p["live"], 4);
+        let groups = p["groups"].as_array().unwrap();
+        assert_eq!(groups.len(), 2, "{p}");
+        assert_eq!(groups[0]["count"], 2);
+        assert_eq!(groups[0]["threads"], "0, 2");
+        assert_eq!(groups[0]["frames"][0]["function"], "spin::spin_a");
+        assert_eq!(groups[0]["frames"][0]["line"], 3);
+        assert_eq!(groups[1]["frames"][0]["function"], "spin::spin_b");
+    }
+    // A finished run has none.
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Runs `trax run KERNEL -O0 --tms 2 --threads 2 ARGS --stats-json JSON`: stderr, whether
+/// it succeeded, and the statistics document.
+fn run_small(k: &Path, args: &[&str], json: &Path) -> (String, bool, serde_json::Value) {
+    let out = Command::new(env!("CARGO_BIN_EXE_trax"))
+        .arg("run")
+        .arg(k)
+        .args(["-O0", "--tms", "2", "--threads", "2"])
+        .args(args)
+        .arg("--stats-json")
+        .arg(json)
+        .current_dir(root())
+        .output()
+        .unwrap();
+    let doc = serde_json::from_str(&std::fs::read_to_string(json).unwrap()).unwrap();
+    (text(&out.stderr), out.status.success(), doc)
+}
+
+/// Threads 0 and 2 wait for a global register nobody sets; 1 and 3 wait at a barrier
+/// the spinning ones never reach: a livelock, found in both modes, told with where the
+/// threads are (a looping thread at its loop), stopping the run only when asked.
+#[test]
+fn a_livelock_says_where_the_threads_are() {
+    let dir = scratch("livelock");
+    let k = dir.join("spin.rs");
+    std::fs::write(
+        &k,
+        "fn wait_for(reg: u32) {\n    while trax::global_read(reg) == 0 {}\n}\n\n\
+         fn trax_main() {\n    if trax::global_id() % 2 == 0 {\n        wait_for(5);\n    } else {\n        trax::barrier(7);\n    }\n}\n",
+    )
+    .unwrap();
+    let json = dir.join("stats.json");
+    let modes: [&[&str]; 3] = [
+        &["--functional"],
+        &["--host-threads", "1"],
+        &["--host-threads", "2"],
+    ];
+    let mut cycles = Vec::new();
+    for mode in modes {
+        let stop = [mode, &["--stop-on-livelock"]].concat();
+        let (err, ok, v) = run_small(&k, &stop, &json);
+        assert!(!ok, "{mode:?}: {err}");
+        assert!(err.contains("error: livelock at "), "{mode:?}: {err}");
+        assert!(
+            err.contains("the run can never finish (stopped here)"),
+            "{err}"
+        );
+        assert!(
+            err.contains("where the threads are: 4 live, 0 halted"),
+            "{err}"
+        );
+        let spinning = format!(
+            "2 threads 0, 2 (looping: 27 instructions, forever)\n        in spin::wait_for at {}:2\n        called from trax_main at {}:7\n",
+            k.display(),
+            k.display()
+        );
+        assert!(
+            err.contains(&spinning),
+            "{mode:?}: no {spinning:?} in\n{err}"
+        );
+        let waiting = "2 threads 1, 3 (barrier G[7])\n        in trax::hw::barrier at ";
+        assert!(err.contains(waiting), "{mode:?}: no {waiting:?} in\n{err}");
+        let waiter = format!("called from trax_main at {}:9\n", k.display());
+        assert!(err.contains(&waiter), "{mode:?}: no {waiter:?} in\n{err}");
+        assert_eq!(v["outcome"], "livelock");
+        let l = &v["livelock"];
+        assert_eq!(l["stopped"], true);
+        // Looked for after 2^18 quiet cycles (instructions per thread): found at the
+        // first look, within one check period (2^14 cycles; a round of 1000
+        // instructions per thread).
+        let quiet = l["quiet"].as_u64().unwrap();
+        assert!((1 << 18..(1 << 18) + (1 << 14)).contains(&quiet), "{l}");
+        assert_eq!(l["threads"]["groups"][0]["frames"][0]["line"], 2);
+        assert_eq!(v["threads_at_stop"], l["threads"]);
+        if mode[0] == "--host-threads" {
+            assert!(l["cycle"].is_u64(), "{l}");
+            cycles.push(l["cycle"].clone());
+        } else {
+            assert!(l["cycle"].is_null(), "{l}");
+        }
+
+        // Without --stop-on-livelock: told at once, the run goes on (here to a limit).
+        let limit = [mode, &["--max-instructions", "3000000"]].concat();
+        let (err, ok, v) = run_small(&k, &limit, &json);
+        assert!(!ok, "{err}");
+        let warn = err.find("warning: livelock at ").expect(&err);
+        let stop = err.find("error: instruction limit reached").expect(&err);
+        assert!(warn < stop, "{err}");
+        assert!(err.contains("(still running: stop it, or run with --stop-on-livelock)"));
+        assert_eq!(v["outcome"], "instruction_limit");
+        assert_eq!(v["livelock"]["stopped"], false);
+    }
+    // The same cycle for any host-thread count.
+    assert_eq!(cycles[0], cycles[1]);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The control: thread 0 computes in registers for longer than the quiet time (no store,
+/// nothing chip-wide), the others spin waiting for its result. The detector looks (the
+/// chip is quiet for 2^18 cycles or instructions per thread) but thread 0's state never
+/// repeats (its loop counts), so there is no alarm, and the run finishes.
+#[test]
+fn a_long_quiet_computation_is_no_livelock() {
+    let dir = scratch("no-livelock");
+    let k = dir.join("work.rs");
+    // About 6 instructions per iteration at -O0 and 400 000 iterations: 2.4 M
+    // instructions (cycles), more than 2^18 * 8, so the detector looks 3 times.
+    std::fs::write(
+        &k,
+        "fn trax_main() {\n    if trax::global_id() == 0 {\n        let mut x = 1u32;\n        let mut i = 0u32;\n        while i < 400000 {\n            x = x.wrapping_mul(3) ^ i;\n            i += 1;\n        }\n        trax::global_write(5, x | 1);\n    }\n    while trax::global_read(5) == 0 {}\n}\n",
+    )
+    .unwrap();
+    let json = dir.join("stats.json");
+    for mode in [&["--functional"][..], &["--host-threads", "2"][..]] {
+        let (err, ok, v) = run_small(&k, mode, &json);
+        assert!(ok, "{mode:?}: {err}");
+        assert!(!err.contains("livelock"), "{mode:?}: {err}");
+        assert_eq!(v["outcome"], "finished");
+        assert!(v["livelock"].is_null());
+        let n = v["instructions"].as_u64().unwrap();
+        assert!(n > 8 << 18, "{mode:?}: only {n} instructions");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -145,6 +145,54 @@ fn documented_fields_are_exactly_the_fields_of_every_mode() {
         tops.push(v.as_object().unwrap().keys().cloned().collect::<Vec<_>>());
         seen.extend(f);
     }
+    // A run stopped by a limit: where its threads were; one stopped by a livelock (a
+    // thread spinning on a global register nobody sets): the livelock too.
+    let spin = scratch().join("spin.rs");
+    std::fs::write(
+        &spin,
+        "fn trax_main() {\n    while trax::global_read(5) == 0 {}\n}\n",
+    )
+    .unwrap();
+    let spin = spin.to_str().unwrap();
+    for (name, kernel, args, outcome) in [
+        (
+            "limit",
+            "examples/pathtracer.rs",
+            &["--max-instructions", "30000"][..],
+            "instruction_limit",
+        ),
+        (
+            "livelock",
+            spin,
+            &[
+                "--functional",
+                "--tms",
+                "1",
+                "--threads",
+                "1",
+                "--stop-on-livelock",
+            ][..],
+            "livelock",
+        ),
+    ] {
+        let (out, v) = run(name, kernel, args);
+        assert!(!out.status.success());
+        assert_eq!(v["outcome"], outcome);
+        let mut f = BTreeSet::new();
+        fields(&v, "", &maps, &mut f);
+        let undocumented: Vec<&String> = f
+            .iter()
+            .filter(|x| !doc.iter().any(|d| matches(d, x)))
+            .collect();
+        assert!(
+            undocumented.is_empty(),
+            "{name}: undocumented {undocumented:?}"
+        );
+        tops.push(v.as_object().unwrap().keys().cloned().collect::<Vec<_>>());
+        seen.extend(f);
+    }
+    assert_eq!(tops[0], tops[3], "one shape: the same top-level fields");
+    assert_eq!(tops[0], tops[4], "one shape: the same top-level fields");
     assert_eq!(tops[0], tops[1], "one shape: the same top-level fields");
     assert_eq!(tops[0], tops[2], "one shape: the same top-level fields");
     let absent: Vec<&String> = doc
@@ -188,6 +236,45 @@ fn values_match_the_run_summary() {
     );
     assert!(v["inputs"]["quantum"].is_null());
     assert_eq!(v["chip"]["name"], "tiny");
+}
+
+/// The simple DRAM model has no rows: no row-hit rate (`null`, `n/a` in the summary),
+/// where the detailed model has one in both.
+#[test]
+fn row_hit_rate_only_where_dram_has_rows() {
+    let (out, v) = run(
+        "simple-dram",
+        "examples/raycast.rs",
+        &["--set", "memory.dram.model=simple"],
+    );
+    assert!(out.status.success());
+    let err = text(&out.stderr);
+    assert!(v["timing"]["memory"]["dram"]["reads"].as_u64().unwrap() > 0);
+    assert!(
+        v["timing"]["memory"]["dram"]["row_hit_rate"].is_null(),
+        "{v}"
+    );
+    assert!(err.contains("row-hit n/a,"), "{err}");
+    // A modified chip says so, in the summary and the document.
+    let label = "tiny + 1 override (memory.dram.model=simple)";
+    assert_eq!(v["chip"]["name"], label);
+    assert!(err.contains(&format!("chip: {label} (")), "{err}");
+
+    let (out, v) = run(
+        "detailed-dram",
+        "examples/raycast.rs",
+        &["--set", "memory.dram.preset=gddr5-thesis"],
+    );
+    assert!(out.status.success());
+    let rate = v["timing"]["memory"]["dram"]["row_hit_rate"]
+        .as_f64()
+        .expect("a detailed DRAM has a row-hit rate");
+    assert!((0.0..=1.0).contains(&rate));
+    let err = text(&out.stderr);
+    assert!(
+        err.contains(&format!("row-hit {:.2}%,", rate * 100.0)),
+        "{err}"
+    );
 }
 
 #[test]
@@ -457,7 +544,8 @@ fn plot_over_time_writes_png_and_svg() {
     for want in [
         "simulated time (µs)",
         "DRAM bandwidth (GB/s)",
-        "dram_gbps over time",
+        // The title names the metric as its axis label does, not by its field.
+        "DRAM bandwidth over time",
     ] {
         assert!(svg.contains(want), "no {want:?} in the SVG");
     }

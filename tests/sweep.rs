@@ -374,7 +374,10 @@ where = {{ mode = "timing" }}
         assert_eq!(rec["stats"]["inputs"]["kernel"], rec["command"][2]);
         assert_eq!(rec["stats"]["inputs"]["opt_level"], serde_json::Value::Null);
         assert_eq!(rec["config"]["tms"].to_string(), r["tms"]);
-        assert_eq!(rec["config"]["name"], "tiny");
+        assert_eq!(
+            rec["config"]["name"],
+            format!("tiny + 1 override (tms={})", r["tms"])
+        );
         assert_eq!(rec["trax"]["version"], env!("CARGO_PKG_VERSION"));
         assert_eq!(
             rec["kernel"]["source_sha256"],

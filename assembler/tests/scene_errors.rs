@@ -288,6 +288,27 @@ fn bad_view_and_light_files() {
         trax_assembler::scene::parse_light(&l),
         Err(SceneError::Syntax { .. })
     ));
+    // An optional intensity: one number (white) or three (RGB), never negative or 2.
+    let light = |text: &str| {
+        std::fs::write(&l, text).unwrap();
+        trax_assembler::scene::parse_light(&l)
+    };
+    let p = light("1 2 3\n").unwrap();
+    assert_eq!((p.position, p.color), ([1.0, 2.0, 3.0], [1.0; 3]));
+    assert_eq!(light("1 2 3\n40\n").unwrap().color, [40.0; 3]);
+    assert_eq!(light("1 2 3  4 5 6").unwrap().color, [4.0, 5.0, 6.0]);
+    for bad in ["1 2 3 4 5", "1 2 3 4 5 6 7", "1 2 3 -4"] {
+        match light(bad) {
+            Err(e @ SceneError::Syntax { .. }) => {
+                let m = e.to_string();
+                assert!(
+                    m.contains("c.light") && m.contains("intensity"),
+                    "{bad}: {m}"
+                );
+            }
+            other => panic!("{bad}: {other:?}"),
+        }
+    }
 }
 
 #[test]

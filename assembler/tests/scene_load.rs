@@ -95,7 +95,9 @@ fn view_gaze_is_a_direction() {
     let d = parse_view(&shared("dragon/dragon.view")).unwrap();
     assert_eq!(d.distance, 1.015);
     assert_eq!(
-        parse_light(&shared("dragon/dragon.light")).unwrap(),
+        parse_light(&shared("dragon/dragon.light"))
+            .unwrap()
+            .position,
         [0.0, 0.2, 0.0]
     );
 }

@@ -94,7 +94,7 @@ fn main() {
 
         let mut m = new();
         let t = Instant::now();
-        let (summary, prof) = profile_run(&mut m, &mut std::io::sink());
+        let (summary, prof) = profile_run(&mut m, &mut std::io::sink(), None);
         let (o, n) = (summary.outcome, summary.instructions);
         profiled = profiled.min(t.elapsed().as_secs_f64());
         assert!(matches!(o, Outcome::Finished), "{o:?}");

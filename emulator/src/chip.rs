@@ -66,9 +66,11 @@ impl Chip for Shared {
         Some(self)
     }
     fn output(&mut self) -> &mut Vec<u8> {
+        self.changes += 1;
         &mut self.output
     }
     fn stats(&mut self) -> &mut [u64; NUM_STATS] {
+        self.changes += 1;
         &mut self.stats
     }
     fn profile(&mut self) -> &mut [u64; 32] {
@@ -92,6 +94,8 @@ pub struct Effects {
     /// Whether anything was printed since the last merge (counters are sums: they can be
     /// merged whenever).
     pub dirty: bool,
+    /// Prints and counts so far (never reset: the livelock detector's progress).
+    pub changes: u64,
 }
 
 impl Default for Effects {
@@ -102,6 +106,7 @@ impl Default for Effects {
             profile: [0; 32],
             cycle_starts: Vec::new(),
             dirty: false,
+            changes: 0,
         }
     }
 }
@@ -178,11 +183,13 @@ impl Chip for TmView<'_> {
         None
     }
     fn output(&mut self) -> &mut Vec<u8> {
+        self.fx.changes += 1;
         self.fx.dirty = true;
         self.fx.at_cycle(self.cycle);
         &mut self.fx.output
     }
     fn stats(&mut self) -> &mut [u64; NUM_STATS] {
+        self.fx.changes += 1;
         &mut self.fx.stats
     }
     fn profile(&mut self) -> &mut [u64; 32] {

@@ -31,6 +31,7 @@ mod fpu;
 #[doc(hidden)]
 pub mod fuzzing;
 pub mod gdb;
+pub mod livelock;
 mod machine;
 mod memory;
 pub mod memsys;
@@ -47,6 +48,7 @@ mod thread;
 pub mod timing;
 mod tomlerr;
 mod trax;
+mod whereabouts;
 
 pub use crash::demangle;
 pub use debuginfo::{DebugInfo, DebugInfoError, SourceFrame};
@@ -58,7 +60,9 @@ pub use memory::{LayoutError, MemFault, MemFaultKind, Segment};
 pub use program::Program;
 pub use regs::RegFile;
 pub use run::{
-    host_threads, run, Limits, Mode, Progress, RunError, RunReport, RunRequest, DEFAULT_QUANTUM,
+    host_threads, run, Limits, Livelock, Mode, OnLivelock, Progress, RunError, RunReport,
+    RunRequest, DEFAULT_QUANTUM,
 };
 pub use sched::{Driven, Executor, PlainExec, ReferenceExec, Scheduler};
 pub use thread::{CallFrame, Fault, RunState, Shared, Thread};
+pub use whereabouts::{PlaceFrame, PlaceGroup, ThreadAt, ThreadPlaces};

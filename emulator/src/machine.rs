@@ -11,9 +11,10 @@
 use std::io::Write;
 
 use crate::elf::Executable;
+use crate::livelock::Detection;
 use crate::memory::{LayoutError, Memory, Segment};
 use crate::program::Program;
-use crate::sched::{Driven, Executor, PlainExec, Scheduler};
+use crate::sched::{Executor, PlainExec, Scheduler};
 use crate::thread::{CallFrame, ChipShape, Fault, Shared, Thread};
 use crate::RegFile;
 use trax_runtime::abi;
@@ -115,6 +116,8 @@ pub enum Outcome {
     InstructionLimit,
     /// The cycle limit was reached (timing mode).
     CycleLimit,
+    /// The run was proved never to end ([`crate::livelock`]) and asked to stop there.
+    Livelock,
 }
 
 /// Summary of a run.
@@ -214,17 +217,20 @@ impl Machine {
     /// The interleaving (TM-major round robin, `quantum` instructions per turn) is
     /// [`Scheduler`]'s, shared with the profiler and the debugger so their runs equal this one.
     pub fn run(&mut self, out: &mut dyn Write) -> RunSummary {
-        self.run_with(out, &mut PlainExec)
+        self.run_with(out, &mut PlainExec, None)
     }
 
-    /// Like [`Self::run`], executing each thread's turn with `e` (e.g. to watch progress).
-    pub fn run_with(&mut self, out: &mut dyn Write, e: &mut dyn Executor) -> RunSummary {
+    /// Like [`Self::run`], executing each thread's turn with `e` (e.g. to watch progress)
+    /// and, with `on_livelock`, watching for a livelock
+    /// ([`Scheduler::run_to_end`]).
+    pub fn run_with(
+        &mut self,
+        out: &mut dyn Write,
+        e: &mut dyn Executor,
+        on_livelock: Option<&mut dyn FnMut(&Detection) -> bool>,
+    ) -> RunSummary {
         let mut sched = Scheduler::new(self);
-        let outcome = loop {
-            if let Driven::Done(o) = sched.run(self, out, e) {
-                break o;
-            }
-        };
+        let outcome = sched.run_to_end(self, out, e, on_livelock);
         RunSummary {
             outcome,
             instructions: sched.total,

@@ -153,6 +153,9 @@ pub struct Memory {
     pub stack_base: u32,
     /// Size of each thread's local store.
     pub stack_size: u32,
+    /// Stores to global memory so far (through [`Self::write`]): progress the livelock
+    /// detector watches.
+    pub(crate) stores: u64,
 }
 
 impl Memory {
@@ -252,6 +255,7 @@ impl Memory {
             segments,
             stack_base,
             stack_size,
+            stores: 0,
         })
     }
 
@@ -420,6 +424,7 @@ impl Memory {
                 // SAFETY: as in `read`: `a..a + N` is in bounds (`global_writable` read the
                 // page entry under the same argument).
                 unsafe { self.bytes.get_unchecked_mut(a..a + N) }.copy_from_slice(&v);
+                self.stores += 1;
                 return Ok(());
             }
         } else {

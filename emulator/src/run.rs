@@ -19,6 +19,7 @@ use crate::debuginfo::DebugInfo;
 use crate::elf::{ElfError, Executable};
 use crate::exec::Stop;
 use crate::gdb::{self, GdbError};
+use crate::livelock::Detection;
 use crate::machine::{Machine, MachineConfig, Outcome, SetupError};
 use crate::memory::Segment;
 use crate::profile::{profile_run, Profile, Profiler};
@@ -60,6 +61,64 @@ pub struct Limits {
     pub max_cycles: Option<u64>,
 }
 
+/// What a run does about a livelock ([`crate::livelock`]: proven never to end).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OnLivelock {
+    /// Do not watch.
+    Ignore,
+    /// Tell it ([`RunRequest::livelock_notice`], [`RunReport::livelock`]) and go on.
+    Warn,
+    /// Tell it and stop the run ([`Outcome::Livelock`]).
+    Stop,
+}
+
+/// A livelock as reported: when it was found and where every live thread was.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct Livelock {
+    /// Cycle at which it was found (timing mode; `null` in functional mode).
+    pub cycle: Option<u64>,
+    /// Instructions executed by all threads by then.
+    pub instructions: u64,
+    /// How long nothing outside the threads had changed: cycles (timing mode), or
+    /// instructions per thread (functional mode: rounds of the interleaving times the
+    /// quantum).
+    pub quiet: u64,
+    /// Whether the run stopped there (`--stop-on-livelock`).
+    pub stopped: bool,
+    /// Where the threads were: a looping thread at the first instruction of its loop.
+    pub threads: crate::ThreadPlaces,
+}
+
+impl Livelock {
+    /// The message: `error:` when it stopped the run, else `warning:`, then where the
+    /// threads are.
+    pub fn render(&self) -> String {
+        let (at, unit) = match self.cycle {
+            Some(c) => (format!("cycle {c}"), "cycles"),
+            None => (
+                format!("{} instructions", self.instructions),
+                "instructions per thread",
+            ),
+        };
+        let (level, then) = if self.stopped {
+            ("error", "stopped here")
+        } else {
+            (
+                "warning",
+                "still running: stop it, or run with --stop-on-livelock",
+            )
+        };
+        format!(
+            "{level}: livelock at {at}: every running thread repeats a loop that changes \
+             nothing outside it (no store to global memory, no global-register, barrier or \
+             stream operation, print, counter or halt: none for {} {unit}) and no waiting \
+             thread can be released: the run can never finish ({then})\n{}",
+            self.quiet,
+            self.threads.render()
+        )
+    }
+}
+
 /// What to run, and how.
 pub struct RunRequest<'a> {
     /// Path of the ELF (for messages and DWARF source paths).
@@ -86,6 +145,12 @@ pub struct RunRequest<'a> {
     pub gdb: Option<TcpListener>,
     /// Called with the run's [`Progress`] about every 100 ms of host time.
     pub progress: Option<&'a mut dyn FnMut(&Progress)>,
+    /// What to do about a livelock (functional and timing runs, not under GDB nor
+    /// sampled): [`OnLivelock::Warn`] by default.
+    pub livelock: OnLivelock,
+    /// Told of a livelock as soon as it is found (e.g. to print the warning while the
+    /// run goes on); it is in [`RunReport::livelock`] either way.
+    pub livelock_notice: Option<&'a mut dyn FnMut(&Livelock)>,
     /// Timing mode: statistics for every interval of this many cycles (a multiple of the
     /// quantum, the L1 plus L2 hit latency), each handed to [`Self::interval_sink`] (which
     /// it needs) as it completes; the run keeps none of them.
@@ -118,6 +183,8 @@ impl<'a> RunRequest<'a> {
             profile: false,
             gdb: None,
             progress: None,
+            livelock: OnLivelock::Warn,
+            livelock_notice: None,
             stats_interval: None,
             interval_sink: None,
             sample: None,
@@ -193,6 +260,11 @@ pub struct RunReport {
     pub warnings: Vec<String>,
     /// The text describing a run that did not finish (crash report, deadlock, limit).
     pub failure: Option<String>,
+    /// A run stopped by `--max-instructions`, `--max-cycles` or a livelock: where its
+    /// threads were (also at the end of [`Self::failure`]).
+    pub stopped_at: Option<crate::ThreadPlaces>,
+    /// The livelock found, if one was (whether or not it stopped the run).
+    pub livelock: Option<Livelock>,
     /// The machine after the run (memory can be read back, e.g. the framebuffer).
     pub machine: Machine,
     /// The parsed executable.
@@ -314,10 +386,78 @@ fn load(req: &RunRequest<'_>, quantum: u32) -> Result<(Executable, Machine), Run
     Ok((exe, machine))
 }
 
+/// Turns livelock [`Detection`]s into [`Livelock`]s (the DWARF parsed once, when the
+/// first comes) and tells the requester.
+struct LivelockSink<'r> {
+    elf_path: &'r str,
+    elf: &'r [u8],
+    stop: bool,
+    notice: Option<&'r mut dyn FnMut(&Livelock)>,
+    debug: Option<Option<DebugInfo>>,
+    found: Option<Livelock>,
+}
+
+impl<'r> LivelockSink<'r> {
+    /// The sink of `req` (its notice taken), or `None` when it does not watch.
+    fn of(req: &mut RunRequest<'r>) -> Option<Self> {
+        let stop = match req.livelock {
+            OnLivelock::Ignore => return None,
+            OnLivelock::Warn => false,
+            OnLivelock::Stop => true,
+        };
+        Some(LivelockSink {
+            elf_path: req.elf_path,
+            elf: req.elf,
+            stop,
+            notice: req.livelock_notice.take(),
+            debug: None,
+            found: None,
+        })
+    }
+
+    /// Takes detection `d` in a run of `exe`; returns whether to stop.
+    fn take(&mut self, d: &Detection, exe: &Executable) -> bool {
+        let (path, elf) = (self.elf_path, self.elf);
+        let debug = self
+            .debug
+            .get_or_insert_with(|| DebugInfo::parse(path, elf).ok());
+        let l = Livelock {
+            cycle: d.cycle,
+            instructions: d.instructions,
+            quiet: d.quiet,
+            stopped: self.stop,
+            threads: crate::whereabouts::places(&d.threads, d.halted, Some(exe), debug.as_ref()),
+        };
+        if let Some(tell) = self.notice.as_deref_mut() {
+            tell(&l);
+        }
+        self.found.get_or_insert(l);
+        self.stop
+    }
+
+    /// The livelock found and the DWARF, if parsed.
+    fn into_parts(sink: Option<Self>) -> (Option<Livelock>, Option<DebugInfo>) {
+        match sink {
+            Some(s) => (s.found, s.debug.flatten()),
+            None => (None, None),
+        }
+    }
+}
+
 fn run_functional(mut req: RunRequest<'_>, out: &mut dyn Write) -> Result<RunReport, RunError> {
     let (exe, mut machine) = load(&req, req.quantum)?;
     let mut warnings = Vec::new();
     let mut profiler = None;
+    let mut sink = match req.gdb {
+        Some(_) => None,
+        None => LivelockSink::of(&mut req),
+    };
+    let mut hook = |d: &Detection| sink.as_mut().is_some_and(|s| s.take(d, &exe));
+    let watching = req.gdb.is_none() && req.livelock != OnLivelock::Ignore;
+    let on_livelock: Option<&mut dyn FnMut(&Detection) -> bool> = match watching {
+        true => Some(&mut hook),
+        false => None,
+    };
     let (outcome, instructions) = if let Some(listener) = req.gdb.take() {
         match gdb::serve_listener(&mut machine, listener, out)? {
             Some(o) => (o, retired(&machine)),
@@ -328,11 +468,11 @@ fn run_functional(mut req: RunRequest<'_>, out: &mut dyn Write) -> Result<RunRep
             }
         }
     } else if req.profile {
-        let (s, p) = profile_run(&mut machine, out);
+        let (s, p) = profile_run(&mut machine, out, on_livelock);
         profiler = Some(p);
         (s.outcome, s.instructions)
     } else if req.reference {
-        let s = machine.run_with(out, &mut crate::ReferenceExec);
+        let s = machine.run_with(out, &mut crate::ReferenceExec, on_livelock);
         (s.outcome, s.instructions)
     } else {
         let s = match req.progress.take() {
@@ -344,11 +484,13 @@ fn run_functional(mut req: RunRequest<'_>, out: &mut dyn Write) -> Result<RunRep
                     turns: 0,
                     last: std::time::Instant::now(),
                 },
+                on_livelock,
             ),
-            None => machine.run(out),
+            None => machine.run_with(out, &mut crate::sched::PlainExec, on_livelock),
         };
         (s.outcome, s.instructions)
     };
+    let (livelock, debug) = LivelockSink::into_parts(sink);
     finish(
         &req,
         Ended {
@@ -360,6 +502,8 @@ fn run_functional(mut req: RunRequest<'_>, out: &mut dyn Write) -> Result<RunRep
             profiler,
             host_threads: 1,
             warnings,
+            livelock,
+            debug,
         },
         machine,
         exe,
@@ -386,9 +530,22 @@ fn run_timing(mut req: RunRequest<'_>, out: &mut dyn Write) -> Result<RunReport,
         }
     }
     let (host_threads, warning) = host_threads(req.host_threads, chip.tms, req.profile);
+    // Sampled runs do not watch for livelocks.
+    let mut sink = match req.sample {
+        Some(_) => None,
+        None => LivelockSink::of(&mut req),
+    };
+    let watching = sink.is_some();
+    let mut hook = |d: &Detection| sink.as_mut().is_some_and(|s| s.take(d, &exe));
     let mut engine = timing::engine::Engine::new(chip, &machine, req.limits, host_threads)
         .map_err(RunError::Memory)?;
-    engine.progress = req.progress.take();
+    if watching {
+        engine.on_livelock = Some(&mut hook);
+    }
+    // Coerced to the engine's (shorter) lifetime.
+    if let Some(p) = req.progress.take() {
+        engine.progress = Some(p);
+    }
     if let Some(spec) = &req.sample {
         let s = timing::sample::run(&mut engine, &mut machine, chip, spec, out)
             .map_err(RunError::Request)?;
@@ -407,6 +564,8 @@ fn run_timing(mut req: RunRequest<'_>, out: &mut dyn Write) -> Result<RunReport,
                 profiler: None,
                 host_threads,
                 warnings: warning.into_iter().collect(),
+                livelock: None,
+                debug: None,
             },
             machine,
             exe,
@@ -449,6 +608,8 @@ fn run_timing(mut req: RunRequest<'_>, out: &mut dyn Write) -> Result<RunReport,
         ));
         stats.interval_cycles = req.stats_interval;
     }
+    drop(engine);
+    let (livelock, debug) = LivelockSink::into_parts(sink);
     finish(
         &req,
         Ended {
@@ -460,6 +621,8 @@ fn run_timing(mut req: RunRequest<'_>, out: &mut dyn Write) -> Result<RunReport,
             profiler,
             host_threads,
             warnings: warning.into_iter().collect(),
+            livelock,
+            debug,
         },
         machine,
         exe,
@@ -476,6 +639,10 @@ struct Ended {
     profiler: Option<Profiler>,
     host_threads: usize,
     warnings: Vec<String>,
+    /// The livelock found, if any.
+    livelock: Option<Livelock>,
+    /// The DWARF, if parsed during the run.
+    debug: Option<DebugInfo>,
 }
 
 /// The report of an ended run: the failure text (the one place it is rendered) and the
@@ -486,11 +653,32 @@ fn finish(
     machine: Machine,
     exe: Executable,
 ) -> Result<RunReport, RunError> {
-    let needs_debug =
-        e.profiler.is_some() || matches!(e.outcome, Outcome::Crashed(_) | Outcome::Deadlock { .. });
-    let debug = needs_debug
-        .then(|| DebugInfo::parse(req.elf_path, req.elf).ok())
-        .flatten();
+    let limit = matches!(e.outcome, Outcome::InstructionLimit | Outcome::CycleLimit);
+    let needs_debug = e.profiler.is_some()
+        || limit
+        || matches!(e.outcome, Outcome::Crashed(_) | Outcome::Deadlock { .. });
+    let debug = match e.debug {
+        Some(d) => Some(d),
+        None => needs_debug
+            .then(|| DebugInfo::parse(req.elf_path, req.elf).ok())
+            .flatten(),
+    };
+    // A run stopped by a limit says where its threads are; one stopped by a livelock,
+    // where they were when it was found (a looping thread at its loop's start).
+    let stopped_at = match (&e.outcome, &e.livelock) {
+        (Outcome::Livelock, Some(l)) => Some(l.threads.clone()),
+        _ => limit.then(|| {
+            crate::whereabouts::thread_places(&machine.threads, Some(&exe), debug.as_ref())
+        }),
+    };
+    let mut warnings = e.warnings;
+    // A livelock the run went on after (told as it was found, when asked to).
+    if let Some(l) = e.livelock.as_ref().filter(|l| !l.stopped) {
+        if req.livelock_notice.is_none() {
+            let text = l.render();
+            warnings.push(text.strip_prefix("warning: ").unwrap_or(&text).to_string());
+        }
+    }
     let failure = match (&e.outcome, e.cycles) {
         (Outcome::Finished, _) => None,
         (Outcome::Crashed(c), _) => Some(crash::report(
@@ -516,7 +704,15 @@ fn finish(
             "error: cycle limit reached after {} cycles",
             cycles.unwrap_or(0)
         )),
-    };
+        // The message ends with where the threads are.
+        (Outcome::Livelock, _) => e.livelock.as_ref().map(Livelock::render),
+    }
+    .map(|text| match (&stopped_at, &e.outcome) {
+        (Some(p), Outcome::InstructionLimit | Outcome::CycleLimit) => {
+            format!("{text}\n{}", p.render())
+        }
+        _ => text,
+    });
     let profile = e
         .profiler
         .map(|p| Profile::build(&p, debug.as_ref(), Some(&exe)));
@@ -532,8 +728,10 @@ fn finish(
         debug,
         threads: req.chip.tms * req.chip.threads_per_tm,
         host_threads: e.host_threads,
-        warnings: e.warnings,
+        warnings,
         failure,
+        stopped_at,
+        livelock: e.livelock,
         machine,
         exe,
     })

@@ -9,6 +9,7 @@
 use std::io::Write;
 
 use crate::exec::Stop;
+use crate::livelock::{self, Detection, Watch};
 use crate::machine::{drain, Crash, Machine, Outcome};
 use crate::thread::{Shared, Thread};
 
@@ -63,6 +64,8 @@ pub enum Driven {
         /// Index of the thread that asked for the pause.
         thread: usize,
     },
+    /// [`Scheduler::watch`] proved that the run never ends (the run can go on).
+    Livelock(Box<Detection>),
 }
 
 /// Scheduler position, so a paused run resumes exactly where it stopped.
@@ -74,6 +77,10 @@ pub struct Scheduler {
     /// Instructions retired by all threads so far.
     pub total: u64,
     done: Option<Outcome>,
+    /// Watch for a livelock ([`crate::livelock`]), in rounds times the quantum; it stops
+    /// watching once it found one.
+    pub watch: Option<Watch>,
+    rounds: u64,
 }
 
 impl Scheduler {
@@ -88,6 +95,32 @@ impl Scheduler {
     /// The final outcome, once the run is over.
     pub fn outcome(&self) -> Option<&Outcome> {
         self.done.as_ref()
+    }
+
+    /// Runs to the end, resuming after pauses; with `on_livelock`, watches for a
+    /// livelock and tells it, ending the run with [`Outcome::Livelock`] if it says so.
+    pub fn run_to_end(
+        &mut self,
+        m: &mut Machine,
+        out: &mut dyn Write,
+        e: &mut dyn Executor,
+        mut on_livelock: Option<&mut dyn FnMut(&Detection) -> bool>,
+    ) -> Outcome {
+        if on_livelock.is_some() && self.watch.is_none() {
+            self.watch = Some(Watch::default());
+        }
+        loop {
+            match self.run(m, out, e) {
+                Driven::Done(o) => return o,
+                Driven::Livelock(d) => {
+                    if on_livelock.as_mut().is_some_and(|f| f(&d)) {
+                        self.done = Some(Outcome::Livelock);
+                        return Outcome::Livelock;
+                    }
+                }
+                Driven::Paused { .. } => {}
+            }
+        }
     }
 
     /// Runs until the end or until the executor pauses the chip.
@@ -140,6 +173,26 @@ impl Scheduler {
             }
             self.next = 0;
             drain(&mut m.shared.output, out);
+            if let Some(w) = &mut self.watch {
+                self.rounds += 1;
+                let now = self.rounds * quantum;
+                if w.due(now, m.shared.progress_count()) {
+                    match livelock::prove(m.threads.iter(), &m.shared) {
+                        Some((threads, halted)) => {
+                            let d = Detection {
+                                cycle: None,
+                                instructions: self.total,
+                                quiet: w.quiet(now),
+                                threads,
+                                halted,
+                            };
+                            self.watch = None;
+                            return Driven::Livelock(Box::new(d));
+                        }
+                        None => w.failed(),
+                    }
+                }
+            }
             if !std::mem::take(&mut self.progressed) && m.shared.live_threads > 0 {
                 let releasable = m.threads.iter().any(|t| t.releasable(&m.shared));
                 if !releasable {

@@ -303,6 +303,11 @@ pub struct Shared {
     pub tm_pipe_mode: Vec<u8>,
     /// Bit `m` set when the chip's TMs have the units for `trax.setpipe m`.
     pub pipe_modes: u8,
+    /// Chip-wide changes so far other than global stores (which [`Memory`] counts):
+    /// global-register, barrier, semaphore, stream and pipeline-mode operations, prints,
+    /// `trax.stat` counts and halts. The livelock detector ([`crate::livelock`]) takes a
+    /// run in which this and the store count stay still for long as a reason to look.
+    pub changes: u64,
 }
 
 impl Shared {
@@ -329,6 +334,7 @@ impl Shared {
             clock: 0,
             tm_pipe_mode: vec![0; shape.tms as usize],
             pipe_modes: 0b111,
+            changes: 0,
         }
     }
 }
@@ -349,10 +355,17 @@ impl Shared {
 }
 
 impl Shared {
+    /// The count of every chip-wide change so far (global stores included): still while
+    /// nothing outside the threads changes.
+    pub fn progress_count(&self) -> u64 {
+        self.changes + self.mem.stores
+    }
+
     /// A thread of TM `tm` halted: one live thread less for barriers and the TM's stream
     /// scheduler (whose peers may now have drained).
     pub fn thread_halted(&mut self, tm: u32) {
         self.live_threads -= 1;
+        self.changes += 1;
         crate::machine::release_barriers(self);
         self.sched
             .halted(tm as usize, &self.streams, self.live_threads, self.clock);

@@ -123,11 +123,15 @@ pub fn exec_trax<C: Chip>(
             t.regs.gpr[rd] = v;
         }
     };
-    // Operations that change chip-wide state need exclusive access.
+    // Operations that change chip-wide state need exclusive access (and count as a
+    // change, `Shared::changes`).
     macro_rules! exclusive {
         () => {
             match chip.exclusive() {
-                Some(sh) => sh,
+                Some(sh) => {
+                    sh.changes += 1;
+                    sh
+                }
                 None => return Ok(TraxFlow::Defer),
             }
         };
@@ -196,6 +200,8 @@ pub fn exec_trax<C: Chip>(
             let i = greg(vs)?;
             let sh = exclusive!();
             if sh.globals[i] == 0 {
+                // Nothing changed: the thread tries again.
+                sh.changes -= 1;
                 return Ok(TraxFlow::Retry);
             }
             sh.globals[i] -= 1;

@@ -55,7 +55,7 @@ fn check(opt: &str) {
     let (plain, plain_out) = run_elf(&elf, 1, 2);
     let (mut m, exe, dbg) = machine(&elf, 2);
     let mut out = Vec::new();
-    let (summary, prof) = profile_run(&mut m, &mut out);
+    let (summary, prof) = profile_run(&mut m, &mut out, None);
     let (outcome, retired) = (summary.outcome, summary.instructions);
     assert!(matches!(outcome, Outcome::Finished), "{outcome:?}");
     assert_eq!(String::from_utf8(out).unwrap(), plain_out);
@@ -181,7 +181,7 @@ fn charge_api_matches_chunked_profile() {
 
     let elf = build_c("profcharge", SRC, "-O2");
     let (mut m, exe, dbg) = machine(&elf, 2);
-    let (summary, chunked) = profile_run(&mut m, &mut Vec::new());
+    let (summary, chunked) = profile_run(&mut m, &mut Vec::new(), None);
     let (mut m2, _, _) = machine(&elf, 2);
     let mut prof = Profiler::new(&m2.shared.program, m2.threads.len());
     let mut sched = Scheduler::new(&m2);

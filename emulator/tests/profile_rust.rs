@@ -71,7 +71,7 @@ fn check(opt: u8) {
         ..MachineConfig::default()
     };
     let mut m = Machine::load(&exe, None, config).unwrap();
-    let (summary, prof) = profile_run(&mut m, &mut std::io::sink());
+    let (summary, prof) = profile_run(&mut m, &mut std::io::sink(), None);
     let (outcome, retired) = (summary.outcome, summary.instructions);
     assert!(matches!(outcome, Outcome::Finished), "{outcome:?}");
     let dbg = DebugInfo::parse("work", &elf).unwrap();

@@ -154,6 +154,13 @@ pub fn header_only_image(p: &HeaderParams) -> Result<MemoryImage, ImageError> {
 /// top) to 8-bit RGB: each linear value is clamped to `[0, 1]` (NaN counts as 0) and
 /// mapped to `round(v * 255)`; no gamma curve is applied. Missing bytes read as black.
 pub fn framebuffer_rgb8(fb: &[u8], width: u32, height: u32) -> Vec<u8> {
+    framebuffer_rgb8_exposed(fb, width, height, 0.0)
+}
+
+/// [`framebuffer_rgb8`] with an exposure of `ev` stops: every value is multiplied by
+/// `2^ev` before clamping (the framebuffer itself is not changed).
+pub fn framebuffer_rgb8_exposed(fb: &[u8], width: u32, height: u32, ev: f32) -> Vec<u8> {
+    let scale = ev.exp2();
     let n = width as usize * height as usize * 3;
     (0..n)
         .map(|i| {
@@ -161,15 +168,83 @@ pub fn framebuffer_rgb8(fb: &[u8], width: u32, height: u32) -> Vec<u8> {
                 .get(4 * i..4 * i + 4)
                 .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
                 .unwrap_or(0.0);
-            let v = if v.is_nan() { 0.0 } else { v.clamp(0.0, 1.0) };
+            let v = if v.is_nan() {
+                0.0
+            } else {
+                (v * scale).clamp(0.0, 1.0)
+            };
             (v * 255.0 + 0.5) as u8
         })
         .collect()
 }
 
+/// The key a dark image is brightened toward by [`auto_exposure`]: the mean linear value of
+/// a photographic middle grey.
+pub const AUTO_EXPOSURE_KEY: f64 = 0.18;
+
+/// The exposure `--exposure auto` gives a framebuffer, in whole stops: `floor(log2(0.18 /
+/// mean))` where `mean` is the mean of every channel of every pixel (NaN and negative
+/// values as 0), and never below 0. So an image whose mean is already at least 9% of white
+/// is written as it is, and a darker one is brightened by the largest power of two that
+/// keeps its mean at or below 18% (the brightest few pixels may clip). A black image stays
+/// at 0.
+pub fn auto_exposure(fb: &[u8]) -> f32 {
+    let (mut sum, mut n) = (0.0f64, 0u64);
+    for b in fb.chunks_exact(4) {
+        let v = f32::from_le_bytes([b[0], b[1], b[2], b[3]]);
+        sum += if v.is_nan() {
+            0.0
+        } else {
+            f64::from(v.max(0.0))
+        };
+        n += 1;
+    }
+    let mean = sum / n.max(1) as f64;
+    if !(mean > 0.0 && mean.is_finite()) {
+        return 0.0;
+    }
+    // Whole stops from 0 to 40 (beyond: a framebuffer of denormals; nothing to see).
+    (AUTO_EXPOSURE_KEY / mean).log2().floor().clamp(0.0, 40.0) as f32
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn fb(values: &[f32]) -> Vec<u8> {
+        values.iter().flat_map(|f| f.to_le_bytes()).collect()
+    }
+
+    /// Auto exposure: whole stops toward a mean of 0.18, never darker, 0 for black.
+    #[test]
+    fn auto_exposure_brightens_dark_images_by_whole_stops() {
+        assert_eq!(auto_exposure(&fb(&[0.5, 0.2, 0.3])), 0.0);
+        assert_eq!(
+            auto_exposure(&fb(&[0.1, 0.1, 0.1])),
+            0.0,
+            "mean 0.1 >= 0.09"
+        );
+        assert_eq!(auto_exposure(&fb(&[0.08, 0.08, 0.08])), 1.0);
+        assert_eq!(
+            auto_exposure(&fb(&[0.003; 6])),
+            5.0,
+            "0.18 / 0.003 = 60: 2^5"
+        );
+        assert_eq!(auto_exposure(&fb(&[0.0, f32::NAN, -1.0])), 0.0);
+        let px = fb(&[0.003, 0.01, 0.5]);
+        assert_eq!(
+            framebuffer_rgb8_exposed(&px, 1, 1, 5.0),
+            vec![
+                (0.003f32 * 32.0 * 255.0 + 0.5) as u8,
+                (0.01f32 * 32.0 * 255.0 + 0.5) as u8,
+                255
+            ]
+        );
+        assert_eq!(
+            framebuffer_rgb8_exposed(&px, 1, 1, 0.0),
+            framebuffer_rgb8(&px, 1, 1)
+        );
+    }
 
     #[test]
     fn framebuffer_to_rgb8_clamps_and_rounds() {

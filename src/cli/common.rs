@@ -14,8 +14,10 @@ use trax_runtime::abi::PIXEL_COUNTER_REG;
 /// The chip and its thread shape.
 #[derive(Args, Debug, Clone)]
 pub struct ShapeArgs {
-    /// Chip configuration: a preset (`tiny`, `baseline`, `strata`, `baseline-ch5`,
-    /// `strata-plus`) or a TOML file.
+    /// Chip configuration: a preset (`tiny`, `baseline`, `baseline-ch3`, `strata`,
+    /// `baseline-ch5`, `strata-plus`; `trax config list` describes them, `trax config show
+    /// NAME` prints one in full) or a TOML file (which may start with `preset = "NAME"` and
+    /// set only what differs).
     #[arg(long, default_value = DEFAULT_CHIP)]
     pub config: String,
     /// Thread multiprocessors (overrides the config).
@@ -113,7 +115,8 @@ pub struct RenderArgs {
     /// Camera file (simtrax .view); default: beside the scene file, or framing the scene.
     #[arg(long)]
     pub view: Option<PathBuf>,
-    /// Light file (simtrax .light); default: beside the scene file.
+    /// Light file (simtrax .light: the position, then optionally an intensity or an RGB
+    /// intensity; 1 without); default: beside the scene file.
     #[arg(long)]
     pub light: Option<PathBuf>,
     /// Image width in pixels.
@@ -174,5 +177,71 @@ impl RenderArgs {
             seed: self.seed,
             ..RenderOptions::default()
         }
+    }
+}
+
+/// `--exposure auto|EV`: how the PNG scales the linear framebuffer.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Exposure {
+    /// [`trax_runtime::host::auto_exposure`]: dark images brightened by whole stops.
+    Auto,
+    /// This many stops (each doubles the values; negative darkens).
+    Ev(f32),
+}
+
+impl Exposure {
+    /// Parses `auto` or a number of stops (-40..=40).
+    pub fn parse(s: &str) -> Result<Exposure, String> {
+        if s == "auto" {
+            return Ok(Exposure::Auto);
+        }
+        match s.parse::<f32>() {
+            Ok(ev) if (-40.0..=40.0).contains(&ev) => Ok(Exposure::Ev(ev)),
+            _ => Err(format!(
+                "{s:?}: expected `auto` or a number of stops from -40 to 40 (e.g. 2.5)"
+            )),
+        }
+    }
+
+    /// The stops for framebuffer `fb` (little-endian f32 RGB).
+    pub fn stops(self, fb: &[u8]) -> f32 {
+        match self {
+            Exposure::Auto => trax_runtime::host::auto_exposure(fb),
+            Exposure::Ev(ev) => ev,
+        }
+    }
+}
+
+/// The PNG flags of `trax run` and `trax native`.
+#[derive(Args, Debug, Clone)]
+pub struct PngArgs {
+    /// Write the framebuffer as PNG (top row first; each linear value times 2^EXPOSURE,
+    /// clamped to [0, 1], no gamma curve).
+    #[arg(short = 'o', long = "output")]
+    pub output: Option<PathBuf>,
+    /// The PNG's exposure: `auto` (default) brightens a dark image by whole stops,
+    /// floor(log2(0.18 / mean)) where mean is the framebuffer's mean value, and leaves one
+    /// whose mean is at least 0.09 as it is; or EV, a number of stops (0: the values as
+    /// they are). The raw framebuffer (--raw-framebuffer, trax compare) is never changed.
+    #[arg(long, value_name = "auto|EV", default_value = "auto", value_parser = Exposure::parse)]
+    pub exposure: Exposure,
+}
+
+impl PngArgs {
+    /// Writes framebuffer `fb` as the PNG (if asked for) and says so with its exposure.
+    pub fn write(&self, fb: &[u8], width: u32, height: u32) -> Result<(), String> {
+        let Some(path) = &self.output else {
+            return Ok(());
+        };
+        let ev = self.exposure.stops(fb);
+        let rgb = trax_runtime::host::framebuffer_rgb8_exposed(fb, width, height, ev);
+        super::native::write_png(path, width, height, &rgb).map_err(|e| e.to_string())?;
+        let auto = if self.exposure == Exposure::Auto {
+            "auto, "
+        } else {
+            ""
+        };
+        eprintln!("wrote {} (exposure {auto}{ev:+} EV)", path.display());
+        Ok(())
     }
 }

@@ -20,6 +20,8 @@ use std::time::Instant;
 
 use clap::Args;
 use plotters::prelude::*;
+
+use super::plot::axis::{Axis, Unit};
 use trax::compare::{compare, decode_raw, log_log_slope, read_image, Image, Metrics};
 use trax::pipeline::{self, chip_config, executable, lay_out, load_scene};
 use trax_emulator::Mode;
@@ -352,17 +354,6 @@ fn render_reference(a: &ConvergeArgs) -> Result<Image, String> {
     read_image(&path, Some((a.width, a.height)))
 }
 
-/// A tick label with three significant digits and no trailing zeros.
-fn short(v: f64) -> String {
-    let digits = (2 - v.abs().log10().floor() as i32).clamp(0, 12) as usize;
-    let t = format!("{v:.digits$}");
-    if t.contains('.') {
-        t.trim_end_matches('0').trim_end_matches('.').to_string()
-    } else {
-        t
-    }
-}
-
 /// Draws RMSE against spp on log-log axes, with the fitted line and a −1/2 guide.
 fn plot(path: &Path, levels: &[Level], slope: Option<f64>, name: &str) -> Result<(), String> {
     super::plot::register_font();
@@ -390,26 +381,41 @@ fn plot(path: &Path, levels: &[Level], slope: Option<f64>, name: &str) -> Result
             Some(k) => format!("{name}: RMSE vs spp (fitted slope {k:.3})"),
             None => format!("{name}: RMSE vs spp"),
         };
+        // Log10 axes from the shared axis helper (src/cli/plot/axis.rs): every decade
+        // labelled once, 1-2-5 ticks within a few decades, below 0.1 too.
+        let xa = Axis::fit(
+            &[xlo / 1.5, xhi * 1.5],
+            Unit::Number,
+            Some(true),
+            false,
+            0.0,
+        )?;
+        let ya = Axis::fit(
+            &[ylo / 2.0, yhi * 2.0],
+            Unit::Number,
+            Some(true),
+            false,
+            0.0,
+        )?;
         let mut chart = ChartBuilder::on(&root)
             .caption(title, ("sans-serif", 22))
             .margin(20)
             .x_label_area_size(50)
             .y_label_area_size(80)
-            .build_cartesian_2d(
-                (xlo / 1.5..xhi * 1.5).log_scale(),
-                (ylo / 2.0..yhi * 2.0).log_scale(),
-            )
+            .build_cartesian_2d(xa.coord(), ya.coord())
             .map_err(|x| e(&x))?;
         chart
             .configure_mesh()
             .x_desc("samples per pixel")
             .y_desc("RMSE vs reference")
             .label_style(("sans-serif", 15))
-            .x_label_formatter(&|v| short(*v))
-            .y_label_formatter(&|v| short(*v))
+            .x_label_formatter(&|t| xa.label(*t))
+            .y_label_formatter(&|t| ya.label(*t))
             .light_line_style(WHITE)
             .draw()
             .map_err(|x| e(&x))?;
+        let at = |(x, y): (f64, f64)| (xa.to_axis(x), ya.to_axis(y));
+        let pts: Vec<(f64, f64)> = pts.iter().map(|p| at(*p)).collect();
         chart
             .draw_series(LineSeries::new(pts.clone(), BLUE.stroke_width(2)))
             .map_err(|x| e(&x))?
@@ -418,10 +424,10 @@ fn plot(path: &Path, levels: &[Level], slope: Option<f64>, name: &str) -> Result
         chart
             .draw_series(pts.iter().map(|&p| Circle::new(p, 4, BLUE.filled())))
             .map_err(|x| e(&x))?;
-        let (x0, y0) = pts[0];
+        let (x0, y0) = (xa.value(pts[0].0), ya.value(pts[0].1));
         let guide = [
-            (xlo, y0 * (xlo / x0).powf(-0.5)),
-            (xhi, y0 * (xhi / x0).powf(-0.5)),
+            at((xlo, y0 * (xlo / x0).powf(-0.5))),
+            at((xhi, y0 * (xhi / x0).powf(-0.5))),
         ];
         chart
             .draw_series(LineSeries::new(guide, RED.stroke_width(1)))

@@ -6,6 +6,7 @@ mod annotate;
 mod build;
 mod common;
 mod compare;
+mod config;
 mod converge;
 mod disasm;
 mod header;
@@ -37,6 +38,8 @@ enum Command {
     Header(header::HeaderArgs),
     /// Inspect scenes: triangles, materials, bounds, BVH, treelets, memory bytes.
     Scene(scene::SceneArgs),
+    /// Chip configs: list the presets, or print one (or a file, with overrides) in full.
+    Config(config::ConfigArgs),
     /// Build a kernel with rustc against the host prelude and run it on host threads.
     Native(native::NativeArgs),
     /// Run a kernel (TRaX-Rust, C or C++ source, or a linked ELF) on the simulated machine.
@@ -68,6 +71,7 @@ pub fn main() -> std::process::ExitCode {
         Command::Build(a) => build::run(a),
         Command::Header(a) => header::run(a),
         Command::Scene(a) => scene::run(a),
+        Command::Config(a) => config::run(a),
         Command::Native(a) => native::run(a),
         Command::Run(a) => run::run(a),
         Command::Disasm(a) => disasm::run(a),
@@ -109,5 +113,21 @@ mod tests {
     #[test]
     fn cli_is_well_formed() {
         Cli::command().debug_assert();
+    }
+
+    /// `--config`'s help names every preset.
+    #[test]
+    fn config_help_names_every_preset() {
+        let mut cmd = Cli::command();
+        let run = cmd.find_subcommand_mut("run").unwrap();
+        let help = run
+            .get_arguments()
+            .find(|a| a.get_id() == "config")
+            .and_then(|a| a.get_help())
+            .unwrap()
+            .to_string();
+        for p in trax_emulator::timing::CHIP_PRESETS {
+            assert!(help.contains(&format!("`{p}`")), "{p} missing from {help}");
+        }
     }
 }

@@ -15,10 +15,9 @@ use std::process::ExitCode;
 
 use clap::Args;
 
-use super::common::{RenderArgs, ShapeArgs};
+use super::common::{PngArgs, RenderArgs, ShapeArgs};
 use trax::native::{self, HostShape, NativeError};
 use trax::pipeline::{self, chip_config, scene_report, DEFAULT_OPT_LEVEL};
-use trax_runtime::host::framebuffer_rgb8;
 
 /// Arguments of `trax native`.
 #[derive(Args, Debug)]
@@ -36,9 +35,9 @@ pub struct NativeArgs {
     /// The chip whose thread shape (TMs x threads) to run, as for `trax run`.
     #[command(flatten)]
     pub shape: ShapeArgs,
-    /// Write the framebuffer as PNG (clamped, top row first).
-    #[arg(short = 'o', long = "output")]
-    pub output: Option<PathBuf>,
+    /// The PNG and its exposure.
+    #[command(flatten)]
+    pub png: PngArgs,
     /// Also write the raw framebuffer: `width*height` pixels of 3 little-endian f32.
     #[arg(long)]
     pub raw_framebuffer: Option<PathBuf>,
@@ -57,6 +56,9 @@ pub enum Error {
     TooManyThreads(u64),
     #[error("{path}: {message}")]
     Output { path: String, message: String },
+    /// Writing the PNG (the message names the file).
+    #[error("{0}")]
+    Png(String),
 }
 
 /// Runs `trax native`.
@@ -83,7 +85,7 @@ fn native(a: &NativeArgs) -> Result<(), Error> {
     if total > 4096 {
         return Err(Error::TooManyThreads(total));
     }
-    for out in a.output.iter().chain(&a.raw_framebuffer) {
+    for out in a.png.output.iter().chain(&a.raw_framebuffer) {
         check_writable(out)?;
     }
     // rustc first: a kernel it rejects gets rustc's diagnostics and nothing else.
@@ -107,10 +109,9 @@ fn native(a: &NativeArgs) -> Result<(), Error> {
         .first()
         .map(|s| s.data.as_slice())
         .unwrap_or(&[]);
-    if let Some(out) = &a.output {
-        let (w, h) = (a.render.width, a.render.height);
-        write_png(out, w, h, &framebuffer_rgb8(bytes, w, h))?;
-    }
+    a.png
+        .write(bytes, a.render.width, a.render.height)
+        .map_err(Error::Png)?;
     if let Some(raw) = &a.raw_framebuffer {
         std::fs::write(raw, bytes).map_err(|e| Error::Output {
             path: raw.display().to_string(),

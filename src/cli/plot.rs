@@ -25,8 +25,10 @@ use plotters::style::FontStyle;
 
 use super::sweep::metrics::{self, Metric, METRICS};
 
+pub(crate) mod axis;
 mod over_time;
 use super::sweep::spec::{default_plot_name, PlotKind, PlotSpec};
+use axis::{Axis, Unit};
 
 /// Arguments of `trax plot`.
 #[derive(Args, Debug)]
@@ -56,6 +58,30 @@ pub struct PlotArgs {
     /// Title (default: METRIC vs PARAM).
     #[arg(long)]
     pub title: Option<String>,
+    /// X axis label (default: the parameter's name and unit).
+    #[arg(long)]
+    pub xlabel: Option<String>,
+    /// Y axis label (default: the metric's name and unit).
+    #[arg(long)]
+    pub ylabel: Option<String>,
+    /// Log x axis (default: log2 for power-of-two byte sizes spanning 4x or more, log10
+    /// for positive values spanning 100x or more, else linear).
+    #[arg(long, conflicts_with = "lin_x")]
+    pub log_x: bool,
+    /// Linear x axis.
+    #[arg(long)]
+    pub lin_x: bool,
+    /// Log y axis (default: log10 for positive values spanning 100x or more; line charts).
+    #[arg(long, conflicts_with = "lin_y")]
+    pub log_y: bool,
+    /// Linear y axis.
+    #[arg(long)]
+    pub lin_y: bool,
+    /// Energy chart: the components to stack, bottom to top (comma-separated names such
+    /// as `dram,l2,l1`, or columns such as `energy_dram_j`; default: every energy
+    /// component the table has, in table order).
+    #[arg(long, value_delimiter = ',', value_name = "NAMES")]
+    pub components: Vec<String>,
     /// Output path without extension (`.png` and `.svg` are written); default:
     /// `plots/Y_vs_X[_by_BY]` in the results directory.
     #[arg(short = 'o', long)]
@@ -112,6 +138,11 @@ fn plot_cmd(a: &PlotArgs) -> Result<(PathBuf, PathBuf), String> {
         kind,
         title: a.title.clone(),
         filter,
+        xlabel: a.xlabel.clone(),
+        ylabel: a.ylabel.clone(),
+        log_x: flag(a.log_x, a.lin_x),
+        log_y: flag(a.log_y, a.lin_y),
+        components: a.components.clone(),
         loc: None,
     };
     let out = match &a.out {
@@ -127,6 +158,11 @@ fn plot_cmd(a: &PlotArgs) -> Result<(PathBuf, PathBuf), String> {
     };
     let table = Table::load(&csv)?;
     draw(&table, &spec, &out)
+}
+
+/// `--log-*` / `--lin-*` as a choice (`None`: automatic).
+fn flag(log: bool, lin: bool) -> Option<bool> {
+    (log || lin).then_some(log)
 }
 
 /// A results table: header and rows of text cells.
@@ -401,7 +437,13 @@ fn gather(t: &Table, spec: &PlotSpec, ycols: &[&str]) -> Result<Data, String> {
 /// Draws a chart to `OUT.png` and `OUT.svg`.
 pub fn draw(t: &Table, spec: &PlotSpec, out: &Path) -> Result<(PathBuf, PathBuf), String> {
     register_font();
-    let parts: Vec<&Metric> = METRICS.iter().filter(|m| m.energy_part).collect();
+    let parts = match spec.kind {
+        PlotKind::Energy => energy_parts(t, &spec.components)?,
+        _ if !spec.components.is_empty() => {
+            return Err("--components is for energy charts (--kind energy)".into())
+        }
+        _ => Vec::new(),
+    };
     let ycols: Vec<&str> = match spec.kind {
         PlotKind::Energy => parts.iter().map(|m| m.column).collect(),
         _ => vec![spec.y.as_str()],
@@ -436,7 +478,16 @@ pub fn draw(t: &Table, spec: &PlotSpec, out: &Path) -> Result<(PathBuf, PathBuf)
         &spec.y
     })
     .ok_or_else(|| format!("no metric `{}`", spec.y))?;
-    let ylabel = metrics::axis_label(ymetric);
+    let ylabel = spec
+        .ylabel
+        .clone()
+        .unwrap_or_else(|| metrics::axis_label(ymetric));
+    if let Some(x) = &spec.xlabel {
+        xlabel = x.clone();
+    }
+    if spec.log_y == Some(true) && spec.kind != PlotKind::Line {
+        return Err("--log-y needs a line chart (bars start at 0)".into());
+    }
     let title = spec.title.clone().unwrap_or_else(|| {
         let mut t = format!("{} vs {}", ymetric.label, spec.x);
         if let Some(b) = &spec.by {
@@ -448,6 +499,18 @@ pub fn draw(t: &Table, spec: &PlotSpec, out: &Path) -> Result<(PathBuf, PathBuf)
         title,
         x: xlabel,
         y: ylabel,
+        x_unit: if spec.x.ends_with("_bytes") {
+            Unit::Bytes
+        } else {
+            Unit::Number
+        },
+        y_unit: if ymetric.unit == "bytes" {
+            Unit::Bytes
+        } else {
+            Unit::Number
+        },
+        log_x: spec.log_x,
+        log_y: spec.log_y,
         by: spec.by.clone().filter(|_| spec.kind != PlotKind::Energy),
         parts: parts.iter().map(|m| m.label).collect(),
     };
@@ -479,49 +542,81 @@ pub fn draw(t: &Table, spec: &PlotSpec, out: &Path) -> Result<(PathBuf, PathBuf)
     Ok((png, svg))
 }
 
+/// The energy components a stacked chart draws: those named in `chosen` (a name such as
+/// `dram`, its label or its column), in that order, or every one `t` has.
+fn energy_parts(t: &Table, chosen: &[String]) -> Result<Vec<&'static Metric>, String> {
+    let have: Vec<&'static Metric> = METRICS
+        .iter()
+        .filter(|m| m.energy_part && t.col(m.column).is_some())
+        .collect();
+    let short = |m: &Metric| {
+        m.column
+            .trim_start_matches("energy_")
+            .trim_end_matches("_j")
+            .to_string()
+    };
+    if chosen.is_empty() {
+        return match have.is_empty() {
+            true => Err("no energy components in the table (a functional sweep?)".into()),
+            false => Ok(have),
+        };
+    }
+    let mut parts = Vec::new();
+    for name in chosen {
+        let name = name.trim();
+        let m = have
+            .iter()
+            .find(|m| m.column == name || short(m) == name || m.label.eq_ignore_ascii_case(name))
+            .ok_or_else(|| {
+                let names: Vec<String> = have.iter().map(|m| short(m)).collect();
+                format!(
+                    "--components: no energy component `{name}` in the table (components: {})",
+                    names.join(", ")
+                )
+            })?;
+        if !parts.iter().any(|p: &&Metric| p.column == m.column) {
+            parts.push(*m);
+        }
+    }
+    Ok(parts)
+}
+
 struct Labels {
     title: String,
     x: String,
     y: String,
+    x_unit: Unit,
+    y_unit: Unit,
+    log_x: Option<bool>,
+    log_y: Option<bool>,
     by: Option<String>,
     parts: Vec<&'static str>,
 }
 
-/// Compact tick labels: plain below 10^5, else scientific.
+/// A tick label with SI prefixes ([`axis::format_value`]).
 pub(crate) fn tick(v: f64) -> String {
-    let a = v.abs();
-    if a == 0.0 {
-        "0".into()
-    } else if !(1e-3..1e5).contains(&a) {
-        format!("{v:.2e}")
-    } else {
-        let s = format!("{v:.4}");
-        let s = s.trim_end_matches('0').trim_end_matches('.');
-        s.to_string()
-    }
+    axis::format_value(v, Unit::Number)
 }
 
-fn y_range(data: &Data, stacked: bool) -> std::ops::Range<f64> {
-    let mut lo: f64 = 0.0;
-    let mut hi: f64 = 0.0;
+/// The values the y axis must show: every value, or every stack's total.
+fn y_values(data: &Data, stacked: bool) -> Vec<f64> {
     if stacked {
+        let mut v = Vec::new();
         for s in 0..data.series.len() {
             for x in 0..data.xs.len() {
-                let sum: f64 = data.values.iter().filter_map(|m| m[s][x]).sum();
-                hi = hi.max(sum);
+                v.push(data.values.iter().filter_map(|m| m[s][x]).sum());
             }
         }
+        v
     } else {
-        for v in data.values.iter().flatten().flatten().flatten() {
-            lo = lo.min(*v);
-            hi = hi.max(*v);
-        }
+        data.values
+            .iter()
+            .flatten()
+            .flatten()
+            .flatten()
+            .copied()
+            .collect()
     }
-    if hi <= lo {
-        hi = lo + 1.0;
-    }
-    let pad = (hi - lo) * 0.08;
-    (if lo < 0.0 { lo - pad } else { 0.0 })..(hi + pad)
 }
 
 /// A legend entry: text, colour, and whether its mark is a line (else a box).
@@ -537,17 +632,26 @@ fn render<DB: DrawingBackend>(
     root.fill(&WHITE).map_err(e)?;
     let categorical = kind != PlotKind::Line || !data.numeric_x;
     let n = data.xs.len();
-    let xr = if categorical {
-        -0.5..(n as f64 - 0.5)
+    let xaxis = if categorical {
+        None
     } else {
         let xv: Vec<f64> = data.xs.iter().filter_map(|x| x.parse().ok()).collect();
-        let (lo, hi) = xv
-            .iter()
-            .fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(*v), b.max(*v)));
-        let pad = if hi > lo { (hi - lo) * 0.05 } else { 0.5 };
-        (lo - pad)..(hi + pad)
+        Some(Axis::fit(&xv, l.x_unit, l.log_x, false, 0.05)?)
     };
-    let yr = y_range(data, kind == PlotKind::Energy);
+    let xcoord = xaxis.clone().unwrap_or_else(|| Axis::categories(n));
+    // Lines may take a log y axis; bars and stacks start at 0.
+    let ylog = if kind == PlotKind::Line {
+        l.log_y
+    } else {
+        Some(false)
+    };
+    let yaxis = Axis::fit(
+        &y_values(data, kind == PlotKind::Energy),
+        l.y_unit,
+        ylog,
+        true,
+        0.08,
+    )?;
     let mut entries: Vec<Entry> = Vec::new();
     match (kind, &l.by) {
         (PlotKind::Energy, _) => {
@@ -578,17 +682,27 @@ fn render<DB: DrawingBackend>(
             ("sans-serif", title_size).into_font(),
         ))
         .map_err(e)?;
+    // Category labels too wide for their slot are drawn upright (rotated), the label area
+    // as tall as the longest (about 8.5 px a character at 15 px).
+    let longest = if categorical {
+        data.xs.iter().map(|x| x.chars().count()).max().unwrap_or(0) as f64 * 8.5
+    } else {
+        0.0
+    };
+    let slot_px = (SIZE.0 - legend_width) as f64 - 121.0;
+    let upright = categorical && longest > 0.9 * slot_px / n.max(1) as f64;
+    let x_area = if upright {
+        (longest as u32 + 40).min(220)
+    } else {
+        55
+    };
     let mut chart = ChartBuilder::on(&plot_area)
         .margin(18)
         .margin_top(4)
-        .x_label_area_size(55)
+        .x_label_area_size(x_area)
         .y_label_area_size(85)
-        .build_cartesian_2d(xr.clone(), yr)
+        .build_cartesian_2d(xcoord.coord(), yaxis.coord())
         .map_err(e)?;
-    let integral_x = data
-        .xs
-        .iter()
-        .all(|x| x.parse::<f64>().is_ok_and(|v| v.fract() == 0.0));
     let xs = data.xs.clone();
     let cat_fmt = move |v: &f64| {
         let i = v.round();
@@ -598,33 +712,38 @@ fn render<DB: DrawingBackend>(
             String::new()
         }
     };
-    let num_fmt = |v: &f64| tick(*v);
-    // Integer parameters (TMs, sizes) get integer ticks only.
-    let int_fmt = |v: &f64| {
-        if v.fract() == 0.0 {
-            tick(*v)
-        } else {
-            String::new()
-        }
-    };
+    let y_fmt = |t: &f64| yaxis.label(*t);
+    let x_fmt = |t: &f64| xaxis.as_ref().map_or_else(String::new, |a| a.label(*t));
     let mut mesh = chart.configure_mesh();
     mesh.x_desc(&l.x)
         .y_desc(&l.y)
         .axis_desc_style(("sans-serif", 18))
         .label_style(("sans-serif", 15))
         .light_line_style(TRANSPARENT)
-        .y_label_formatter(&num_fmt);
+        .y_label_formatter(&y_fmt);
     if categorical {
-        mesh.x_labels(n.max(1))
-            .x_label_formatter(&cat_fmt)
-            .disable_x_mesh();
-    } else if integral_x {
-        let span = (xr.end - xr.start).floor() as usize + 1;
-        mesh.x_labels(span.clamp(2, 12)).x_label_formatter(&int_fmt);
+        mesh.x_label_formatter(&cat_fmt).disable_x_mesh();
+        if upright {
+            // Drawn below, each reading down from its tick.
+            mesh.x_label_formatter(&|_: &f64| String::new());
+        }
     } else {
-        mesh.x_label_formatter(&num_fmt);
+        mesh.x_label_formatter(&x_fmt);
     }
     mesh.draw().map_err(e)?;
+    if upright {
+        let style = TextStyle::from(("sans-serif", 15).into_font())
+            .transform(FontTransform::Rotate90)
+            .pos(Pos::new(HPos::Left, VPos::Center));
+        for (i, x) in data.xs.iter().enumerate() {
+            let (px, py) = chart.backend_coord(&(i as f64, yaxis.range.start));
+            root.draw(&Text::new(x.clone(), (px, py + 12), style.clone()))
+                .map_err(e)?;
+        }
+    }
+    // Points in axis coordinates.
+    let px = |x: f64| xaxis.as_ref().map_or(x, |a| a.to_axis(x));
+    let py = |y: f64| yaxis.to_axis(y);
     let groups = data.series.len();
     let slot = 0.8 / groups as f64;
     let width = slot * if groups > 1 { 0.85 } else { 1.0 };
@@ -640,9 +759,9 @@ fn render<DB: DrawingBackend>(
                         let x = if categorical {
                             i as f64
                         } else {
-                            data.xs[i].parse().ok()?
+                            px(data.xs[i].parse().ok()?)
                         };
-                        Some((x, (*v)?))
+                        Some((x, py((*v)?)))
                     })
                     .collect();
                 chart
@@ -724,7 +843,35 @@ pub fn draw_plan_plots(dir: &Path, plots: &[PlotSpec]) -> (Vec<PathBuf>, Vec<Str
 
 #[cfg(test)]
 mod tests {
-    use super::short_labels;
+    use super::{energy_parts, short_labels, Table};
+
+    /// `--components` picks energy components by name, label or column, in the order
+    /// given; an unknown one is an error naming those the table has; without it, every
+    /// component the table has (an older results.csv lacks the newer ones).
+    #[test]
+    fn energy_components_are_chosen_from_the_table() {
+        let t = Table {
+            header: owned(&["id", "tms", "energy_l1_j", "energy_l2_j", "energy_dram_j"]),
+            rows: Vec::new(),
+        };
+        let cols = |v: &[&str]| -> Vec<&str> {
+            energy_parts(&t, &owned(v))
+                .unwrap()
+                .iter()
+                .map(|m| m.column)
+                .collect()
+        };
+        assert_eq!(cols(&[]), ["energy_l1_j", "energy_l2_j", "energy_dram_j"]);
+        assert_eq!(
+            cols(&["dram", "L2", "energy_l1_j"]),
+            ["energy_dram_j", "energy_l2_j", "energy_l1_j"]
+        );
+        let err = energy_parts(&t, &owned(&["stream"])).unwrap_err();
+        assert!(
+            err.contains("`stream`") && err.contains("l1, l2, dram"),
+            "{err}"
+        );
+    }
 
     fn owned(v: &[&str]) -> Vec<String> {
         v.iter().map(|s| s.to_string()).collect()
@@ -749,6 +896,91 @@ mod tests {
                 "strata.rs"
             ])
         );
+    }
+
+    /// A line chart of power-of-two sizes: drawn at the chart's size, with nothing drawn
+    /// in the outer margin (no text outside the canvas or clipped at its edge); bars and
+    /// stacked energy likewise; a log y axis is refused for bars.
+    #[test]
+    fn charts_fit_their_canvas() {
+        use super::*;
+        let header: Vec<String> = ["id", "status", "memory.l2.capacity_bytes", "tms", "fps"]
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
+        let mut rows = Vec::new();
+        for (i, kib) in [128u64, 256, 512, 1024, 2048, 4096].iter().enumerate() {
+            for tms in ["4", "16"] {
+                let fps = 1000.0 * (i as f64 + 1.0) * tms.parse::<f64>().unwrap();
+                rows.push(vec![
+                    format!("p{i}{tms}"),
+                    "ok".into(),
+                    (kib * 1024).to_string(),
+                    tms.to_string(),
+                    fps.to_string(),
+                ]);
+            }
+        }
+        let table = Table { header, rows };
+        let dir = std::env::temp_dir().join(format!("trax-plot-fit-{}", std::process::id()));
+        for kind in [PlotKind::Line, PlotKind::Bar] {
+            let spec = PlotSpec {
+                name: "t".into(),
+                x: "memory.l2.capacity_bytes".into(),
+                y: "fps".into(),
+                by: Some("tms".into()),
+                kind,
+                title: None,
+                filter: Vec::new(),
+                xlabel: None,
+                ylabel: None,
+                log_x: None,
+                log_y: None,
+                components: Vec::new(),
+                loc: None,
+            };
+            let (png, svg) = draw(&table, &spec, &dir.join(format!("{kind:?}"))).unwrap();
+            let dec = png::Decoder::new(std::fs::File::open(&png).unwrap());
+            let mut reader = dec.read_info().unwrap();
+            let mut buf = vec![0; reader.output_buffer_size()];
+            let info = reader.next_frame(&mut buf).unwrap();
+            assert_eq!((info.width, info.height), SIZE);
+            let (w, h) = (info.width as usize, info.height as usize);
+            let white = |x: usize, y: usize| buf[(y * w + x) * 3..][..3] == [255, 255, 255];
+            for m in 0..3 {
+                for x in 0..w {
+                    assert!(
+                        white(x, m) && white(x, h - 1 - m),
+                        "{kind:?}: ink at ({x}, edge)"
+                    );
+                }
+                for y in 0..h {
+                    assert!(
+                        white(m, y) && white(w - 1 - m, y),
+                        "{kind:?}: ink at (edge, {y})"
+                    );
+                }
+            }
+            let text = std::fs::read_to_string(svg).unwrap();
+            if kind == PlotKind::Line {
+                // Sizes read in binary prefixes on a log2 axis, never as 1.31e5.
+                for t in ["128 KiB", "512 KiB", "4 MiB"] {
+                    assert!(text.contains(t), "{t} missing");
+                }
+                assert!(
+                    !text.contains("e5") && !text.contains("e6"),
+                    "scientific ticks"
+                );
+            }
+            let bad = PlotSpec {
+                log_y: Some(true),
+                ..spec
+            };
+            if kind == PlotKind::Bar {
+                assert!(draw(&table, &bad, &dir.join("bad")).is_err());
+            }
+        }
+        let _ = std::fs::remove_dir_all(&dir);
     }
 
     #[test]

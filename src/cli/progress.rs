@@ -43,6 +43,11 @@ impl ProgressLine {
         ));
     }
 
+    /// Prints `text` on stderr above the line.
+    pub fn print(&self, text: &str) {
+        self.bar.suspend(|| eprint!("{text}"));
+    }
+
     /// Removes the line.
     pub fn finish(&self) {
         self.bar.finish_and_clear();

@@ -17,11 +17,9 @@ use trax::pipeline::{self, prepare, scene_report};
 use trax::stats::StatsDocument;
 use trax_emulator::profile::Profile;
 use trax_emulator::timing::ChipConfig;
-use trax_emulator::{gdb, DebugInfo, Limits, Mode, DEFAULT_QUANTUM};
-use trax_runtime::host::framebuffer_rgb8;
+use trax_emulator::{gdb, DebugInfo, Limits, Mode, OnLivelock, DEFAULT_QUANTUM};
 
-use super::common::{RenderArgs, SampleArgs, ShapeArgs};
-use super::native::write_png;
+use super::common::{PngArgs, RenderArgs, SampleArgs, ShapeArgs};
 use super::progress::ProgressLine;
 
 /// Arguments of `trax run`.
@@ -105,6 +103,13 @@ pub struct ExecArgs {
     /// Timing mode: stop at this core cycle.
     #[arg(long, value_name = "N", conflicts_with = "functional")]
     pub max_cycles: Option<u64>,
+    /// Stop a run proved never to finish (a livelock: every running thread repeats a loop
+    /// that changes nothing outside it, every other one waits; looked for after 2^18
+    /// cycles, or instructions per thread, without a store to global memory, a
+    /// global-register, barrier or stream operation, a print, counter or halt). Without
+    /// it the run warns, says where the threads are, and goes on.
+    #[arg(long)]
+    pub stop_on_livelock: bool,
     /// Timing mode: record statistics for every N simulated cycles (issue rate, stalls,
     /// L1/L2/DRAM traffic, rays in flight, energy) as `timing.intervals` of the
     /// `--stats-json` document. N must be a multiple of the quantum (L1 + L2 hit latency).
@@ -120,9 +125,9 @@ pub struct ExecArgs {
     /// How `--sample` samples.
     #[command(flatten)]
     pub sampling: SampleArgs,
-    /// Write the framebuffer as PNG (clamped, top row first).
-    #[arg(short = 'o', long = "output")]
-    pub output: Option<PathBuf>,
+    /// The PNG and its exposure.
+    #[command(flatten)]
+    pub png: PngArgs,
     /// Also write the raw framebuffer: `width*height` pixels of 3 little-endian f32 (as
     /// `trax native --raw-framebuffer`).
     #[arg(long)]
@@ -310,6 +315,7 @@ pub fn execute(a: &ExecArgs, extras: &Extras) -> Result<Executed, String> {
         return Err("--host-threads must be at least 1".into());
     }
     for out in a
+        .png
         .output
         .iter()
         .chain(&a.stats_json)
@@ -397,6 +403,23 @@ pub fn execute(a: &ExecArgs, extras: &Extras) -> Result<Executed, String> {
     if line.is_some() {
         req.progress = Some(&mut show);
     }
+    req.livelock = if a.stop_on_livelock {
+        OnLivelock::Stop
+    } else {
+        OnLivelock::Warn
+    };
+    // A livelock the run goes on after is told at once (the run may never end); one
+    // that stops it, with the failure.
+    let mut tell = |l: &trax_emulator::Livelock| {
+        if !l.stopped {
+            let text = with_newline(l.render());
+            match &line {
+                Some(bar) => bar.print(&text),
+                None => eprint!("{text}"),
+            }
+        }
+    };
+    req.livelock_notice = Some(&mut tell);
     let stdout = std::io::stdout();
     let mut out = stdout.lock();
     let start = std::time::Instant::now();
@@ -465,13 +488,9 @@ pub fn execute(a: &ExecArgs, extras: &Extras) -> Result<Executed, String> {
         );
         write_json(path, &doc).map_err(|e| format!("{}: {e}", path.display()))?;
     }
-    if r.finished() && (a.output.is_some() || a.raw_framebuffer.is_some()) {
+    if r.finished() && (a.png.output.is_some() || a.raw_framebuffer.is_some()) {
         let bytes = prepared.framebuffer(&r).unwrap_or_default();
-        if let Some(path) = &a.output {
-            let (w, h) = (p.render.width, p.render.height);
-            write_png(path, w, h, &framebuffer_rgb8(&bytes, w, h)).map_err(|e| e.to_string())?;
-            eprintln!("wrote {}", path.display());
-        }
+        a.png.write(&bytes, p.render.width, p.render.height)?;
         if let Some(path) = &a.raw_framebuffer {
             std::fs::write(path, &bytes).map_err(|e| format!("{}: {e}", path.display()))?;
         }

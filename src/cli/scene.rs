@@ -103,6 +103,15 @@ pub fn run(args: SceneArgs) -> ExitCode {
 
 fn info(a: &InfoArgs) -> Result<(), Box<dyn std::error::Error>> {
     // Output is gathered and written at the end, so a closed pipe (`| head`) is not an error.
+    let out = info_text(a)?;
+    match std::io::stdout().lock().write_all(out.as_bytes()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(e.into()),
+        _ => Ok(()),
+    }
+}
+
+/// The text `trax scene info` prints.
+fn info_text(a: &InfoArgs) -> Result<String, Box<dyn std::error::Error>> {
     let mut out = String::new();
     macro_rules! outln {
         ($($t:tt)*) => {{
@@ -166,9 +175,17 @@ fn info(a: &InfoArgs) -> Result<(), Box<dyn std::error::Error>> {
     let [x0, y0, z0] = b.min.map(show);
     let [x1, y1, z1] = b.max.map(show);
     outln!("bounds       [{x0} {y0} {z0}] .. [{x1} {y1} {z1}]");
+    // Treelet layouts pad node and triangle arrays to their alignment: say so.
+    let padding = match stats.nodes - stats.tree_nodes {
+        0 => String::new(),
+        pad => format!(
+            " ({} slots in memory with {pad} treelet padding)",
+            stats.nodes
+        ),
+    };
     outln!(
-        "bvh          {} nodes, {} leaves, depth {}, largest leaf {}, SAH cost {:.3}",
-        stats.nodes,
+        "bvh          {} nodes{padding}, {} leaves, depth {}, largest leaf {}, SAH cost {:.3}",
+        stats.tree_nodes,
         stats.leaves,
         stats.depth,
         stats.max_leaf,
@@ -199,9 +216,32 @@ fn info(a: &InfoArgs) -> Result<(), Box<dyn std::error::Error>> {
     let image = lay_out_scene(&scene, &on_demand_components(), &opts, &chip)?;
     let image_time = t2.elapsed();
     outln!("memory (all components referenced):");
+    // Per-node and per-triangle components hold a slot per node or triangle slot of the
+    // treelet layout, padding included.
+    let slots = |name: &str| {
+        image
+            .components
+            .iter()
+            .find(|c| c.name == name)
+            .map(|c| c.count)
+    };
+    let node_pad = slots("bvh_nodes").map_or(0, |n| n.saturating_sub(stats.tree_nodes as u32));
+    let tri_slots = slots("triangles");
+    let tri_pad = tri_slots.map_or(0, |n| n.saturating_sub(scene.len() as u32));
     for c in &image.components {
+        let pad = if node_pad > 0 && c.count == stats.nodes as u32 {
+            node_pad
+        } else if tri_pad > 0 && Some(c.count) == tri_slots {
+            tri_pad
+        } else {
+            0
+        };
+        let pad = match pad {
+            0 => String::new(),
+            p => format!("  ({p} of them treelet padding)"),
+        };
         outln!(
-            "  {:<13} {:>12} bytes  {:>10} elements  at {:#010x}",
+            "  {:<13} {:>12} bytes  {:>10} elements  at {:#010x}{pad}",
             c.name,
             c.bytes,
             c.count,
@@ -216,10 +256,7 @@ fn info(a: &InfoArgs) -> Result<(), Box<dyn std::error::Error>> {
         scene.len() as f64 / build_time.as_secs_f64().max(1e-9) / 1e6,
         image_time.as_secs_f64()
     );
-    match std::io::stdout().lock().write_all(out.as_bytes()) {
-        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(e.into()),
-        _ => Ok(()),
-    }
+    Ok(out)
 }
 
 /// A coordinate as written by a person: plain for moderate magnitudes, else `1.5e20`.
@@ -256,6 +293,41 @@ mod tests {
     fn info_on_builtin_scenes() {
         info(&args("cornell")).unwrap();
         info(&args("procedural:2000")).unwrap();
+    }
+
+    /// Node and triangle counts say how much of them is treelet padding.
+    #[test]
+    fn info_names_treelet_padding() {
+        let text = info_text(&args("procedural:2000")).unwrap();
+        let bvh = text.lines().find(|l| l.starts_with("bvh ")).unwrap();
+        let num = |s: &str| s.parse::<u32>().unwrap();
+        let w: Vec<&str> = bvh.split_whitespace().collect();
+        // bvh N nodes (M slots in memory with P treelet padding), ...
+        assert_eq!((w[2], w[4], w[7]), ("nodes", "slots", "with"), "{bvh}");
+        let (nodes, slots, pad) = (num(w[1]), num(&w[3][1..]), num(w[8]));
+        assert!(pad > 0 && slots == nodes + pad, "{bvh}");
+        let row = text.lines().find(|l| l.starts_with("  bvh_nodes")).unwrap();
+        assert!(
+            row.contains(&format!(" {slots} elements"))
+                && row.ends_with(&format!("({pad} of them treelet padding)")),
+            "{row}"
+        );
+        let tris = text.lines().find(|l| l.starts_with("triangles ")).unwrap();
+        let tris = num(tris.split_whitespace().nth(1).unwrap());
+        let row = text
+            .lines()
+            .find(|l| l.starts_with("  triangles "))
+            .unwrap();
+        let tri_slots = num(row.split_whitespace().nth(3).unwrap());
+        assert!(tri_slots > tris, "{row}");
+        assert!(row.ends_with(&format!("({} of them treelet padding)", tri_slots - tris)));
+        // Without alignment no treelet is padded, and nothing is said.
+        let plain = InfoArgs {
+            treelet_align: Some("none".into()),
+            ..args("procedural:2000")
+        };
+        let text = info_text(&plain).unwrap();
+        assert!(!text.contains("padding"), "{text}");
     }
 
     #[test]

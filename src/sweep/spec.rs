@@ -438,6 +438,22 @@ pub struct PlotSpec {
     pub title: Option<String>,
     /// Only rows with these parameter values.
     pub filter: Vec<(String, String)>,
+    /// X axis label (default: the parameter's name and unit).
+    #[serde(default)]
+    pub xlabel: Option<String>,
+    /// Y axis label (default: the metric's name and unit).
+    #[serde(default)]
+    pub ylabel: Option<String>,
+    /// Log x axis (`None`: chosen from the data, see `plot::axis::Axis::fit`).
+    #[serde(default)]
+    pub log_x: Option<bool>,
+    /// Log y axis (`None`: chosen from the data).
+    #[serde(default)]
+    pub log_y: Option<bool>,
+    /// Energy charts: the components to stack, by name (`dram`, `l2`, ...; empty: every
+    /// component the table has).
+    #[serde(default)]
+    pub components: Vec<String>,
     /// Where the plot is in the sweep file.
     #[serde(skip)]
     pub loc: Option<Loc>,
@@ -997,6 +1013,11 @@ fn parse_plots(src: &Src, item: &Item, kloc: Option<Loc>) -> Result<Vec<PlotSpec
             kind,
             title,
             filter,
+            xlabel: None,
+            ylabel: None,
+            log_x: None,
+            log_y: None,
+            components: Vec::new(),
             loc: tloc,
         });
     }

@@ -120,8 +120,10 @@ pub struct Bvh {
 /// Summary figures of a BVH.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BvhStats {
-    /// Nodes in the array (including padding).
+    /// Nodes in the array (including treelet padding).
     pub nodes: usize,
+    /// Nodes reachable from the root (the tree itself, without treelet padding).
+    pub tree_nodes: usize,
     /// Leaf nodes reachable from the root.
     pub leaves: usize,
     /// Longest root-to-leaf path (root alone = depth 1).
@@ -179,9 +181,11 @@ impl Bvh {
         let mut leaves = 0;
         let mut depth = 0;
         let mut max_leaf = 0;
+        let mut tree_nodes = 0;
         let mut stack = vec![(0u32, 1usize)];
         while let Some((i, d)) = stack.pop() {
             let n = self.nodes[i as usize];
+            tree_nodes += 1;
             depth = depth.max(d);
             let rel = if root_area > 0.0 {
                 n.aabb().area_f64() / root_area
@@ -200,6 +204,7 @@ impl Bvh {
         }
         BvhStats {
             nodes: self.nodes.len(),
+            tree_nodes,
             leaves,
             depth,
             sah_cost: cost as f32,

@@ -869,10 +869,7 @@ fn load_nested(spec: &str, opts: &LoadOptions, depth: usize) -> Result<Scene, Sc
             path: p.clone(),
             source,
         })?;
-        scene.point_lights = vec![PointLight {
-            position: parse_light_str(&p, &text)?,
-            color: [1.0; 3],
-        }];
+        scene.point_lights = vec![parse_light_str(&p, &text)?];
     }
     if let Some(s) = opts.scale {
         scene.scale(s)?;

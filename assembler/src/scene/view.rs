@@ -2,13 +2,15 @@
 //!
 //! `.view`: 15 whitespace-separated numbers `eye(3) gaze(3) up(3) aperture left right bottom
 //! top distance`. As in simtrax's `Camera.cc`, the second triple is a gaze *direction*, not a
-//! look-at point. `.light`: three numbers, the light position.
+//! look-at point. `.light`: the light position (three numbers), optionally followed by its
+//! intensity: one number (white light of that intensity) or three (linear RGB). Without
+//! one the intensity is 1 (simtrax's files have none).
 
 use std::path::Path;
 
 use trax_runtime::abi::Camera;
 
-use super::{cross, normalize_or_zero, rescale_pow2, Bounds, SceneError, Vec3};
+use super::{cross, normalize_or_zero, rescale_pow2, Bounds, PointLight, SceneError, Vec3};
 
 /// A camera as written in a `.view` file.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -118,23 +120,34 @@ impl View {
     }
 }
 
-/// Reads whitespace-separated numbers from a file, exactly `want` of them, with file:line
-/// errors; each with its line.
-fn read_numbers(path: &Path, want: usize, what: &str) -> Result<Vec<(f32, usize)>, SceneError> {
-    let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
+/// Reads a file's text, naming it in errors.
+fn read_text(path: &Path) -> Result<String, SceneError> {
+    std::fs::read_to_string(path).map_err(|source| SceneError::Io {
         path: path.to_path_buf(),
         source,
-    })?;
-    numbers(path, &text, want, what)
+    })
 }
 
-/// The numbers of a `.view`/`.light` text (`path` names it in errors), each with its line.
-fn numbers(
+/// The numbers of a `.view`/`.light` text, as many as one of `counts` (ascending; `path`
+/// names it in errors), each with its line.
+fn numbers_of(
     path: &Path,
     text: &str,
-    want: usize,
+    counts: &[usize],
     what: &str,
 ) -> Result<Vec<(f32, usize)>, SceneError> {
+    let want = counts.last().copied().unwrap_or(0);
+    let allowed = match counts {
+        [n] => format!("exactly {n}"),
+        [rest @ .., last] => format!(
+            "{} or {last}",
+            rest.iter()
+                .map(usize::to_string)
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+        [] => "no".into(),
+    };
     let mut nums = Vec::with_capacity(want);
     let mut last_line = 1;
     for (i, line) in text.lines().enumerate() {
@@ -147,7 +160,7 @@ fn numbers(
             };
             if nums.len() == want {
                 return Err(syntax(format!(
-                    "unexpected `{tok}`: a {what} file has exactly {want} numbers"
+                    "unexpected `{tok}`: a {what} file has {allowed} numbers"
                 )));
             }
             let v: f32 = tok
@@ -159,12 +172,12 @@ fn numbers(
             nums.push((v, i + 1));
         }
     }
-    if nums.len() < want {
+    if !counts.contains(&nums.len()) {
         return Err(SceneError::Syntax {
             path: path.to_path_buf(),
             line: last_line,
             message: format!(
-                "a {what} file needs {want} numbers, found only {}",
+                "a {what} file needs {allowed} numbers, found {}",
                 nums.len()
             ),
         });
@@ -177,18 +190,38 @@ const VIEW_WHAT: &str = ".view (eye, gaze, up, aperture, left, right, bottom, to
 
 /// Parses a simtrax `.view` file.
 pub fn parse_view(path: &Path) -> Result<View, SceneError> {
-    view_from(path, read_numbers(path, 15, VIEW_WHAT)?)
+    parse_view_str(path, &read_text(path)?)
 }
 
 /// Parses the text of a simtrax `.view` file (`path` names it in errors).
 pub fn parse_view_str(path: &Path, text: &str) -> Result<View, SceneError> {
-    view_from(path, numbers(path, text, 15, VIEW_WHAT)?)
+    view_from(path, numbers_of(path, text, &[15], VIEW_WHAT)?)
 }
 
-/// Parses the text of a simtrax `.light` file (`path` names it in errors).
-pub fn parse_light_str(path: &Path, text: &str) -> Result<Vec3, SceneError> {
-    let n = numbers(path, text, 3, ".light (position)")?;
-    Ok([n[0].0, n[1].0, n[2].0])
+/// What a `.light` file holds, for errors.
+const LIGHT_WHAT: &str = ".light (position, then optionally an intensity or an RGB intensity)";
+
+/// Parses the text of a `.light` file (`path` names it in errors): a position, then
+/// optionally one intensity or three (linear RGB, each at least 0); intensity 1 without.
+pub fn parse_light_str(path: &Path, text: &str) -> Result<PointLight, SceneError> {
+    let numbers = numbers_of(path, text, &[3, 4, 6], LIGHT_WHAT)?;
+    let n: Vec<f32> = numbers.iter().map(|x| x.0).collect();
+    let color = match n.len() {
+        4 => [n[3]; 3],
+        6 => [n[3], n[4], n[5]],
+        _ => [1.0; 3],
+    };
+    if color.iter().any(|c| *c < 0.0) {
+        return Err(SceneError::Syntax {
+            path: path.to_path_buf(),
+            line: numbers.last().map_or(1, |x| x.1),
+            message: format!("a light's intensity must be at least 0, found {color:?}"),
+        });
+    }
+    Ok(PointLight {
+        position: [n[0], n[1], n[2]],
+        color,
+    })
 }
 
 fn view_from(path: &Path, numbers: Vec<(f32, usize)>) -> Result<View, SceneError> {
@@ -222,8 +255,7 @@ fn view_from(path: &Path, numbers: Vec<(f32, usize)>) -> Result<View, SceneError
     Ok(view)
 }
 
-/// Parses a simtrax `.light` file (one point-light position).
-pub fn parse_light(path: &Path) -> Result<Vec3, SceneError> {
-    let n = read_numbers(path, 3, ".light (position)")?;
-    Ok([n[0].0, n[1].0, n[2].0])
+/// Parses a `.light` file (one point light: [`parse_light_str`]).
+pub fn parse_light(path: &Path) -> Result<PointLight, SceneError> {
+    parse_light_str(path, &read_text(path)?)
 }

@@ -92,7 +92,7 @@ impl<'a> DebugTarget<'a> {
                 }
             }
             Outcome::Deadlock { .. } => MultiThreadStopReason::Terminated(Signal::SIGABRT),
-            Outcome::InstructionLimit | Outcome::CycleLimit => {
+            Outcome::InstructionLimit | Outcome::CycleLimit | Outcome::Livelock => {
                 MultiThreadStopReason::Terminated(Signal::SIGXCPU)
             }
         }
@@ -182,7 +182,8 @@ impl<'a> DebugTarget<'a> {
             Driven::Paused { thread } if e.hit => {
                 Some(MultiThreadStopReason::SwBreak(tid_of(thread)))
             }
-            Driven::Paused { .. } => None,
+            // A debugged run does not watch for livelocks.
+            Driven::Paused { .. } | Driven::Livelock(_) => None,
         }
     }
 }

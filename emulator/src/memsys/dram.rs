@@ -117,8 +117,9 @@ pub struct DramStats {
     pub activates: u64,
     /// Refresh commands.
     pub refreshes: u64,
-    /// Row-buffer hit rate, hits / (hits + misses + conflicts), 0..1.
-    pub row_hit_rate: f64,
+    /// Row-buffer hit rate, hits / (hits + misses + conflicts), 0..1; `None` for the
+    /// simple model, which has no rows, and when no column access was made.
+    pub row_hit_rate: Option<f64>,
     /// Mean read latency (arrival to last data beat), in core cycles.
     pub avg_read_latency_cycles: f64,
     /// Time-averaged read-queue entries per channel.
@@ -354,7 +355,7 @@ fn detailed_stats(d: &DetailedDram) -> DramStats {
         occ_w += c.write_occupancy_integral;
     }
     let cols = s.row_hits + s.row_misses + s.row_conflicts;
-    s.row_hit_rate = ratio(s.row_hits, cols);
+    s.row_hit_rate = (cols > 0).then(|| ratio(s.row_hits, cols));
     let dram_cycles = d.dram_cycles();
     s.dram_cycles = dram_cycles;
     s.core_cycles = d.to_core(dram_cycles);

@@ -2,7 +2,7 @@
 //!
 //! Library API (the `trax run --profile` / `trax annotate` CLI wires these):
 //!
-//! - [`profile_run`]`(&mut machine, out) -> (RunSummary, Profiler)` is a drop-in for
+//! - [`profile_run`]`(&mut machine, out, on_livelock) -> (RunSummary, Profiler)` is a drop-in for
 //!   [`crate::Machine::run`] (same thread interleaving, see [`crate::sched`], same summary) that
 //!   also charges every retired instruction to its thread's interned shadow call stack
 //!   and pc.
@@ -26,22 +26,24 @@ use std::io::Write;
 pub use collect::{CostKind, ProfileExec, Profiler, KINDS};
 pub use report::{Frame, Profile, TreeNode};
 
+use crate::livelock::Detection;
 use crate::machine::{Machine, RunSummary};
-use crate::sched::{Driven, Scheduler};
+use crate::sched::Scheduler;
 
 /// Runs `m` to the end like [`Machine::run`], with every retired instruction charged to
 /// its call stack. Returns the run summary and the collected profile.
-pub fn profile_run(m: &mut Machine, out: &mut dyn Write) -> (RunSummary, Profiler) {
+/// With `on_livelock`, watches for a livelock as [`Machine::run_with`] does.
+pub fn profile_run(
+    m: &mut Machine,
+    out: &mut dyn Write,
+    on_livelock: Option<&mut dyn FnMut(&Detection) -> bool>,
+) -> (RunSummary, Profiler) {
     let mut prof = Profiler::new(&m.shared.program, m.threads.len());
     let mut sched = Scheduler::new(m);
-    let outcome = loop {
-        let mut e = ProfileExec {
-            profiler: &mut prof,
-        };
-        if let Driven::Done(o) = sched.run(m, out, &mut e) {
-            break o;
-        }
+    let mut e = ProfileExec {
+        profiler: &mut prof,
     };
+    let outcome = sched.run_to_end(m, out, &mut e, on_livelock);
     let summary = RunSummary {
         outcome,
         instructions: sched.total,

@@ -43,8 +43,11 @@ pub struct TreeNode {
 pub struct Profile {
     /// Call tree; index 0 is the root (the whole run).
     pub tree: Vec<TreeNode>,
-    /// Cost per (file, line) of the innermost source frame.
+    /// Cost per (file, line) of the innermost source frame; code at DWARF line 0 is
+    /// charged to its nearest located neighbour ([`ATTRIBUTION`]).
     pub lines: BTreeMap<(String, u32), Costs>,
+    /// The part of each line's cost that is line-0 code charged to it.
+    pub attributed: BTreeMap<(String, u32), Costs>,
     /// Cost per full stack (outermost first), for folded/speedscope output.
     pub stacks: BTreeMap<Vec<Frame>, Costs>,
     /// True if the costs are cycles (timing mode), false for instructions.
@@ -63,6 +66,7 @@ impl Profile {
         };
         let mut stacks: BTreeMap<Vec<Frame>, Costs> = BTreeMap::new();
         let mut lines: BTreeMap<(String, u32), Costs> = BTreeMap::new();
+        let mut attributed: BTreeMap<(String, u32), Costs> = BTreeMap::new();
         let mut node_frames: HashMap<u32, Vec<Frame>> = HashMap::new();
         for ((node, pc), costs) in p.samples() {
             let prefix = node_frames
@@ -81,7 +85,13 @@ impl Profile {
                     .file
                     .clone()
                     .unwrap_or_else(|| format!("{NO_DEBUG_INFO} {}", f.name));
-                let key = (file, f.line);
+                let key = match (f.line, &f.file) {
+                    (0, Some(_)) => nearest_line(pc, &own, &mut resolve).unwrap_or((file, 0)),
+                    (l, _) => (file, l),
+                };
+                if f.line == 0 && key.1 != 0 {
+                    add(attributed.entry(key.clone()).or_insert([0; KINDS]), &costs);
+                }
                 add(lines.entry(key).or_insert([0; KINDS]), &costs);
             }
             let mut stack = prefix;
@@ -127,6 +137,7 @@ impl Profile {
         let mut prof = Profile {
             tree,
             lines,
+            attributed,
             stacks,
             cycles,
         };
@@ -310,6 +321,15 @@ impl Profile {
         let mut files: Vec<(&str, Vec<(u32, u64)>)> = per_file.into_iter().collect();
         files.sort_by_key(|(f, l)| (std::cmp::Reverse(l.iter().map(|x| x.1).sum::<u64>()), *f));
         let mut s = String::new();
+        let moved: u64 = self.attributed.values().map(|c| self.weight(c)).sum();
+        let _ = writeln!(
+            s,
+            "# {} per source line. {ATTRIBUTION} Lines marked * include such code ({:.2}% of \
+             the {} in all).\n",
+            self.unit(),
+            self.percent(moved),
+            self.unit()
+        );
         for (file, lines) in files {
             let sum: u64 = lines.iter().map(|x| x.1).sum();
             let _ = writeln!(s, "{file}  ({:.2}% of {})", self.percent(sum), self.unit());
@@ -322,15 +342,21 @@ impl Profile {
                     } else {
                         "(line 0: code the compiler ties to no source line)"
                     };
-                    let _ = writeln!(s, "{w:>12} {:>6.2}%     - | {what}", self.percent(w));
+                    let _ = writeln!(s, "{w:>12} {:>6.2}%      - | {what}", self.percent(w));
                     continue;
                 }
                 let text = dbg
                     .and_then(|d| d.source_line(file, line))
                     .unwrap_or_default();
+                let key = (file.to_string(), line);
+                let mark = if self.attributed.contains_key(&key) {
+                    '*'
+                } else {
+                    ' '
+                };
                 let _ = writeln!(
                     s,
-                    "{w:>12} {:>6.2}% {line:>5} | {}",
+                    "{w:>12} {:>6.2}%{mark} {line:>5} | {}",
                     self.percent(w),
                     text.trim_end()
                 );
@@ -339,6 +365,63 @@ impl Profile {
         }
         s
     }
+}
+
+/// How line-0 code is attributed, as [`Profile::annotate`] states it.
+pub const ATTRIBUTION: &str = "Code the compiler ties to no source line (DWARF line 0: \
+register spills and reloads, constants, instructions the optimiser merged from several \
+lines) is charged to the nearest instruction of the same inlined instance of the same \
+function that has a line: the next one within 256 instructions, else the previous one within \
+256; failing that, to the nearest such instruction of the same function in another instance \
+(inlined elsewhere); failing that (a function without any located code, such as a \
+derived method), to the line that calls or inlines it; what has none stays on `line 0`.";
+
+/// Instructions [`nearest_line`] looks ahead and back.
+const ATTRIBUTION_REACH: u32 = 256;
+
+/// The (file, line) of the nearest instruction to `pc` (first ahead, then back, within
+/// [`ATTRIBUTION_REACH`]) in the same function instance as `own` (the same inline chain:
+/// function names and call-site lines), whose own line is not 0; else in the same function;
+/// else the caller's call site ([`ATTRIBUTION`]).
+fn nearest_line(
+    pc: u32,
+    own: &[Frame],
+    resolve: &mut dyn FnMut(u32) -> Vec<Frame>,
+) -> Option<(String, u32)> {
+    let same_instance = |other: &[Frame]| {
+        other.len() == own.len()
+            && other.iter().zip(own).enumerate().all(|(i, (a, b))| {
+                a.name == b.name && a.file == b.file && (i + 1 == own.len() || a.line == b.line)
+            })
+    };
+    let inner = own.last()?;
+    let same_function = |other: &[Frame]| {
+        other
+            .last()
+            .is_some_and(|a| a.name == inner.name && a.file == inner.file)
+    };
+    let near = || {
+        let ahead = (1..=ATTRIBUTION_REACH).map(move |k| pc.checked_add(4 * k));
+        let back = (1..=ATTRIBUTION_REACH).map(move |k| pc.checked_sub(4 * k));
+        ahead.chain(back).flatten()
+    };
+    let lined = |f: &[Frame]| f.last().map(|f| f.line).filter(|l| *l != 0);
+    for strict in [true, false] {
+        for p in near() {
+            let f = resolve(p);
+            let ok = if strict {
+                same_instance(&f)
+            } else {
+                same_function(&f)
+            };
+            if let (true, Some(l)) = (ok, lined(&f)) {
+                return Some((inner.file.clone()?, l));
+            }
+        }
+    }
+    // The enclosing statement: where the caller calls (or inlines) this function.
+    let caller = own.len().checked_sub(2).map(|i| &own[i])?;
+    Some((caller.file.clone()?, caller.line)).filter(|(_, l)| *l != 0)
 }
 
 /// How [`Profile::annotate`] names code without debug information (then its symbol).

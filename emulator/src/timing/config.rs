@@ -58,7 +58,8 @@ pub enum ConfigError {
     Invalid(String),
     /// Neither a preset name nor a file that exists.
     #[error(
-        "chip config `{spec}` is neither a preset ({}) nor a file: {err}",
+        "chip config `{spec}` is neither a preset ({}; `trax config list` describes them) nor \
+         a file: {err}",
         CHIP_PRESETS.join(", ")
     )]
     Unknown {

@@ -36,6 +36,7 @@ use super::tm::{Claim, Deferred, Op, Summary, TmSim};
 use super::workers::{rebalance, Batch, Crew, RoundCell, Rounds};
 use crate::chip::Effects;
 use crate::exec::Stop;
+use crate::livelock::{self, Detection, Watch};
 use crate::machine::{drain, Crash, Machine, Outcome};
 use crate::memsys::sentinel::DmaJob;
 use crate::memsys::{CacheStats, MemStats, MemSystem};
@@ -112,6 +113,12 @@ pub struct Counters {
 
 /// Receives a [`Progress`] report every few host milliseconds.
 pub type ProgressFn<'a> = &'a mut dyn FnMut(&Progress);
+
+/// Told of a proven livelock; returns whether to stop the run there.
+pub type LivelockFn<'a> = &'a mut dyn FnMut(&Detection) -> bool;
+
+/// Cycles between checks of the chip's progress count for the livelock detector.
+const LOOK_EVERY: u64 = 1 << 14;
 
 /// Quanta between checks of the host clock for progress reports, at most.
 const PROGRESS_EVERY: u64 = 1024;
@@ -247,6 +254,14 @@ pub struct Engine<'c> {
     pub profiler: Option<Profiler>,
     /// Called with the run's progress about every 100 ms of host time.
     pub progress: Option<ProgressFn<'c>>,
+    /// When set, the run is watched for a livelock ([`crate::livelock`], checked every
+    /// 2^14 cycles) and this is told of one; it returns whether to stop the run there
+    /// ([`Outcome::Livelock`]). Watching stops after the first.
+    pub on_livelock: Option<LivelockFn<'c>>,
+    /// The livelock watch (kept across [`Self::run`]s).
+    watch: Option<Watch>,
+    /// Whether a livelock was found.
+    livelocked: bool,
     /// Cycles per statistics interval (`--stats-interval`; a multiple of the quantum,
     /// see [`Self::quantum`]): the counters are sampled at every multiple.
     pub interval: Option<u64>,
@@ -328,6 +343,9 @@ impl<'c> Engine<'c> {
             host_threads: host_threads.clamp(1, tms),
             profiler: None,
             progress: None,
+            on_livelock: None,
+            watch: None,
+            livelocked: false,
             interval: None,
             intervals: None,
             samples: Vec::new(),
@@ -402,10 +420,22 @@ impl<'c> Engine<'c> {
         let mut profiler = self.profiler.take();
         let mut progress = self.progress.take();
         let mut intervals = self.intervals.take();
+        let mut on_livelock = self.on_livelock.take();
+        // Watch until the first livelock (the watch is then gone for good).
+        let mut watch = match (&on_livelock, self.watch.take()) {
+            (None, _) => None,
+            (Some(_), Some(w)) => Some(w),
+            (Some(_), None) if !self.livelocked => Some(Watch::default()),
+            (Some(_), None) => None,
+        };
         let mut halted_excess = 0u64;
         let mut paused = false;
         let mut base = Counters::default();
         base.add_scalars(&self.c);
+        let check_at = match watch {
+            Some(_) => self.now + LOOK_EVERY,
+            None => u64::MAX,
+        };
         let outcome = {
             let shared = RoundCell::new(&mut m.shared);
             let rounds = Rounds::new(tms, workers);
@@ -459,6 +489,9 @@ impl<'c> Engine<'c> {
                     pause_at: self.pause_at,
                     paused: &mut paused,
                     base,
+                    check_at,
+                    watch: &mut watch,
+                    on_livelock: on_livelock.as_deref_mut(),
                 };
                 d.next_sample = d.next_sample_after(*d.now);
                 let mut leader_job = |k: usize, window| job(0, k, window, profiler.as_mut());
@@ -474,6 +507,9 @@ impl<'c> Engine<'c> {
         self.profiler = profiler;
         self.progress = progress;
         self.intervals = intervals;
+        self.livelocked |= on_livelock.is_some() && self.watch.is_none() && watch.is_none();
+        self.on_livelock = on_livelock;
+        self.watch = watch;
         // Take everything back.
         for p in parts {
             let p = p.into_inner().unwrap_or_else(|e| e.into_inner());
@@ -599,6 +635,13 @@ struct Driver<'a, 'p> {
     paused: &'a mut bool,
     /// The counters of earlier runs of the engine (samples are cumulative).
     base: Counters,
+    /// The next cycle at which the livelock watch looks at the progress count
+    /// (`u64::MAX`: not watching).
+    check_at: u64,
+    /// The livelock watch (`None` once one was found).
+    watch: &'a mut Option<Watch>,
+    /// Told of a livelock; says whether to stop.
+    on_livelock: Option<&'a mut (dyn FnMut(&Detection) -> bool + 'p)>,
 }
 
 impl Driver<'_, '_> {
@@ -638,6 +681,43 @@ impl Driver<'_, '_> {
             }
         }
         self.next_sample = self.next_sample_after(at);
+    }
+
+    /// The livelock watch at quantum end `at`: looks for a livelock when nothing has
+    /// changed for long ([`Watch::due`]); returns the outcome if one was found and the
+    /// caller said to stop. Out of line: checked every [`LOOK_EVERY`] cycles.
+    #[cold]
+    #[inline(never)]
+    fn look_for_livelock(
+        &mut self,
+        sh: &Shared,
+        sims: &[&mut TmSim],
+        parts: &[Mutex<Part>],
+        at: u64,
+    ) -> Option<Outcome> {
+        self.check_at = at + LOOK_EVERY;
+        let w = self.watch.as_mut()?;
+        // Prints and counts stay in the TMs' effects (their `changes` never reset).
+        let count = sh.progress_count() + sims.iter().map(|t| t.fx.changes).sum::<u64>();
+        if !w.due(at, count) {
+            return None;
+        }
+        let Some((threads, halted)) = livelock::prove(sims.iter().flat_map(|t| &t.threads), sh)
+        else {
+            w.failed();
+            return None;
+        };
+        let d = Detection {
+            cycle: Some(at),
+            instructions: executed(parts),
+            quiet: w.quiet(at),
+            threads,
+            halted,
+        };
+        *self.watch = None;
+        self.check_at = u64::MAX;
+        let stop = self.on_livelock.as_deref_mut().is_some_and(|f| f(&d));
+        stop.then_some(Outcome::Livelock)
     }
 
     /// The first interval end or extra sample cycle after `at` (`u64::MAX`: none).
@@ -708,7 +788,8 @@ impl Driver<'_, '_> {
                     Some(_) => to,
                     None => max.min(from + q * MAX_FREE_ROUNDS),
                 }
-                .min(self.next_sample),
+                .min(self.next_sample)
+                .min(self.check_at),
             };
             let Some(end) = rounds.run(crew, &batch, leader_job) else {
                 // A host thread died; the scope re-raises its panic.
@@ -900,6 +981,11 @@ impl Driver<'_, '_> {
             if let Some(limit) = self.limits.max_instructions {
                 if executed(parts) >= limit {
                     return Outcome::InstructionLimit;
+                }
+            }
+            if to >= self.check_at {
+                if let Some(o) = self.look_for_livelock(sh, &sims, parts, to) {
+                    return o;
                 }
             }
             if crossed(progress_every) {

@@ -14,6 +14,7 @@
 //! and output for any number of host threads.
 
 mod config;
+mod config_doc;
 pub(crate) mod engine;
 pub mod footprint;
 pub mod intervals;

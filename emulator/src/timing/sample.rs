@@ -1110,7 +1110,8 @@ fn fast_forward(
     engine.progress = progress;
     cross.note(m.shared.globals[reg], x);
     match driven {
-        Driven::Paused { .. } => None,
+        // The fast-forward does not watch for livelocks.
+        Driven::Paused { .. } | Driven::Livelock(_) => None,
         Driven::Done(o) => Some(o),
     }
 }

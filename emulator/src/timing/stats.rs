@@ -112,8 +112,9 @@ pub struct SpillStats {
     pub dram_lines_written: u64,
     /// See `dram_lines_written`.
     pub dram_lines_read: u64,
-    /// Row-buffer hit rate of those DRAM accesses (0 with the simple DRAM model).
-    pub dram_row_hit_rate: f64,
+    /// Row-buffer hit rate of those DRAM accesses (`None` with the simple DRAM model,
+    /// which has no rows, or without such accesses).
+    pub dram_row_hit_rate: Option<f64>,
     /// Cycles a transfer was under way.
     pub busy_cycles: u64,
     /// Ray bytes moved per second while a transfer was under way, GB/s.
@@ -413,7 +414,8 @@ pub fn build(
                 stall_cycles: c.stream_spill_stall_cycles,
                 dram_lines_written: mem.dma.lines_written,
                 dram_lines_read: mem.dma.lines_read,
-                dram_row_hit_rate: ratio(mem.dma_row_hits as f64, mem.dma_columns as f64),
+                dram_row_hit_rate: (mem.dma_columns > 0)
+                    .then(|| ratio(mem.dma_row_hits as f64, mem.dma_columns as f64)),
                 busy_cycles: mem.dma.busy_cycles,
                 transfer_gbps: ratio(moved as f64, mem.dma.busy_cycles as f64 / hz) / 1e9,
             }
@@ -587,10 +589,12 @@ impl TimingStats {
         let d = &m.dram;
         let _ = writeln!(
             s,
-            "DRAM: {} reads, {} writes, row-hit {:.2}%, avg read latency {:.1} cycles, avg read queue {:.2}",
+            "DRAM: {} reads, {} writes, row-hit {}, avg read latency {:.1} cycles, avg read queue {:.2}",
             d.reads,
             d.writes,
-            d.row_hit_rate * 100.0,
+            // The simple model has no rows (nor a detailed one that was never accessed).
+            d.row_hit_rate
+                .map_or("n/a".into(), |r| format!("{:.2}%", r * 100.0)),
             d.avg_read_latency_cycles,
             d.avg_read_queue
         );

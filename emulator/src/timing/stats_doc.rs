@@ -77,7 +77,7 @@ struct DramStatsDoc {
     row_conflicts: u64,
     activates: u64,
     refreshes: u64,
-    row_hit_rate: f64,
+    row_hit_rate: Option<f64>,
     avg_read_latency_cycles: f64,
     avg_read_queue: f64,
     avg_write_queue: f64,

@@ -10,7 +10,8 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use serde_json::Value;
 
-use super::{colour, register_font, tick, PlotArgs, SIZE};
+use super::axis::{Axis, Unit};
+use super::{colour, register_font, PlotArgs, SIZE};
 
 /// The metrics of an interval that can be drawn: field (of `timing.intervals[]`), axis
 /// label with its unit.
@@ -170,7 +171,16 @@ pub(super) fn plot_cmd(a: &PlotArgs) -> Result<(PathBuf, PathBuf), String> {
             ))
         }
     };
-    let title = a.title.clone().unwrap_or_else(|| format!("{y} over time"));
+    // The metric's name from its axis label (`DRAM bytes (per interval)` -> `DRAM bytes`).
+    let title = a.title.clone().unwrap_or_else(|| {
+        let name = ylabel.split(" (").next().unwrap_or(y);
+        format!("{name} over time")
+    });
+    let unit = if y.ends_with("bytes") {
+        Unit::Bytes
+    } else {
+        Unit::Number
+    };
     register_font();
     if let Some(dir) = out.parent().filter(|p| !p.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
@@ -184,14 +194,14 @@ pub(super) fn plot_cmd(a: &PlotArgs) -> Result<(PathBuf, PathBuf), String> {
     let mut rgb = vec![0u8; (SIZE.0 * SIZE.1 * 3) as usize];
     {
         let root = BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area();
-        render(&root, &steps, ghz, &title, &ylabel)?;
+        render(&root, &steps, ghz, &title, &ylabel, unit)?;
         root.present().map_err(|e| e.to_string())?;
     }
     crate::cli::native::write_png(&png, SIZE.0, SIZE.1, &rgb).map_err(|e| e.to_string())?;
     let mut text = String::new();
     {
         let root = SVGBackend::with_string(&mut text, SIZE).into_drawing_area();
-        render(&root, &steps, ghz, &title, &ylabel)?;
+        render(&root, &steps, ghz, &title, &ylabel, unit)?;
         root.present().map_err(|e| e.to_string())?;
     }
     std::fs::write(&svg, text).map_err(|e| format!("{}: {e}", svg.display()))?;
@@ -204,17 +214,16 @@ fn render<DB: DrawingBackend>(
     ghz: f64,
     title: &str,
     ylabel: &str,
+    unit: Unit,
 ) -> Result<(), String> {
     let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
     root.fill(&WHITE).map_err(e)?;
     // Simulated time in µs: cycles / (GHz x 1000).
     let us = |c: u64| c as f64 / (ghz * 1e3);
     let x_end = us(steps.last().map_or(1, |s| s.end));
-    let values = steps.iter().filter_map(|s| s.value);
-    let (lo, hi) = values.fold((0.0f64, 0.0f64), |(a, b), v| (a.min(v), b.max(v)));
-    let hi = if hi <= lo { lo + 1.0 } else { hi };
-    let pad = (hi - lo) * 0.08;
-    let yr = (if lo < 0.0 { lo - pad } else { 0.0 })..(hi + pad);
+    let values: Vec<f64> = steps.iter().filter_map(|s| s.value).collect();
+    let yaxis = Axis::fit(&values, unit, Some(false), true, 0.08)?;
+    let xaxis = Axis::fit(&[0.0, x_end], Unit::Number, Some(false), true, 0.0)?;
     let title_size = 26.0f64.min(1.9 * SIZE.0 as f64 / title.chars().count().max(1) as f64);
     let (title_area, plot_area) = root.split_vertically(50);
     title_area
@@ -229,9 +238,10 @@ fn render<DB: DrawingBackend>(
         .margin_top(4)
         .x_label_area_size(55)
         .y_label_area_size(85)
-        .build_cartesian_2d(0.0..x_end, yr)
+        .build_cartesian_2d(xaxis.coord(), yaxis.coord())
         .map_err(e)?;
-    let fmt = |v: &f64| tick(*v);
+    let x_fmt = |v: &f64| xaxis.label(*v);
+    let y_fmt = |v: &f64| yaxis.label(*v);
     chart
         .configure_mesh()
         .x_desc("simulated time (µs)")
@@ -239,8 +249,8 @@ fn render<DB: DrawingBackend>(
         .axis_desc_style(("sans-serif", 18))
         .label_style(("sans-serif", 15))
         .light_line_style(TRANSPARENT)
-        .x_label_formatter(&fmt)
-        .y_label_formatter(&fmt)
+        .x_label_formatter(&x_fmt)
+        .y_label_formatter(&y_fmt)
         .draw()
         .map_err(e)?;
     // Runs of measured intervals, each a staircase.

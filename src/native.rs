@@ -93,6 +93,12 @@ pub(crate) fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> NativeError 
     }
 }
 
+/// Stack bytes of rustc's compiler thread (`RUST_MIN_STACK`, unless the user set it): as
+/// much as the trax compiler's own thread, so a program nested as deeply as trax accepts
+/// (3000 nested `if`s, a 4000-term chain) is checked rather than crashing rustc. Only
+/// address space: the pages a shallow program does not touch are never allocated.
+pub const RUSTC_STACK: usize = 512 << 20;
+
 /// The rustc to use (`$RUSTC`, else `rustc` on `PATH`) and its version (part of every
 /// cache key).
 pub struct Rustc {
@@ -120,9 +126,13 @@ impl Rustc {
     }
 
     /// A rustc command with the flags of every native build (edition 2021, `-O2`, integer
-    /// overflow wrapping as on the machine).
+    /// overflow wrapping as on the machine), and the stack the trax compiler has
+    /// ([`RUSTC_STACK`]): deep but valid kernels overflow rustc's default 8 MiB.
     pub fn command(&self) -> Command {
         let mut c = Command::new(&self.program);
+        if std::env::var_os("RUST_MIN_STACK").is_none() {
+            c.env("RUST_MIN_STACK", RUSTC_STACK.to_string());
+        }
         c.args([
             "--edition",
             "2021",

@@ -1881,8 +1881,9 @@ mod tests {
             windows: 20,
             warmup_cycles: 2000,
             measure_cycles: 8000,
-            counter: 255,
-            items: 16384,
+            counter: Some(255),
+            items: None,
+            pixels: 16384,
             seed: 1,
         };
         assert_eq!(ok.check(256), Ok(()));
@@ -1913,19 +1914,37 @@ mod tests {
         );
         bad(
             SampleRequest {
-                counter: 300,
+                counter: Some(300),
                 ..ok.clone()
             },
             "--sample-counter 300",
         );
         bad(
             SampleRequest {
-                items: 800,
+                pixels: 800,
                 ..ok.clone()
             },
-            "too few to sample",
+            "the image's 800 work items",
         );
-        let p = ok.plan(256);
+        bad(
+            SampleRequest {
+                items: Some(800),
+                ..ok.clone()
+            },
+            "--sample-items 800 work items",
+        );
+        // Without a counter the items are known only once the kernel declares them.
+        let undeclared = SampleRequest {
+            counter: None,
+            pixels: 800,
+            ..ok.clone()
+        };
+        assert_eq!(undeclared.check(256), Ok(()));
+        assert!(undeclared
+            .check_items(800, 256, "the kernel's declared")
+            .unwrap_err()
+            .contains("too few to sample"));
+        let p = ok.plan(16384, 256);
         assert_eq!(p.head_end, 512);
         assert_eq!(p.bounds.len(), 21);
         assert_eq!(*p.bounds.last().unwrap(), 16384 - 512);

@@ -1046,7 +1046,11 @@ pub struct Allowance {
 
 /// The allowances in force (see [`Allowance`]).
 pub const ALLOWANCE: Allowance = Allowance {
-    cycles: 0.003,
+    // 0.3% at 8 TMs; at 128 TMs (Sibenik 256x256, baseline-ch3) the windows run -0.7% fast
+    // against the full run at the same instructions, and whole-run cycles came out -0.49%
+    // to -1.17% over four sampled runs (two seeds) with ~1.04% sampling half-widths, one
+    // missing: 1% covers that residual bias (experiments/sampling/README.md).
+    cycles: 0.01,
     energy: 0.01,
     dram: 0.03,
     l1_hit_points: 0.002,

@@ -7,6 +7,8 @@ fn trax_main() {
     let n = w * h;
     let inv_w = trax::scene::inv_width();
     let inv_h = trax::scene::inv_height();
+    // Pixels come from global register 0 (sampled simulation follows it).
+    trax::declare_work(0, n);
     loop {
         let i = trax::atomic_inc(0);
         if i >= n {

@@ -20,6 +20,8 @@ fn trax_main() {
     let groups = (n + 3) / 4;
     let sx = 3.0 * trax::scene::inv_width();
     let sy = 2.5 * trax::scene::inv_height();
+    // Groups of four pixels come from global register 0 (sampled simulation follows it).
+    trax::declare_work(0, groups);
     loop {
         let g = trax::atomic_inc(0);
         if g >= groups {

@@ -42,6 +42,8 @@ fn trax_main() {
     let cam = trax::Camera::load();
     let w = trax::scene::width();
     let n = w * trax::scene::height();
+    // Pixels come from global register 0 (sampled simulation follows it).
+    trax::declare_work(0, n);
     loop {
         let i = trax::atomic_inc(0);
         if i >= n {

@@ -543,6 +543,9 @@ fn trax_main() {
         );
     }
     let paths = paths as u32;
+    // Sampled simulation follows the frame along the paths finished: every path's last
+    // ray takes the next one from NEXT_REG (`next_path`), so it ends at `paths`.
+    trax::declare_work(NEXT_REG, paths);
     let f = Frame {
         width,
         spp,

@@ -232,41 +232,98 @@ fn unsound_sampling_settings_are_refused() {
     );
 }
 
-#[test]
-fn a_kernel_that_does_not_use_the_counter_is_refused() {
-    // The ray caster takes pixels with `atomic_inc(0)`, not from register 255.
-    let out = trax(&[
+/// `trax run KERNEL --width 64 --height 64 --sample 10 EXTRA` with short windows.
+fn sample_small(kernel: &str, extra: &[&str]) -> Output {
+    let mut args = vec![
         "run",
-        "examples/raycast.rs",
+        kernel,
         "--width",
         "64",
         "--height",
         "64",
         "--sample",
         "10",
-    ]);
-    let err = text(&out.stderr);
-    assert!(!out.status.success());
-    assert!(err.contains("--sample-counter"), "{err}");
-    // Named, it samples.
-    let out = trax(&[
-        "run",
-        "examples/raycast.rs",
-        "--width",
-        "64",
-        "--height",
-        "64",
-        "--sample",
-        "10",
-        "--sample-counter",
-        "0",
         "--sample-warmup",
         "1000",
         "--sample-window",
         "1000",
-    ]);
+    ];
+    args.extend_from_slice(extra);
+    trax(&args)
+}
+
+#[test]
+fn every_example_samples_without_naming_its_counter() {
+    // Each example's counter: declared (`trax::declare_work`) or `pixel_share`'s.
+    for (kernel, extra, counter) in [
+        (
+            "examples/pathtracer.rs",
+            &[][..],
+            "counter G[255] (trax::scene::pixel_share's)",
+        ),
+        (
+            "examples/ao.rs",
+            &[][..],
+            "counter G[255] (trax::scene::pixel_share's)",
+        ),
+        (
+            "examples/raycast.rs",
+            &[][..],
+            "counter G[0] (declared by the kernel) over 4096",
+        ),
+        (
+            "examples/gradient.rs",
+            &[][..],
+            "counter G[0] (declared by the kernel) over 4096",
+        ),
+        (
+            "examples/c/mandelbrot.c",
+            &[][..],
+            "counter G[0] (declared by the kernel) over 4096",
+        ),
+        (
+            "examples/cpp/raycast.cpp",
+            &[][..],
+            "counter G[0] (declared by the kernel) over 4096",
+        ),
+        (
+            "examples/cpp/pathtracer.cpp",
+            &[][..],
+            "counter G[255] (trax::scene::pixel_share's)",
+        ),
+        // The streaming path tracer counts paths finished (one per pixel here).
+        (
+            "examples/strata.rs",
+            &["--config", "strata", "--tms", "2"][..],
+            "(declared by the kernel) over 4096",
+        ),
+    ] {
+        let out = sample_small(kernel, extra);
+        let err = text(&out.stderr);
+        assert!(out.status.success(), "{kernel}: {err}");
+        assert!(err.contains(counter), "{kernel}: {err}");
+    }
+}
+
+#[test]
+fn a_kernel_that_declares_no_counter_and_shares_no_pixels_is_refused() {
+    // The gradient without its declaration takes pixels with `atomic_inc(0)`: nothing
+    // tells sampling to follow register 0.
+    let src = std::fs::read_to_string(root().join("examples/gradient.rs")).unwrap();
+    let undeclared = src.replace("trax::declare_work(0, n);", "");
+    assert_ne!(src, undeclared, "examples/gradient.rs declares its work");
+    let k = scratch().join("undeclared.rs");
+    std::fs::write(&k, undeclared).unwrap();
+    let k = k.display().to_string();
+    let out = sample_small(&k, &[]);
+    let err = text(&out.stderr);
+    assert!(!out.status.success());
+    assert!(err.contains("--sample-counter"), "{err}");
+    assert!(err.contains("trax::declare_work"), "{err}");
+    // Named, it samples.
+    let out = sample_small(&k, &["--sample-counter", "0"]);
     assert!(out.status.success(), "{}", text(&out.stderr));
-    assert!(text(&out.stderr).contains("counter G[0]"));
+    assert!(text(&out.stderr).contains("counter G[0] (given by --sample-counter)"));
 }
 
 #[test]

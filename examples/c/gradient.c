@@ -9,6 +9,8 @@ void trax_main(void) {
     unsigned int n = w * h;
     float inv_w = trax_scene_inv_width();
     float inv_h = trax_scene_inv_height();
+    /* Pixels come from global register 0 (sampled simulation follows it). */
+    trax_declare_work(0, n);
     for (;;) {
         unsigned int i = trax_atomic_inc(0);
         if (i >= n)

@@ -22,6 +22,8 @@ void trax_main(void) {
     unsigned int n = w * h;
     float sx = 3.0f * trax_scene_inv_width();
     float sy = 2.5f * trax_scene_inv_height();
+    /* Pixels come from global register 0 (sampled simulation follows it). */
+    trax_declare_work(0, n);
     for (;;) {
         unsigned int i = trax_atomic_inc(0);
         if (i >= n)

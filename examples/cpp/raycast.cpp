@@ -38,6 +38,8 @@ extern "C" void trax_main() {
     const trax::Camera cam = trax::Camera::load();
     unsigned int w = trax::scene::width();
     unsigned int n = w * trax::scene::height();
+    // Pixels come from global register 0 (sampled simulation follows it).
+    trax_declare_work(0, n);
     for (;;) {
         unsigned int i = trax_atomic_inc(0);
         if (i >= n)

@@ -20,6 +20,32 @@ FULL = {
     "dram_bytes": lambda d: d["timing"]["memory"]["dram"]["bytes"],
     "energy_j": lambda d: d["timing"]["energy"]["total"],
 }
+# Metrics of the thesis's tables and figures, compared where the sampled run has them
+# (runs made before they were estimated lack them).
+MORE = {
+    "l1_hit_rate_merged_as_hits": lambda d: d["timing"]["l1_hit_rate_merged_as_hits"],
+    "l2_hit_rate_merged_as_hits": lambda d: d["timing"]["l2_hit_rate_merged_as_hits"],
+    "l2_accesses": lambda d: sum(x["accesses"] for x in d["timing"]["memory"]["l2"]),
+    "dram_accesses": lambda d: d["timing"]["memory"]["dram"]["reads"]
+    + d["timing"]["memory"]["dram"]["writes"],
+    "dram_row_hit_rate": lambda d: d["timing"]["memory"]["dram"]["row_hit_rate"],
+    "dram_read_latency_cycles": lambda d: d["timing"]["memory"]["dram"][
+        "avg_read_latency_cycles"],
+    "energy_dram_j": lambda d: d["timing"]["energy"]["dram"],
+    "stream_accesses": lambda d: d["timing"]["stream"]["reads"] + d["timing"]["stream"]["writes"],
+    "rays_per_visit": lambda d: d["timing"]["stream"]["rays_per_visit"],
+    "mean_rays_in_flight": lambda d: d["timing"]["stream"]["mean_rays_in_flight"],
+}
+
+
+def wall(base):
+    """Host wall seconds of a run: BASE.wall (validate.sh) or the first field of BASE.time
+    (validate_thesis.sh, /usr/bin/time -f "%e %U %S")."""
+    for ext in (".wall", ".time"):
+        if os.path.exists(base + ext):
+            return float(open(base + ext).read().split()[0])
+    return float("nan")
+
 rows, points = [], []
 for f in sorted(glob.glob(os.path.join(out, "points", "*-full.json"))):
     pid = os.path.basename(f)[: -len("-full.json")]
@@ -28,11 +54,13 @@ for f in sorted(glob.glob(os.path.join(out, "points", "*-full.json"))):
         continue
     full, samp = json.load(open(f)), json.load(open(s_path))
     s = samp["sampled"]
-    wall_full = float(open(os.path.join(out, "points", pid + "-full.wall")).read())
-    image = open(os.path.join(out, "points", pid + ".image")).read().strip()
+    wall_full = wall(os.path.join(out, "points", pid + "-full"))
+    img = os.path.join(out, "points", pid + ".image")
+    image = open(img).read().strip() if os.path.exists(img) else "?"
     points.append((pid, wall_full, s["wall_seconds"], image,
                    s["detailed_instructions"] / s["executed_instructions"]))
-    for m, get in FULL.items():
+    more = [(m, g) for m, g in MORE.items() if s["estimates"].get(m)]
+    for m, get in list(FULL.items()) + more:
         v = get(full)
         e = s["estimates"][m]
         rows.append({
@@ -58,8 +86,10 @@ lines = [
     f"points: {len(points)}; (point, metric) pairs: {len(rows)}",
     f"95% interval covers the full run's value: {100 * cov:.1f}% of pairs",
 ]
-for m in FULL:
+for m in list(FULL) + list(MORE):
     rs = [r for r in rows if r["metric"] == m]
+    if not rs:
+        continue
     lines.append(
         f"  {m:<12} covered {sum(r['covered'] for r in rs)}/{len(rs)}, "
         f"mean |error| {100 * sum(abs(r['rel_error']) for r in rs) / len(rs):.3f}%, "

@@ -15,6 +15,10 @@ pub const SCENE_VERSION: u32 = 3;
 /// The global register `pixel_share` hands pixels out from (sampled simulation
 /// follows a frame's progress along it).
 pub const PIXEL_COUNTER_REG: u32 = 255;
+/// The global registers `declare_work` records a kernel's work counter in (its
+/// register plus one; 0: none declared) and the items it hands out.
+pub const WORK_COUNTER_REG: u32 = 254;
+pub const WORK_ITEMS_REG: u32 = 253;
 /// Words of the ray record `trax::stream` writes and reads (thesis §3.2.1).
 pub const STREAM_RECORD_WORDS: usize = 12;
 

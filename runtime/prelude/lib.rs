@@ -153,6 +153,20 @@ pub fn global_write(reg: u32, v: u32) {
     hw::global_write(reg, v)
 }
 
+/// Declares the kernel's work counter for sampled simulation (`trax run --sample`): the
+/// kernel hands out `items` work items (pixels, paths, tiles, ...) from global register
+/// `counter`, one `atomic_inc(counter)` (or `atomic_add` of a block) per item, so that a
+/// run can be cut into equal strata of items. Thread 0 records it in global registers
+/// `layout::WORK_COUNTER_REG` and `layout::WORK_ITEMS_REG`; other threads do nothing. Call
+/// it before the first item is taken. Kernels that take pixels with
+/// `scene::pixel_share` need not: sampling follows its counter by default.
+pub fn declare_work(counter: u32, items: u32) {
+    if hw::global_id() == 0 {
+        hw::global_write(layout::WORK_ITEMS_REG, items);
+        hw::global_write(layout::WORK_COUNTER_REG, counter + 1);
+    }
+}
+
 /// Atomically increments `reg`, wrapping to 0 when it reaches the thread count; returns
 /// the old value.
 pub fn inc_reset(reg: u32) -> u32 {

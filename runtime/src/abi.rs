@@ -47,6 +47,14 @@ pub const STREAM_RECORD_BYTES: u32 = 48;
 /// frame's progress along it.
 pub const PIXEL_COUNTER_REG: u32 = 255;
 
+/// The global registers in which `trax::declare_work` (C: `trax_declare_work`) records a
+/// kernel's work counter for sampled simulation: `WORK_COUNTER_REG` holds the counter's
+/// register plus one (0: nothing declared), `WORK_ITEMS_REG` the items it hands out.
+/// Written once, by thread 0, before the first item is taken.
+pub const WORK_COUNTER_REG: u32 = 254;
+/// See [`WORK_COUNTER_REG`].
+pub const WORK_ITEMS_REG: u32 = 253;
+
 #[macro_use]
 pub mod encode;
 

@@ -346,6 +346,15 @@ TRAX_INLINE unsigned int trax_atomic_add(unsigned int reg, unsigned int v) { ret
 TRAX_INLINE unsigned int trax_global_read(unsigned int reg) { return trax_gread(reg); }
 TRAX_INLINE void trax_global_write(unsigned int reg, unsigned int v) { trax_gwrite(reg, v); }
 TRAX_INLINE unsigned int trax_inc_reset(unsigned int reg) { return trax_increset(reg); }
+/* Declares the kernel's work counter for sampled simulation (trax run --sample): ITEMS
+ * work items handed out from global register COUNTER, one trax_atomic_inc each. Thread 0
+ * records it; call it before the first item is taken (the Rust prelude's declare_work). */
+TRAX_INLINE void trax_declare_work(unsigned int counter, unsigned int items) {
+    if (trax_gid() == 0) {
+        trax_gwrite(TRAX_WORK_ITEMS_REG, items);
+        trax_gwrite(TRAX_WORK_COUNTER_REG, counter + 1);
+    }
+}
 TRAX_INLINE void trax_sem_acquire(unsigned int reg) { trax_semacq(reg); }
 TRAX_INLINE void trax_sem_release(unsigned int reg) { trax_semrel(reg); }
 
@@ -506,8 +515,10 @@ pub fn render_trax_h() -> String {
     );
     let _ = writeln!(
         out,
-        "/* Statistics counters (trax_stat_add). */\n#define TRAX_STAT_COUNTERS {}u\n",
-        crate::counters::NUM_STATS
+        "/* Statistics counters (trax_stat_add). */\n#define TRAX_STAT_COUNTERS {}u\n/* Global registers of the work counter declared for sampled simulation\n * (trax_declare_work): its register plus one, and the items it hands out. */\n#define TRAX_WORK_COUNTER_REG {}u\n#define TRAX_WORK_ITEMS_REG {}u\n",
+        crate::counters::NUM_STATS,
+        abi::WORK_COUNTER_REG,
+        abi::WORK_ITEMS_REG
     );
     for st in C_STRUCTS {
         let fields: Vec<(String, String, usize)> = st

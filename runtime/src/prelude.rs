@@ -137,6 +137,17 @@ pub fn render_layout() -> String {
     );
     let _ = writeln!(
         out,
+        "/// The global registers `declare_work` records a kernel's work counter in (its\n\
+         /// register plus one; 0: none declared) and the items it hands out."
+    );
+    let _ = writeln!(
+        out,
+        "pub const WORK_COUNTER_REG: u32 = {};\npub const WORK_ITEMS_REG: u32 = {};",
+        abi::WORK_COUNTER_REG,
+        abi::WORK_ITEMS_REG
+    );
+    let _ = writeln!(
+        out,
         "/// Words of the ray record `trax::stream` writes and reads (thesis §3.2.1)."
     );
     let _ = writeln!(

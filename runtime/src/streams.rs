@@ -626,6 +626,17 @@ impl StreamScheduler {
         s.current = b;
     }
 
+    /// [`Self::idle_tm_cycles`] with the idle intervals still open counted up to `now`.
+    pub fn idle_tm_cycles_at(&self, now: u64) -> u64 {
+        self.idle_tm_cycles
+            + self
+                .tms
+                .iter()
+                .filter(|s| s.idle)
+                .map(|s| now.saturating_sub(s.idle_since))
+                .sum::<u64>()
+    }
+
     /// Closes the idle intervals still open when the run ended at `end`.
     pub fn finish(&mut self, end: u64) {
         for s in &mut self.tms {

@@ -9,7 +9,6 @@ use trax_assembler::image::RenderOptions;
 use trax_assembler::scene::LoadOptions;
 use trax_emulator::timing::sample::MIN_WARMUP_CYCLES;
 use trax_emulator::timing::{ChipConfig, SampleRequest, DEFAULT_CHIP};
-use trax_runtime::abi::PIXEL_COUNTER_REG;
 
 /// The chip and its thread shape.
 #[derive(Args, Debug, Clone)]
@@ -44,11 +43,15 @@ pub struct SampleArgs {
     /// Sampling: measured cycles of each window (default 8000, at least the warm-up).
     #[arg(long, value_name = "CYCLES")]
     pub sample_window: Option<u64>,
-    /// Sampling: the global register the kernel takes its pixels from (default 255, that
-    /// of `trax::scene::pixel_share`, as the examples' path tracer and AO; a kernel using
-    /// `trax::atomic_inc(R)` needs R, e.g. 0 for examples/raycast.rs).
+    /// Sampling: the global register the kernel takes its work items from (default: the
+    /// one the kernel declares with `trax::declare_work`, as every example does, or else
+    /// 255, that of `trax::scene::pixel_share`).
     #[arg(long, value_name = "REG")]
     pub sample_counter: Option<u32>,
+    /// Sampling: the work items the counter hands out in the run (default: as the kernel
+    /// declares, or else the image's pixels).
+    #[arg(long, value_name = "N")]
+    pub sample_items: Option<u32>,
     /// Sampling: seed of the windows' positions (default 1).
     #[arg(long, value_name = "S")]
     pub sample_seed: Option<u32>,
@@ -74,8 +77,9 @@ impl SampleArgs {
             windows,
             warmup_cycles: self.sample_warmup.unwrap_or(DEFAULT_WARMUP),
             measure_cycles: self.sample_window.unwrap_or(DEFAULT_WINDOW),
-            counter: self.sample_counter.unwrap_or(PIXEL_COUNTER_REG),
-            items: pixels,
+            counter: self.sample_counter,
+            items: self.sample_items,
+            pixels,
             seed: self.sample_seed.unwrap_or(1),
         };
         r.check(chip.tms.saturating_mul(chip.threads_per_tm))?;
@@ -88,6 +92,7 @@ impl SampleArgs {
             ("--sample-warmup", self.sample_warmup.is_some()),
             ("--sample-window", self.sample_window.is_some()),
             ("--sample-counter", self.sample_counter.is_some()),
+            ("--sample-items", self.sample_items.is_some()),
             ("--sample-seed", self.sample_seed.is_some()),
         ];
         match given.iter().find(|(_, on)| *on) {

@@ -272,9 +272,10 @@ pub struct Engine<'c> {
     /// Also sample the counters at this cycle (a quantum end), for sampled simulation.
     pub snap_at: Option<u64>,
     /// Stop (with [`Outcome::CycleLimit`], setting [`Self::paused`]) at the first quantum
-    /// end at which global register `.0` holds at least `.1` (sampled simulation: the
-    /// pixel counter reached a window's end).
-    pub pause_at: Option<(u32, u32)>,
+    /// end at which, for any pair, global register `.0` holds at least `.1` (sampled
+    /// simulation: the work counter reached a window's end, or the kernel declared its
+    /// work counter).
+    pub pause_at: Vec<(u32, u32)>,
     /// Whether the last [`Self::run`] stopped at [`Self::pause_at`].
     pub paused: bool,
 }
@@ -350,7 +351,7 @@ impl<'c> Engine<'c> {
             intervals: None,
             samples: Vec::new(),
             snap_at: None,
-            pause_at: None,
+            pause_at: Vec::new(),
             paused: false,
         })
     }
@@ -363,8 +364,7 @@ impl<'c> Engine<'c> {
     /// The cumulative counters now, between runs (every counter of earlier
     /// [`Self::run`]s, the memory system's, the stream memory's accesses of `m`).
     pub fn snapshot(&self, m: &Machine) -> Snapshot {
-        let streams = m.shared.streams.sram_accesses();
-        snapshot_of(self.cfg, &self.c, &self.mem.stats(), streams, self.now)
+        snapshot_of(self.cfg, &self.c, &self.mem.stats(), &m.shared, self.now)
     }
 
     /// The memory system, for functional warming between runs (sampled simulation).
@@ -486,7 +486,7 @@ impl<'c> Engine<'c> {
                     snap_at: self.snap_at,
                     next_sample: u64::MAX,
                     samples: Vec::new(),
-                    pause_at: self.pause_at,
+                    pause_at: self.pause_at.clone(),
                     paused: &mut paused,
                     base,
                     check_at,
@@ -631,7 +631,7 @@ struct Driver<'a, 'p> {
     /// The counters at `snap_at`.
     samples: Vec<Snapshot>,
     /// Stop when a global register reaches a value, and whether it did.
-    pause_at: Option<(u32, u32)>,
+    pause_at: Vec<(u32, u32)>,
     paused: &'a mut bool,
     /// The counters of earlier runs of the engine (samples are cumulative).
     base: Counters,
@@ -669,8 +669,7 @@ impl Driver<'_, '_> {
             c.add_scalars(&p.lock().unwrap_or_else(|e| e.into_inner()).c);
         }
         let mem = self.mem.stats_with(sims.iter().map(|t| &t.mem));
-        let streams = sh.streams.sram_accesses();
-        let mut snap = snapshot_of(self.cfg, &c, &mem, streams, at);
+        let mut snap = snapshot_of(self.cfg, &c, &mem, sh, at);
         snap.ray_cycles += self.streams.in_flight * at.saturating_sub(self.streams.last);
         if self.snap_at == Some(at) {
             self.samples.push(snap.clone());
@@ -764,9 +763,10 @@ impl Driver<'_, '_> {
             if from >= max {
                 return Outcome::CycleLimit;
             }
-            if let Some((reg, value)) = self.pause_at {
+            if !self.pause_at.is_empty() {
                 // SAFETY: the leader between rounds.
-                if unsafe { shared.get() }.globals[reg as usize] >= value {
+                let g = &unsafe { shared.get() }.globals;
+                if self.pause_at.iter().any(|&(r, v)| g[r as usize] >= v) {
                     *self.paused = true;
                     return Outcome::CycleLimit;
                 }
@@ -1041,13 +1041,14 @@ fn snapshot_of(
     cfg: &ChipConfig,
     c: &Counters,
     mem: &MemStats,
-    streams: u64,
+    sh: &Shared,
     cycle: u64,
 ) -> Snapshot {
     let mut l2 = CacheStats::default();
     for x in &mem.l2 {
         l2.add(x);
     }
+    let energy = super::stats::energy_of(cfg, c, mem, sh.streams.sram_accesses());
     Snapshot {
         cycle,
         tc: c.tc.clone(),
@@ -1058,7 +1059,14 @@ fn snapshot_of(
         dram_writes: mem.dram.writes,
         dram_bytes: mem.dram.bytes,
         ray_cycles: c.stream_ray_cycles,
-        energy_j: super::stats::energy_of(cfg, c, mem, streams).total,
+        energy_j: energy.total,
+        energy,
+        dram: mem.dram.clone(),
+        dram_queue_full: mem.dram_queue_full,
+        stream_writes: sh.streams.writes,
+        stream_reads: sh.streams.reads,
+        stream_schedules: sh.sched.schedules,
+        idle_tm_cycles: sh.sched.idle_tm_cycles_at(cycle),
     }
 }
 

@@ -14,9 +14,9 @@
 use serde::Serialize;
 
 use super::engine::ThreadCycles;
-use super::stats::TimingStats;
+use super::stats::{EnergyBreakdown, TimingStats};
 use super::stats_doc;
-use crate::memsys::CacheStats;
+use crate::memsys::{CacheStats, DramStats};
 
 /// Cumulative counters at the end of an interval.
 #[derive(Clone, Debug, Default)]
@@ -38,6 +38,18 @@ pub struct Snapshot {
     pub ray_cycles: u64,
     /// Energy so far, joules.
     pub energy_j: f64,
+    /// Energy so far by component, joules.
+    pub energy: EnergyBreakdown,
+    /// DRAM statistics so far (row-buffer outcomes, read latency, energy by kind).
+    pub dram: DramStats,
+    /// Request-cycles L2 requests waited for a full DRAM queue so far.
+    pub dram_queue_full: u64,
+    /// Stream memory: rays written and read, buffer visits (schedules), and TM-cycles
+    /// idle so far (intervals still open counted up to `cycle`).
+    pub stream_writes: u64,
+    pub stream_reads: u64,
+    pub stream_schedules: u64,
+    pub idle_tm_cycles: u64,
 }
 
 impl Snapshot {
@@ -58,6 +70,13 @@ impl Snapshot {
             dram_bytes: s.memory.dram.bytes,
             ray_cycles,
             energy_j: s.energy.total,
+            energy: s.energy.clone(),
+            dram: s.memory.dram.clone(),
+            dram_queue_full: s.memory.dram_queue_full,
+            stream_writes: s.stream.writes,
+            stream_reads: s.stream.reads,
+            stream_schedules: s.stream.schedules,
+            idle_tm_cycles: s.stream.idle_tm_cycles,
         }
     }
 }

@@ -34,7 +34,7 @@ pub use config::{
 };
 pub use engine::ThreadCycles;
 pub use intervals::Interval;
-pub use sample::{Estimate, Estimates, SampleRequest, SampledStats};
+pub use sample::{Estimate, Estimates, SampleRequest, SampledStats, VtCosts, WorkSource};
 pub use stats::{
     area_breakdown, pipe_op_energy_nj, AreaBreakdown, EnergyBreakdown, PipelineStats, SpillStats,
     StreamStats, TimingStats,

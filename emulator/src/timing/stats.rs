@@ -218,6 +218,9 @@ pub struct TimingStats {
     pub energy: EnergyBreakdown,
     /// Average power, watts.
     pub power_w: f64,
+    /// Energy per ray, nJ: the frame's energy over the rays the kernel counted (`trax.stat
+    /// 0`, once per ray cast: camera, shadow and bounce rays alike); 0 without rays.
+    pub energy_per_ray_nj: f64,
     /// Area, mm².
     pub area: AreaBreakdown,
     /// MRPS per mm².
@@ -457,6 +460,7 @@ pub fn build(
         l2_to_l1_gbps: bw(l2.load_bytes),
         dram_gbps: bw(mem.dram.bytes),
         power_w: ratio(energy.total, seconds),
+        energy_per_ray_nj: ratio(energy.total * 1e9, rays as f64),
         mrps_per_mm2: ratio(mrps, area.total),
         energy,
         area,
@@ -609,6 +613,15 @@ impl TimingStats {
             s,
             "energy (J): units {:.3e}  regs {:.3e}  icache {:.3e}  local {:.3e}  L1 {:.3e}  L2 {:.3e}  stream {:.3e}  pipelines {:.3e}  DRAM {:.3e}  total {:.3e}  ({:.2} W)",
             e.execution_units, e.register_files, e.instruction_caches, e.local_stores, e.l1, e.l2, e.stream_memory, e.pipelines, e.dram, e.total, self.power_w
+        );
+        let de = &d.energy;
+        let _ = writeln!(
+            s,
+            "energy per ray: {:.1} nJ over {} rays (trax.stat 0); DRAM background (standby + refresh) {:.3e} J, dynamic (activate + read + write) {:.3e} J",
+            self.energy_per_ray_nj,
+            self.rays,
+            (de.background_nj + de.refresh_nj) * 1e-9,
+            (de.activate_nj + de.read_nj + de.write_nj) * 1e-9
         );
         let st = &self.stream;
         if st.reads + st.writes > 0 {

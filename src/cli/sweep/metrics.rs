@@ -139,6 +139,24 @@ pub const METRICS: &[Metric] = &[
     ),
     e("energy_pipelines_j", "Pipelines", "timing.energy.pipelines"),
     e("energy_dram_j", "DRAM", "timing.energy.dram"),
+    m(
+        "dram_background_nj",
+        "DRAM background energy (standby + refresh)",
+        "nJ",
+        "timing.memory.dram.energy.background_nj+timing.memory.dram.energy.refresh_nj",
+    ),
+    m(
+        "dram_dynamic_nj",
+        "DRAM dynamic energy (activate + read + write)",
+        "nJ",
+        "timing.memory.dram.energy.activate_nj+timing.memory.dram.energy.read_nj+timing.memory.dram.energy.write_nj",
+    ),
+    m(
+        "energy_per_ray_nj",
+        "Energy per ray (per trax.stat 0 ray)",
+        "nJ",
+        "timing.energy_per_ray_nj",
+    ),
     // Not parts of the stack: sums of the parts above.
     m(
         "energy_memsys_j",

@@ -223,7 +223,20 @@ fn run_set_overrides_config_fields_by_path() {
         ],
         &dir.join("b.json"),
     );
-    assert_eq!(from_file.replace("\"custom\"", "\"tiny\""), from_set);
+    // The same chip, named after where it came from: the file (and its preset), or the
+    // preset and its overrides.
+    let doc = |text: &str| -> (serde_json::Value, String) {
+        let mut v: serde_json::Value = serde_json::from_str(text).unwrap();
+        let name = v["chip"]["name"].take();
+        (v, name.as_str().unwrap_or_default().to_string())
+    };
+    let ((a, a_name), (b, b_name)) = (doc(&from_file), doc(&from_set));
+    assert_eq!(a, b);
+    assert!(a_name.ends_with("chip.toml (preset tiny)"), "{a_name}");
+    assert_eq!(
+        b_name,
+        "tiny + 3 overrides (tms=2, memory.l2.capacity_bytes=65536, memory.l2.associativity=2)"
+    );
     let out = trax(&["run", "examples/gradient.rs", "--set", "memory.l2.nope=1"]);
     assert!(!out.status.success());
     let err = text(&out.stderr);

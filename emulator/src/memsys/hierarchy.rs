@@ -155,6 +155,14 @@ impl TmMem {
         }
     }
 
+    /// Whether the L1 bank of `addr` refuses an access at cycle `now` (a counted retry, as
+    /// [`Self::access`] would count it); if not, nothing changes. A thread refused the cycle
+    /// before retries the same access: when this refuses it, its retry ends here.
+    #[inline]
+    pub fn l1_bank_refuses(&mut self, addr: u32, now: Cycle) -> bool {
+        self.l1.refuses(addr, now)
+    }
+
     /// Installs the line fills received from the L2 and appends the completions of the
     /// loads waiting for them to `out`.
     pub fn apply_fills(&mut self, out: &mut Vec<Completion>) {

@@ -44,6 +44,12 @@ pub(crate) struct Lane {
     fetched: bool,
     /// Index in `TmSim::icache_use` of its I-cache's first bank.
     icache: u32,
+    /// The cycle after its last L1 bank refusal, relative to the epoch, plus one (0: none
+    /// since its last visit), and the refused address: a thread refused at cycle `t`
+    /// retries the same access at `t + 1` (nothing else of it changed), so that retry
+    /// looks at the bank alone.
+    refused: u32,
+    bank_addr: u32,
     /// Per unit class: the unit (index in `TmSim::unit_free`) wired to the thread.
     units: [u32; NUM_CLASSES],
     ready: [u32; SB_SLOTS],
@@ -60,6 +66,7 @@ impl Lane {
     /// Moves the epoch `shift` cycles later: a ready cycle before the new epoch becomes
     /// the epoch (it is past either way), a pending one stays pending.
     fn rebase(&mut self, shift: u32) {
+        self.refused = 0;
         for r in &mut self.ready {
             if *r != PENDING32 {
                 *r = r.saturating_sub(shift);
@@ -242,6 +249,8 @@ impl TmSim {
             .map(|tid| Lane {
                 fetched: false,
                 icache: (tid % shape.icaches * shape.icache_banks) as u32,
+                refused: 0,
+                bank_addr: 0,
                 units: std::array::from_fn(|k| {
                     let count = shape.units.get(k).map_or(1, |u| u.count as usize);
                     (unit_base(shape, k) + tid * count / n) as u32
@@ -437,6 +446,22 @@ impl TmSim {
         tid: usize,
         now: u64,
     ) {
+        // Refused by its L1 bank last cycle: the same access again (fetched, its operands
+        // ready), which only its bank can refuse.
+        let rel = (now - self.epoch) as u32;
+        let lane = &mut self.lanes[tid];
+        if lane.refused != 0 {
+            let again = lane.refused == rel;
+            lane.refused = 0;
+            if again && self.mem.l1_bank_refuses(lane.bank_addr, now) {
+                lane.refused = rel + 1;
+                c.tc.l1_bank_conflict += 1;
+                if P {
+                    charge(prof, &self.threads[tid], CostKind::ResourceStall);
+                }
+                return;
+            }
+        }
         let t = &self.threads[tid];
         if t.state != RunState::Running && !self.resume::<P>(shared, c, prof, tid, now) {
             return;
@@ -659,6 +684,9 @@ impl TmSim {
                             let kind = match st {
                                 Stall::L1Bank => {
                                     c.tc.l1_bank_conflict += 1;
+                                    let lane = &mut self.lanes[tid];
+                                    lane.refused = (now - self.epoch) as u32 + 1;
+                                    lane.bank_addr = addr;
                                     CostKind::ResourceStall
                                 }
                                 Stall::L1Mshr => {
@@ -985,6 +1013,8 @@ mod tests {
         let mut s = Lane {
             fetched: false,
             icache: 0,
+            refused: 0,
+            bank_addr: 0,
             units: [0; NUM_CLASSES],
             ready: [0; SB_SLOTS],
             producer: [0; SB_SLOTS],

@@ -4,9 +4,8 @@
 
 use std::path::{Path, PathBuf};
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
+mod common;
+use common::root;
 
 /// Every `.rs` file under `dir` (relative to the workspace root), with its text.
 fn sources(dir: &str) -> Vec<(String, String)> {

@@ -4,7 +4,10 @@
 //! exit 0, because the framebuffer's last 4 KiB page was mapped whole.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
+
+mod common;
+use common::{scratch_dir, text, trax};
 
 /// Selects a component and an element index from `--seed`: `component * 1000 + mode * 500
 /// + k`; mode 0 reads element `count + k - 250` (k = 249 is the last element), mode 1 reads
@@ -76,25 +79,8 @@ const NAMES: [&str; 12] = [
     "treelet_ids",
 ];
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn trax(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_trax"))
-        .args(args)
-        .current_dir(root())
-        .output()
-        .expect("run trax")
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
-}
-
 fn build() -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join("bounds");
-    std::fs::create_dir_all(&d).unwrap();
+    let d = scratch_dir("bounds");
     let src = d.join("bounds.rs");
     std::fs::write(&src, KERNEL).unwrap();
     let elf = d.join("bounds.elf");
@@ -178,8 +164,7 @@ fn trax_main() {
 /// text, the predecoded code no longer matched memory.)
 #[test]
 fn stores_to_code_and_scene_data_fault_in_both_run_modes() {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join("code_store");
-    std::fs::create_dir_all(&d).unwrap();
+    let d = scratch_dir("code_store");
     let src = d.join("code_store.rs");
     std::fs::write(&src, STORE_KERNEL).unwrap();
     let line = STORE_KERNEL

@@ -11,33 +11,24 @@ use std::process::{Command, Output};
 use trax::pipeline::{prepare, Request};
 use trax_emulator::{run, Mode};
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
+mod common;
+use common::{fresh_dir, root, text, tmp_path, trax_command};
 
 fn scratch(name: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("c-kernels-{name}"));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    fresh_dir(&format!("c-kernels-{name}"))
 }
 
 fn cache() -> PathBuf {
-    Path::new(env!("CARGO_TARGET_TMPDIR")).join("c-kernels-cache")
+    tmp_path("c-kernels-cache")
 }
 
 fn trax(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_trax"))
+    trax_command()
         .args(args)
-        .current_dir(root())
         .env("TRAX_CACHE_DIR", cache())
         .env_remove("TRAX_CLANG")
         .output()
         .expect("run trax")
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
 }
 
 /// Runs `files` (the first is the kernel) on a 2-TM, 4-thread chip: stdout, framebuffer
@@ -272,10 +263,9 @@ fn syntax_error_shows_clangs_diagnostic_and_exits_1() {
 #[test]
 fn missing_clang_names_the_debian_package() {
     let dir = scratch("noclang");
-    let out = Command::new(env!("CARGO_BIN_EXE_trax"))
+    let out = trax_command()
         .args(["build", "examples/c/gradient.c", "-o"])
         .arg(dir.join("g.elf"))
-        .current_dir(root())
         .env("TRAX_CACHE_DIR", cache())
         .env("PATH", &dir)
         .env_remove("TRAX_CLANG")
@@ -594,10 +584,9 @@ extern "C" void trax_main(void) { trax_printi(k::run(4)); }
         elf.to_str().unwrap(),
     ]);
     assert!(out.status.success(), "{}", text(&out.stderr));
-    let mut child = Command::new(env!("CARGO_BIN_EXE_trax"))
+    let mut child = trax_command()
         .args(["run", elf.to_str().unwrap(), "--functional", "--tms", "1"])
         .args(["--threads", "1", "--gdb", "127.0.0.1:0"])
-        .current_dir(root())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()

@@ -2,28 +2,13 @@
 //! `trax converge` (Monte Carlo convergence of the path tracer).
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
+mod common;
+use common::{scratch_dir, text, trax};
 
 fn scratch(name: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("compare-{name}"));
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn trax(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_trax"))
-        .args(args)
-        .current_dir(root())
-        .output()
-        .expect("run trax")
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
+    scratch_dir(&format!("compare-{name}"))
 }
 
 fn s(p: &Path) -> &str {

@@ -6,11 +6,14 @@
 //! native` with several files and per-thread constructors, missing entry points.
 
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::path::PathBuf;
+use std::process::Output;
 
 use trax::pipeline::{prepare, Request};
 use trax_emulator::{run, Mode};
+
+mod common;
+use common::{fresh_dir, root, text, tmp_path, trax_command};
 
 /// The host build of the prelude's libm: the oracle for `trax_sinf` & co.
 #[allow(dead_code)]
@@ -19,32 +22,20 @@ mod libm;
 #[path = "../runtime/tests/libm_ref/mod.rs"]
 mod libm_ref;
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
 fn scratch(name: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("cpp-kernels-{name}"));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    fresh_dir(&format!("cpp-kernels-{name}"))
 }
 
 fn cache() -> PathBuf {
-    Path::new(env!("CARGO_TARGET_TMPDIR")).join("cpp-kernels-cache")
+    tmp_path("cpp-kernels-cache")
 }
 
 fn trax(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_trax"))
+    trax_command()
         .args(args)
-        .current_dir(root())
         .env("TRAX_CACHE_DIR", cache())
         .output()
         .expect("run trax")
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
 }
 
 /// What to render: scene, image, chip shape.

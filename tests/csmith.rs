@@ -10,10 +10,13 @@ mod driver;
 use driver::{
     classify, differential, HostRun, TraxRun, Verdict, MAX_INSTRUCTIONS, OVER_BUDGET_HOST_TIME,
 };
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Mutex;
 use std::time::Duration;
+
+mod common;
+use common::tmp_path;
 
 /// Seeds that once disagreed in a bench run, and why; each must print one checksum at
 /// every -O level, on the host and on trax.
@@ -24,7 +27,7 @@ const KEPT: &[(u64, &str)] = &[(
 )];
 
 fn scratch(name: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
+    let d = tmp_path(name);
     let _ = std::fs::remove_dir_all(&d);
     d
 }
@@ -122,7 +125,7 @@ const SEEDS: u64 = 300;
 
 #[test]
 fn random_c_programs_print_the_host_checksum() {
-    let base = Path::new(env!("CARGO_TARGET_TMPDIR")).join("csmith-test");
+    let base = tmp_path("csmith-test");
     let next = AtomicU64::new(1);
     let agreed = AtomicU64::new(0);
     let over_budget = AtomicU64::new(0);

@@ -4,11 +4,13 @@
 //! line after it, and profiles charged it there). Delay slots hold `nop`s; r6 compact
 //! branches (no delay slot) are used wherever they exist.
 
-use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use trax_emulator::decode;
 use trax_emulator::Executable;
+
+mod common;
+use common::{root, scratch_dir};
 
 /// Mnemonics of MIPS32r6 control transfers with a delay slot.
 const DELAYED: &[&str] = &[
@@ -18,9 +20,8 @@ const DELAYED: &[&str] = &[
 ];
 
 fn build(example: &str) -> Vec<u8> {
-    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("delay-slots");
-    std::fs::create_dir_all(&dir).unwrap();
+    let root = root();
+    let dir = scratch_dir("delay-slots");
     let elf = dir.join(format!("{example}.elf"));
     let out = Command::new(env!("CARGO_BIN_EXE_trax"))
         .args(["build", &format!("examples/{example}.rs"), "-o"])

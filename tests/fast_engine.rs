@@ -6,15 +6,12 @@
 //! slots). Instruction-level checks on random programs are the emulator's
 //! (`block::tests`).
 
-use std::path::PathBuf;
-
 use trax::pipeline::{prepare, Prepared, Request};
 use trax_emulator::timing::ChipConfig;
 use trax_emulator::{run, Mode, RunReport};
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
+mod common;
+use common::root;
 
 /// Everything a run leaves that the other interpreter must match (locals compared
 /// whole, printed as a length).

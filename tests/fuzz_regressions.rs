@@ -1,9 +1,13 @@
 //! Replays the fuzz targets' committed inputs on stable Rust: the seeds
-//! (`fuzz/seeds/TARGET/`) and every input a fuzzer once failed on
+//! (`fuzz/seeds/TARGET/`, and the files elsewhere that seed a target: [`extra_seeds`])
+//! and every input a fuzzer once failed on
 //! (`fuzz/regressions/TARGET/`, named for what it caught). The targets' bodies are the
 //! library functions called here; `.ci/fuzz` runs the fuzzers themselves (nightly).
 
 use std::path::PathBuf;
+
+mod common;
+use common::root;
 
 type Body = fn(&[u8]);
 
@@ -18,28 +22,32 @@ const TARGETS: [(&str, Body); 8] = [
     ("sweep_file", trax::fuzzing::sweep_file),
 ];
 
-/// Seeds kept elsewhere in the repository, by target: the sweep files of `experiments/`
-/// seed `sweep_file` (`.ci/fuzz` passes the directory to the fuzzer too).
+/// Seeds kept elsewhere in the repository, by target (`.ci/fuzz` passes the same files to
+/// the fuzzer): the sweep files of `experiments/` seed `sweep_file`; the examples and the
+/// compiler's test kernels seed `kernel`.
 fn extra_seeds(target: &str) -> Vec<PathBuf> {
-    if target != "sweep_file" {
-        return Vec::new();
+    let (dirs, ext): (&[&str], &str) = match target {
+        "sweep_file" => (&["experiments"], "toml"),
+        "kernel" => (&["examples", "compiler/tests/kernels"], "rs"),
+        _ => return Vec::new(),
+    };
+    let mut v = Vec::new();
+    for d in dirs {
+        let dir = root().join(d);
+        let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+            .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+            .map(|e| e.unwrap().path())
+            .filter(|p| p.extension().is_some_and(|x| x == ext))
+            .collect();
+        assert!(!files.is_empty(), "no .{ext} seeds in {}", dir.display());
+        files.sort();
+        v.extend(files);
     }
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("experiments");
-    let mut v: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
-        .collect();
-    v.sort();
-    assert!(!v.is_empty(), "no sweep files in {}", dir.display());
     v
 }
 
 fn inputs(kind: &str, target: &str) -> Vec<PathBuf> {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("fuzz")
-        .join(kind)
-        .join(target);
+    let dir = root().join("fuzz").join(kind).join(target);
     let mut v: Vec<PathBuf> = std::fs::read_dir(&dir)
         .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
         .map(|e| e.unwrap().path())

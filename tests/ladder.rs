@@ -2,23 +2,15 @@
 //! instructions, cycles, estimates and intervals), errors are against the detailed full
 //! run, and the table, CSV, JSON and chart are written.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::path::PathBuf;
 
 use serde_json::Value;
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
+mod common;
+use common::{read_json, scratch_dir, text, trax};
 
 fn scratch() -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join("ladder");
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
+    scratch_dir("ladder")
 }
 
 const FRAME: &[&str] = &[
@@ -35,14 +27,6 @@ const FRAME: &[&str] = &[
     "1",
 ];
 
-fn trax(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_trax"))
-        .args(args)
-        .current_dir(root())
-        .output()
-        .expect("run trax")
-}
-
 /// `trax run FRAME EXTRA --stats-json`: the document.
 fn run(name: &str, extra: &[&str]) -> Value {
     let json = scratch().join(format!("{name}.json"));
@@ -53,7 +37,7 @@ fn run(name: &str, extra: &[&str]) -> Value {
     args.extend_from_slice(&["--stats-json", &j]);
     let out = trax(&args);
     assert!(out.status.success(), "{name}: {}", text(&out.stderr));
-    serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap()
+    read_json(&json)
 }
 
 #[test]
@@ -75,8 +59,7 @@ fn every_rung_is_the_matching_trax_run() {
     ] {
         assert!(table.contains(name), "no {name:?} in {table}");
     }
-    let doc: Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("ladder.json")).unwrap()).unwrap();
+    let doc: Value = read_json(&dir.join("ladder.json"));
     let rungs = doc["rungs"].as_array().unwrap();
     assert_eq!(rungs.len(), 5);
     let f = |v: &Value| v.as_f64().unwrap();

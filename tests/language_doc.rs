@@ -6,29 +6,20 @@
 //! the trax compiler's id); ```` ```rust,panics=MESSAGE ```` must stop with that panic
 //! message on both sides.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::path::Path;
+use std::process::Output;
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
+mod common;
+use common::{native_cache, root, text, tmp_path, trax_command};
 
 fn trax(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_trax"))
+    trax_command()
         .args(args)
-        .current_dir(root())
-        .env(
-            "TRAX_CACHE_DIR",
-            Path::new(env!("CARGO_TARGET_TMPDIR")).join("trax-native-cache"),
-        )
+        .env("TRAX_CACHE_DIR", native_cache())
         .env_remove("TRAX_RUSTC_CHECK")
         .env_remove("RUST_BACKTRACE")
         .output()
         .expect("run trax")
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
 }
 
 /// What a block must do.
@@ -153,7 +144,7 @@ fn every_example_of_the_language_document_runs_as_it_says() {
     let exs = examples(&doc);
     assert!(exs.len() >= 20, "{} examples", exs.len());
     assert!(exs.iter().any(|e| matches!(e.expect, Expect::Refused(_))));
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("language-doc");
+    let dir = tmp_path("language-doc");
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     // Two host threads: each example is a few processes.

@@ -4,33 +4,25 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
+mod common;
+use common::{native_cache, scratch_dir, text, trax_command};
 
 /// A scratch directory for this test (outputs and a private build cache).
 fn scratch(name: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("native-{name}"));
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    scratch_dir(&format!("native-{name}"))
 }
 
 /// Runs `trax native ARGS` with a build cache in the target directory (keyed by content,
 /// so it is safe to keep between runs).
 fn native(args: &[&str]) -> Output {
-    let cache = Path::new(env!("CARGO_TARGET_TMPDIR")).join("trax-native-cache");
-    Command::new(env!("CARGO_BIN_EXE_trax"))
+    let cache = native_cache();
+    trax_command()
         .arg("native")
         .args(args)
         .env("TRAX_CACHE_DIR", &cache)
         .env_remove("RUST_BACKTRACE")
-        .current_dir(root())
         .output()
         .expect("run trax")
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
 }
 
 /// Decodes an 8-bit RGB PNG: (width, height, pixels).
@@ -523,10 +515,9 @@ fn panic_messages_match_native() {
             .unwrap_or(rest.len());
         let nmsg = &rest[..end];
 
-        let out = Command::new(env!("CARGO_BIN_EXE_trax"))
+        let out = trax_command()
             .args(["run", "--functional"])
             .args(args)
-            .current_dir(root())
             .output()
             .unwrap();
         assert_eq!(out.status.code(), Some(1), "case {case}");

@@ -8,15 +8,14 @@
 //! the kernels that use random numbers seed each sample's stream by pixel and sample, so
 //! which thread renders a pixel does not matter (`tests/same_image.rs` varies the chip).
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 
 use trax::pipeline::{chip_config, prepare, Request};
 use trax_emulator::{run, Mode};
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
+mod common;
+use common::{native_cache, root, scratch_dir};
 
 struct Frame {
     stdout: String,
@@ -67,9 +66,8 @@ fn emulate(s: &Setup) -> Frame {
 }
 
 fn native(s: &Setup) -> Frame {
-    let cache = Path::new(env!("CARGO_TARGET_TMPDIR")).join("trax-native-cache");
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("native-vs-emulator");
-    std::fs::create_dir_all(&dir).unwrap();
+    let cache = native_cache();
+    let dir = scratch_dir("native-vs-emulator");
     let stem = Path::new(s.kernel)
         .file_stem()
         .unwrap()

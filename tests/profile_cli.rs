@@ -1,33 +1,14 @@
 //! End-to-end tests of `trax run --profile` (functional and timing), the folded output,
 //! `trax annotate` and `--gdb` address checks.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::path::PathBuf;
+use std::process::Command;
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
+mod common;
+use common::{read_json, root, scratch_dir, text, trax};
 
 fn scratch(name: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("profile-{name}"));
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn trax(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_trax"))
-        .args(args)
-        .current_dir(root())
-        .output()
-        .expect("run trax")
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
-}
-
-fn json(path: &Path) -> serde_json::Value {
-    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+    scratch_dir(&format!("profile-{name}"))
 }
 
 /// The `# N unit in total` header of a printed tree.
@@ -104,7 +85,7 @@ fn folded_profile_counts_sum_to_instructions() {
         sum += n.parse::<u64>().expect("count");
     }
     assert!(saw_main, "no trax_main frame in\n{body}");
-    let n = json(&stats)["instructions"].as_u64().unwrap();
+    let n = read_json(&stats)["instructions"].as_u64().unwrap();
     assert_eq!(sum, n);
 }
 
@@ -132,7 +113,7 @@ fn timing_profile_total_is_the_live_thread_cycles() {
         stdout.contains("thread-cycles in total (cycles summed over the hardware threads)"),
         "{stdout}"
     );
-    let st = json(&stats);
+    let st = read_json(&stats);
     let tc = st["timing"]["thread_cycles"].as_object().unwrap();
     // Every thread-cycle is charged except those of threads that already halted.
     let live: u64 = tc
@@ -193,7 +174,7 @@ fn annotate_labels_costs_without_a_source_line() {
         labelled > 0,
         "the path tracer has code without a line:\n{stdout}"
     );
-    assert_eq!(sum, json(&stats)["instructions"].as_u64().unwrap());
+    assert_eq!(sum, read_json(&stats)["instructions"].as_u64().unwrap());
     assert!(!stdout.contains("??"), "{stdout}");
 }
 

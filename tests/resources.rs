@@ -10,14 +10,11 @@ use std::process::{Command, Stdio};
 use std::sync::OnceLock;
 use std::time::{Duration, Instant};
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
+mod common;
+use common::{read_json, root, scratch_dir, trax_command};
 
 fn scratch() -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join("resources");
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    scratch_dir("resources")
 }
 
 /// What a bounded `trax` process did.
@@ -29,9 +26,8 @@ struct Ran {
 
 /// Starts `trax ARGS` in the checkout, its output to `out` and `err`.
 fn spawn(args: &[&str], out: Stdio, err: Stdio) -> std::process::Child {
-    Command::new(env!("CARGO_BIN_EXE_trax"))
+    trax_command()
         .args(args)
-        .current_dir(root())
         .stdin(Stdio::null())
         .stdout(out)
         .stderr(err)
@@ -264,8 +260,7 @@ fn stats_intervals_do_not_grow_memory() {
     args.extend(["--stats-interval", "4"]);
     let (code, with) = peak_of(&args, 300);
     assert_eq!(code, Some(0));
-    let doc: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(json).unwrap()).unwrap();
+    let doc = read_json(Path::new(json));
     let t = &doc["timing"];
     let n = t["intervals"].as_array().unwrap().len() as u64;
     assert_eq!(

@@ -2,28 +2,13 @@
 //! reports by source line, and clear errors for bad input.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Command;
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
+mod common;
+use common::{read_json, root, scratch_dir, text, trax, trax_command};
 
 fn scratch(name: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("run-{name}"));
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn trax(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_trax"))
-        .args(args)
-        .current_dir(root())
-        .output()
-        .expect("run trax")
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
+    scratch_dir(&format!("run-{name}"))
 }
 
 #[test]
@@ -350,8 +335,7 @@ fn run_reports_scene_components_and_what_was_left_out() {
             let out = trax(&args);
             assert!(out.status.success(), "{}", text(&out.stderr));
             let stderr = text(&out.stderr);
-            let v: serde_json::Value =
-                serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+            let v: serde_json::Value = read_json(&json);
             let scene = &v["scene"];
             let comps = scene["components"].as_array().expect("components");
             let names: Vec<&str> = comps.iter().map(|c| c["name"].as_str().unwrap()).collect();
@@ -537,14 +521,13 @@ fn light_file_intensity_scales_the_image() {
         let l = dir.join(format!("{name}.light"));
         std::fs::write(&l, light).unwrap();
         let fb = dir.join(format!("{name}.raw"));
-        let out = Command::new(env!("CARGO_BIN_EXE_trax"))
+        let out = trax_command()
             .args(["run", "examples/pathtracer.rs", "--functional"])
             .args(["--scene", "../shared/scenes/sponza/sponza.obj"])
             .args(["--width", "12", "--height", "10", "--light"])
             .arg(&l)
             .arg("--raw-framebuffer")
             .arg(&fb)
-            .current_dir(root())
             .output()
             .unwrap();
         assert!(
@@ -617,8 +600,7 @@ fn a_limit_stop_says_where_the_threads_are() {
             );
             assert!(err.contains(&group), "{mode:?}: no {group:?} in\n{err}");
         }
-        let v: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+        let v: serde_json::Value = read_json(&json);
         let p = &v["threads_at_stop"];
         assert_eq!(p["live"], 4);
         let groups = p["groups"].as_array().unwrap();
@@ -636,17 +618,16 @@ fn a_limit_stop_says_where_the_threads_are() {
 /// Runs `trax run KERNEL -O0 --tms 2 --threads 2 ARGS --stats-json JSON`: stderr, whether
 /// it succeeded, and the statistics document.
 fn run_small(k: &Path, args: &[&str], json: &Path) -> (String, bool, serde_json::Value) {
-    let out = Command::new(env!("CARGO_BIN_EXE_trax"))
+    let out = trax_command()
         .arg("run")
         .arg(k)
         .args(["-O0", "--tms", "2", "--threads", "2"])
         .args(args)
         .arg("--stats-json")
         .arg(json)
-        .current_dir(root())
         .output()
         .unwrap();
-    let doc = serde_json::from_str(&std::fs::read_to_string(json).unwrap()).unwrap();
+    let doc = read_json(json);
     (text(&out.stderr), out.status.success(), doc)
 }
 

@@ -12,21 +12,16 @@ use trax::native::check::{self, RustcCheck, Verdict};
 use trax::pipeline::{compile_object_checked, PrepareError};
 use trax_compiler::{CompileError, Emit};
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
+mod common;
+use common::{fresh_dir, root, text, tmp_path, trax_command};
 
 fn scratch(name: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("rustc-agreement-{name}"));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    fresh_dir(&format!("rustc-agreement-{name}"))
 }
 
 fn trax(args: &[&str], env: &[(&str, &str)]) -> Output {
-    let mut c = Command::new(env!("CARGO_BIN_EXE_trax"));
+    let mut c = trax_command();
     c.args(args)
-        .current_dir(root())
         .env("TRAX_CACHE_DIR", scratch_cache())
         .env_remove("TRAX_RUSTC_CHECK");
     for (k, v) in env {
@@ -37,11 +32,7 @@ fn trax(args: &[&str], env: &[(&str, &str)]) -> Output {
 
 /// A build cache for the CLI runs of this test (kept between runs: keyed by content).
 fn scratch_cache() -> PathBuf {
-    Path::new(env!("CARGO_TARGET_TMPDIR")).join("rustc-agreement-cache")
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
+    tmp_path("rustc-agreement-cache")
 }
 
 /// The `.rs` files of `dir`, relative to the checkout (the tests' working directory, so

@@ -9,27 +9,23 @@
 //! default to the same chip.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
 use trax_assembler::scene::{load_scene, LoadOptions};
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
+mod common;
+use common::{native_cache, scratch_dir, trax_command};
 
 fn scratch(name: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("same-image-{name}"));
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    scratch_dir(&format!("same-image-{name}"))
 }
 
 /// Runs `trax ARGS` (native builds cached in the target directory, keyed by content).
 fn trax(args: &[&str]) -> Output {
-    let cache = Path::new(env!("CARGO_TARGET_TMPDIR")).join("trax-native-cache");
-    let out = Command::new(env!("CARGO_BIN_EXE_trax"))
+    let cache = native_cache();
+    let out = trax_command()
         .args(args)
         .env("TRAX_CACHE_DIR", &cache)
-        .current_dir(root())
         .output()
         .expect("run trax");
     assert!(

@@ -4,23 +4,16 @@
 //! the host threads, intervals shrink as windows grow, and unsound settings are refused
 //! with messages that name the flag.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::path::PathBuf;
+use std::process::Output;
 
 use serde_json::Value;
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
+mod common;
+use common::{read_json, root, scratch_dir, text, trax};
 
 fn scratch() -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join("sampling");
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
+    scratch_dir("sampling")
 }
 
 /// The frame every test samples: the path tracer in the Cornell box, 64x64, two baseline
@@ -37,14 +30,6 @@ const FRAME: &[&str] = &[
     "2",
 ];
 
-fn trax(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_trax"))
-        .args(args)
-        .current_dir(root())
-        .output()
-        .expect("run trax")
-}
-
 /// `trax run FRAME EXTRA --stats-json -o`: the document and the PNG's bytes.
 fn run(name: &str, extra: &[&str]) -> (Value, Vec<u8>) {
     let json = scratch().join(format!("{name}.json"));
@@ -56,7 +41,7 @@ fn run(name: &str, extra: &[&str]) -> (Value, Vec<u8>) {
     args.extend_from_slice(&["--stats-json", &j, "-o", &p]);
     let out = trax(&args);
     assert!(out.status.success(), "{name}: {}", text(&out.stderr));
-    let doc = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let doc = read_json(&json);
     (doc, std::fs::read(&png).unwrap())
 }
 
@@ -162,7 +147,7 @@ fn intervals_shrink_as_windows_grow() {
             &j,
         ]);
         assert!(out.status.success(), "{n} {seed}: {}", text(&out.stderr));
-        let doc: Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+        let doc: Value = read_json(&json);
         doc["sampled"]["estimates"]["energy_j"]["sampling_rel_half_width"]
             .as_f64()
             .unwrap()

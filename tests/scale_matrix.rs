@@ -37,21 +37,18 @@
 //!   are about 4 standard deviations of the difference of two independent images; losing
 //!   direct light or escaping the box costs more than a third of the brightness.
 
-use std::path::PathBuf;
-
 use trax::pipeline::{build_executable, lay_out};
 use trax_assembler::image::RenderOptions;
 use trax_assembler::scene::{load_scene, LoadOptions, Material, PointLight, Scene, View};
 use trax_emulator::timing::{ChipConfig, DEFAULT_CHIP};
 use trax_emulator::{run, Mode};
 
+mod common;
+use common::root;
+
 const W: u32 = 64;
 const H: u32 = 64;
 const SCALES: std::ops::RangeInclusive<i32> = -20..=20;
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
 
 fn compile(kernel: &str) -> Vec<u8> {
     build_executable(&root().join(kernel), 2).unwrap_or_else(|e| panic!("{kernel}: {e}"))

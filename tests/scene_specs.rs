@@ -3,20 +3,11 @@
 //! gives the same framebuffer bytes, and bad specs fail with the spec part named.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn trax(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_trax"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("run trax")
-}
+mod common;
+use common::{scratch_dir, trax};
 
 fn scratch(name: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("scene-specs-{name}"));
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    scratch_dir(&format!("scene-specs-{name}"))
 }
 
 /// Renders `spec` with the path tracer (functional, 8×8) and returns the raw framebuffer.

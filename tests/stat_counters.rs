@@ -4,33 +4,12 @@
 //! stops the program on both sides.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
+mod common;
+use common::{read_json, scratch_dir, text, trax_cached as trax};
 
 fn scratch(name: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("stat-{name}"));
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn trax(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_trax"))
-        .args(args)
-        .current_dir(root())
-        .env(
-            "TRAX_CACHE_DIR",
-            Path::new(env!("CARGO_TARGET_TMPDIR")).join("trax-native-cache"),
-        )
-        .env_remove("RUST_BACKTRACE")
-        .output()
-        .expect("run trax")
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
+    scratch_dir(&format!("stat-{name}"))
 }
 
 /// The `counters:` line of a run's summary.
@@ -44,8 +23,7 @@ fn counters_line(stderr: &str) -> String {
 
 /// The counters of a `--stats-json` document.
 fn json_counters(path: &Path) -> Vec<u64> {
-    let doc: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let doc: serde_json::Value = read_json(path);
     doc["counters"]
         .as_array()
         .unwrap()

@@ -8,35 +8,27 @@
 //!   there), `--max-cycles` counts cycles, and functional mode refuses `--max-cycles`.
 
 use std::collections::BTreeSet;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::{Command, Output};
 
 use serde_json::Value;
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
+mod common;
+use common::{root, scratch_dir, text, trax_command};
 
 fn scratch() -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join("stats-json");
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
+    scratch_dir("stats-json")
 }
 
 /// `trax run KERNEL ARGS --stats-json FILE`: the process output and the document.
 fn run(name: &str, kernel: &str, args: &[&str]) -> (Output, Value) {
     let json = scratch().join(format!("{name}.json"));
     let _ = std::fs::remove_file(&json);
-    let out = Command::new(env!("CARGO_BIN_EXE_trax"))
+    let out = trax_command()
         .args(["run", kernel, "--width", "16", "--height", "12"])
         .args(args)
         .arg("--stats-json")
         .arg(&json)
-        .current_dir(root())
         .output()
         .expect("run trax");
     let doc = std::fs::read_to_string(&json)
@@ -519,14 +511,7 @@ fn plot_over_time_writes_png_and_svg() {
     assert!(out.status.success(), "{}", text(&out.stderr));
     let json = scratch().join("plot-src.json");
     let base = scratch().join("over-time");
-    let plot = |args: &[&str]| {
-        Command::new(env!("CARGO_BIN_EXE_trax"))
-            .arg("plot")
-            .args(args)
-            .current_dir(root())
-            .output()
-            .unwrap()
-    };
+    let plot = |args: &[&str]| trax_command().arg("plot").args(args).output().unwrap();
     let p = plot(&[
         json.to_str().unwrap(),
         "--over-time",
@@ -566,4 +551,62 @@ fn plot_over_time_writes_png_and_svg() {
         "{}",
         text(&p.stderr)
     );
+}
+
+/// Every series of a real `--stats-interval` document can be drawn over time: each field
+/// of an interval but the four that place it in time, and each thread-cycle bucket. On a
+/// streaming chip, so that every series (rays in flight, the stream buckets) is measured.
+#[test]
+fn every_interval_series_of_a_document_plots() {
+    let (out, doc) = run(
+        "series",
+        "examples/strata.rs",
+        &[
+            "--config",
+            "strata",
+            "--tms",
+            "2",
+            "--stats-interval",
+            "2000",
+        ],
+    );
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let ivs = doc["timing"]["intervals"].as_array().unwrap();
+    assert!(ivs.len() >= 2, "{} intervals", ivs.len());
+    let mut series = Vec::new();
+    for (k, v) in ivs[0].as_object().unwrap() {
+        match k.as_str() {
+            "start_cycle" | "end_cycle" | "cycles" | "partial" => {}
+            "thread_cycles" => series.extend(
+                v.as_object()
+                    .unwrap()
+                    .keys()
+                    .map(|b| format!("thread_cycles.{b}")),
+            ),
+            _ => {
+                assert!(v.is_number(), "intervals[0].{k} = {v} is not a number");
+                series.push(k.clone());
+            }
+        }
+    }
+    assert!(series.contains(&"thread_cycles.stream_idle".to_string()));
+    let json = scratch().join("series.json");
+    for y in &series {
+        let base = scratch().join("series").join(y);
+        let p = trax_command()
+            .args([
+                "plot",
+                json.to_str().unwrap(),
+                "--over-time",
+                "--y",
+                y,
+                "-o",
+            ])
+            .arg(&base)
+            .output()
+            .unwrap();
+        assert!(p.status.success(), "--y {y}: {}", text(&p.stderr));
+        let svg = scratch().join("series").join(format!("{y}.svg"));
+        assert!(svg.exists(), "--y {y}: no {}", svg.display());
+    }
 }

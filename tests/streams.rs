@@ -4,35 +4,16 @@
 //! errors on both sides, and the prelude's instruction cost.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 use trax::pipeline::{chip_config, prepare, Request};
 use trax_emulator::timing::ChipConfig;
 use trax_emulator::{run, Mode};
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
+mod common;
+use common::{root, scratch_dir, text, trax_cached as trax};
 
 fn scratch(name: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("streams-{name}"));
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn trax(args: &[&str]) -> Output {
-    let cache = Path::new(env!("CARGO_TARGET_TMPDIR")).join("trax-native-cache");
-    Command::new(env!("CARGO_BIN_EXE_trax"))
-        .args(args)
-        .env("TRAX_CACHE_DIR", &cache)
-        .env_remove("RUST_BACKTRACE")
-        .current_dir(root())
-        .output()
-        .expect("run trax")
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
+    scratch_dir(&format!("streams-{name}"))
 }
 
 /// The chip of these tests: `tiny` with a 64 KiB stream memory of 16 buffers (1259 rays

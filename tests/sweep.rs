@@ -8,29 +8,20 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
+mod common;
+use common::{fresh_dir, read_json, root, text, trax_command};
 
 /// A fresh scratch directory.
 fn scratch(name: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("sweep-{name}"));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    fresh_dir(&format!("sweep-{name}"))
 }
 
 fn trax(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_trax"))
+    trax_command()
         .args(args)
-        .current_dir(root())
         .stdin(Stdio::null())
         .output()
         .expect("run trax")
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
 }
 
 fn gradient() -> String {
@@ -355,8 +346,7 @@ where = {{ mode = "timing" }}
         }
         let o = trax(&args);
         assert!(o.status.success(), "{}", text(&o.stderr));
-        let stats: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+        let stats: serde_json::Value = read_json(&json);
         assert_eq!(
             r["instructions"],
             stats["instructions"].to_string(),
@@ -522,9 +512,8 @@ fn a_killed_sweep_resumes_without_repeating_or_losing_points() {
         "-j",
         "2",
     ];
-    let mut child = Command::new(env!("CARGO_BIN_EXE_trax"))
+    let mut child = trax_command()
         .args(args)
-        .current_dir(root())
         .stdin(Stdio::null())
         .stdout(Stdio::null())
         .stderr(Stdio::null())
@@ -573,9 +562,8 @@ fn a_killed_sweep_resumes_without_repeating_or_losing_points() {
             serde_json::from_str(json).unwrap_or_else(|e| panic!("half-written result {id}: {e}"));
         assert_eq!(v["status"], "ok");
     }
-    let out = Command::new(env!("CARGO_BIN_EXE_trax"))
+    let out = trax_command()
         .args(args)
-        .current_dir(root())
         .stdin(Stdio::null())
         .output()
         .unwrap();
@@ -1362,9 +1350,8 @@ fn the_record(out_dir: &Path) -> serde_json::Value {
 /// sweep and the point's pid.
 #[allow(clippy::zombie_processes)] // the callers wait for it
 fn start_sweep(args: &[&str]) -> (std::process::Child, u32) {
-    let child = Command::new(env!("CARGO_BIN_EXE_trax"))
+    let child = trax_command()
         .args(args)
-        .current_dir(root())
         .stdin(Stdio::null())
         .stdout(Stdio::null())
         .stderr(Stdio::piped())

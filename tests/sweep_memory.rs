@@ -5,12 +5,15 @@
 
 use std::process::{Command, Stdio};
 
+mod common;
+use common::{root, tmp_path};
+
 #[test]
 fn planning_a_large_sweep_takes_bounded_memory() {
-    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("sweep-memory");
+    let dir = tmp_path("sweep-memory");
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
-    let kernel = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/gradient.rs");
+    let kernel = root().join("examples/gradient.rs");
     let values = |n: u32| {
         (1..=n)
             .map(|i| i.to_string())

@@ -4,17 +4,12 @@
 //! one on this machine (`.ci/run` does). Every wait is bounded.
 
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
-}
+mod common;
+use common::{root, text, tmp_path, trax_command};
 
 /// Runs a command with a time limit (killed after it); `None` if it could not start or ran
 /// too long.
@@ -67,9 +62,8 @@ fn require_cluster() {
 }
 
 fn trax(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_trax"))
+    trax_command()
         .args(args)
-        .current_dir(root())
         .stdin(Stdio::null())
         .output()
         .expect("run trax")
@@ -94,7 +88,7 @@ fn table(path: &Path) -> (Vec<String>, BTreeMap<String, Vec<String>>) {
 #[test]
 fn slurm_sweep_collects_the_same_table_as_a_local_one() {
     require_cluster();
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("sweep-slurm");
+    let dir = tmp_path("sweep-slurm");
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let kernel = root().join("examples/gradient.rs");
@@ -237,7 +231,7 @@ fn wait_for_job(job: &str, logs: &Path) {
 #[test]
 fn a_local_sweep_beside_its_slurm_array_runs_each_point_once() {
     require_cluster();
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("sweep-slurm-both");
+    let dir = tmp_path("sweep-slurm-both");
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let kernel = root().join("examples/mandelbrot.rs");

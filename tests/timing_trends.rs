@@ -18,6 +18,9 @@ use std::sync::OnceLock;
 
 use serde_json::Value;
 
+mod common;
+use common::{scratch_dir, text, trax_command};
+
 /// A scene whose data (about 7 MB: 49,612 triangles, 48,829 BVH nodes) dwarfs the scaled
 /// caches, as the thesis's benchmark scenes (Sibenik .. Hairball, 80 K to 2.9 M triangles)
 /// dwarf its 256 KB - 4 MB L2s. The embedded Cornell box (32 triangles, 3.5 KB) cannot show
@@ -27,13 +30,7 @@ use serde_json::Value;
 const BIG_SCENE: &str = "procedural:50000";
 
 fn scratch() -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join("timing-trends");
-    std::fs::create_dir_all(&d).expect("create scratch dir");
-    d
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
+    scratch_dir("timing-trends")
 }
 
 /// The path tracer, built once with `trax build` and shared by every test.
@@ -41,10 +38,9 @@ fn pathtracer_elf() -> &'static Path {
     static ELF: OnceLock<PathBuf> = OnceLock::new();
     ELF.get_or_init(|| {
         let elf = scratch().join("pathtracer.elf");
-        let out = Command::new(env!("CARGO_BIN_EXE_trax"))
+        let out = trax_command()
             .args(["build", "examples/pathtracer.rs", "-o"])
             .arg(&elf)
-            .current_dir(env!("CARGO_MANIFEST_DIR"))
             .output()
             .expect("run trax build");
         assert!(out.status.success(), "trax build: {}", text(&out.stderr));

@@ -47,34 +47,89 @@ use crate::thread::{Shared, Thread};
 /// Number of `UnitClass` values (array index bound).
 pub const NUM_CLASSES: usize = 24;
 
-/// Thread-cycle accounting (each live thread lands in exactly one bucket per cycle).
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
-pub struct ThreadCycles {
+/// Declares [`ThreadCycles`] and its bucket table [`ThreadCycles::BUCKETS`] from one list:
+/// each bucket's field (also its name in the statistics document, `thread_cycles.NAME`, and
+/// the interval series `--over-time --y thread_cycles.NAME`) and its label in the text
+/// summary. Sums, differences, the JSON and the plots walk the table, so a bucket added
+/// here appears in all of them.
+macro_rules! thread_cycles {
+    ($( $(#[$doc:meta])* $field:ident => $label:literal, )*) => {
+        /// Thread-cycle accounting (each live thread lands in exactly one bucket per cycle).
+        #[derive(Clone, Debug, Default, PartialEq, Eq)]
+        pub struct ThreadCycles {
+            $( $(#[$doc])* pub $field: u64, )*
+        }
+
+        impl ThreadCycles {
+            /// Every bucket, in the document's order.
+            pub const BUCKETS: &'static [ThreadCycleBucket] = &[
+                $( ThreadCycleBucket {
+                    name: stringify!($field),
+                    label: $label,
+                    get: |t| t.$field,
+                    get_mut: |t| &mut t.$field,
+                }, )*
+            ];
+        }
+    };
+}
+
+thread_cycles! {
     /// Issued an instruction.
-    pub issued: u64,
+    issued => "issued",
     /// Waited for a source or destination register.
-    pub data_dependence: u64,
+    data_dependence => "data dependence",
     /// Its execution unit (or the global register file) was taken.
-    pub unit_conflict: u64,
+    unit_conflict => "unit conflict",
     /// Its I-cache bank was out of fetch slots.
-    pub icache_conflict: u64,
+    icache_conflict => "icache conflict",
     /// L1 bank conflict.
-    pub l1_bank_conflict: u64,
+    l1_bank_conflict => "L1 bank conflict",
     /// All L1 MSHRs were busy.
-    pub l1_mshr_full: u64,
+    l1_mshr_full => "L1 MSHRs full",
     /// Waiting at a barrier or semaphore.
-    pub sync_wait: u64,
+    sync_wait => "barrier/semaphore",
     /// Waiting in `trax.strsched` for the TM's other live threads to finish their rays
     /// (and for the scheduling decision, `stream_memory.schedule_cycles`).
-    pub stream_drain: u64,
+    stream_drain => "stream drain",
     /// Waiting in `trax.strsched` with the TM drained and every ray buffer empty.
-    pub stream_idle: u64,
+    stream_idle => "stream idle",
     /// Waiting, after a chip-wide instruction (store to global memory, global-register,
     /// barrier, semaphore, stream or halt operation), for the end of the quantum in which
     /// it is ordered with the other TMs.
-    pub global_sync: u64,
+    global_sync => "chip-wide order",
     /// Halted (finished) while others ran.
-    pub halted: u64,
+    halted => "halted",
+}
+
+/// One thread-cycle bucket of [`ThreadCycles::BUCKETS`].
+pub struct ThreadCycleBucket {
+    /// Field name: the key in `timing.thread_cycles` of the statistics document.
+    pub name: &'static str,
+    /// Label in the text summary.
+    pub label: &'static str,
+    /// Reads the bucket.
+    pub get: fn(&ThreadCycles) -> u64,
+    /// The bucket's counter.
+    pub get_mut: fn(&mut ThreadCycles) -> &mut u64,
+}
+
+impl ThreadCycles {
+    /// The bucket-wise difference `self - earlier` (`earlier` a sample of the same run).
+    pub fn minus(&self, earlier: &ThreadCycles) -> ThreadCycles {
+        let mut d = ThreadCycles::default();
+        for b in Self::BUCKETS {
+            *(b.get_mut)(&mut d) = (b.get)(self) - (b.get)(earlier);
+        }
+        d
+    }
+
+    /// Adds `o`'s buckets into `self`.
+    pub fn add(&mut self, o: &ThreadCycles) {
+        for b in Self::BUCKETS {
+            *(b.get_mut)(self) += (b.get)(o);
+        }
+    }
 }
 
 /// Raw counters of a run (turned into [`super::stats::TimingStats`]).
@@ -1095,18 +1150,7 @@ impl Counters {
 
     /// Adds `o`'s counters into `self`, except the per-text-word ones.
     fn add_scalars(&mut self, o: &Counters) {
-        let (a, b) = (&mut self.tc, &o.tc);
-        a.issued += b.issued;
-        a.data_dependence += b.data_dependence;
-        a.unit_conflict += b.unit_conflict;
-        a.icache_conflict += b.icache_conflict;
-        a.l1_bank_conflict += b.l1_bank_conflict;
-        a.l1_mshr_full += b.l1_mshr_full;
-        a.sync_wait += b.sync_wait;
-        a.stream_drain += b.stream_drain;
-        a.stream_idle += b.stream_idle;
-        a.global_sync += b.global_sync;
-        a.halted += b.halted;
+        self.tc.add(&o.tc);
         for k in 0..NUM_CLASSES {
             self.unit_conflicts[k] += o.unit_conflicts[k];
             self.class_ops[k] += o.class_ops[k];

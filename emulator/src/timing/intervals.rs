@@ -81,46 +81,65 @@ impl Snapshot {
     }
 }
 
-/// One interval of the run (`timing.intervals[]` of the statistics document).
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Interval {
+/// Declares [`Interval`] and its plottable series [`Interval::SERIES`] from one list: a
+/// field given `=> "label"` is a series (`trax plot --over-time --y FIELD`, the label its
+/// axis label with its unit); the others place the interval in time.
+macro_rules! interval {
+    ($( $(#[$attr:meta])* $field:ident: $ty:ty $(=> $label:literal)?, )*) => {
+        /// One interval of the run (`timing.intervals[]` of the statistics document).
+        #[derive(Clone, Debug, PartialEq, Serialize)]
+        pub struct Interval {
+            $( $(#[$attr])* pub $field: $ty, )*
+        }
+
+        impl Interval {
+            /// The plottable series, `(field, axis label)`, in the document's order (the
+            /// thread-cycle buckets are series too: [`ThreadCycles::BUCKETS`]).
+            pub const SERIES: &'static [(&'static str, &'static str)] = &[
+                $( $( (stringify!($field), $label), )? )*
+            ];
+        }
+    };
+}
+
+interval! {
     /// First cycle.
-    pub start_cycle: u64,
+    start_cycle: u64,
     /// Cycle after the last.
-    pub end_cycle: u64,
+    end_cycle: u64,
     /// `end_cycle - start_cycle`.
-    pub cycles: u64,
+    cycles: u64,
     /// Shorter than the interval length (the run's last interval).
-    pub partial: bool,
+    partial: bool,
     /// Thread-instructions issued.
-    pub instructions: u64,
+    instructions: u64 => "instructions issued (per interval)",
     /// Issued / (cycles x threads).
-    pub issue_rate: f64,
+    issue_rate: f64 => "issue rate (issued / thread-cycles)",
     /// Where the interval's thread-cycles went.
     #[serde(serialize_with = "stats_doc::thread_cycles")]
-    pub thread_cycles: ThreadCycles,
+    thread_cycles: ThreadCycles,
     /// L1 accesses, load hits and misses (all TMs), hit rate, L1 -> register GB/s.
-    pub l1_accesses: u64,
-    pub l1_hits: u64,
-    pub l1_misses: u64,
-    pub l1_hit_rate: f64,
-    pub l1_to_register_gbps: f64,
+    l1_accesses: u64 => "L1 accesses (per interval)",
+    l1_hits: u64 => "L1 load hits (per interval)",
+    l1_misses: u64 => "L1 load misses (per interval)",
+    l1_hit_rate: f64 => "L1 hit rate (fraction of loads)",
+    l1_to_register_gbps: f64 => "L1 → register bandwidth (GB/s)",
     /// The same for the L2s (L2 -> L1 GB/s).
-    pub l2_accesses: u64,
-    pub l2_hits: u64,
-    pub l2_misses: u64,
-    pub l2_hit_rate: f64,
-    pub l2_to_l1_gbps: f64,
+    l2_accesses: u64 => "L2 accesses (per interval)",
+    l2_hits: u64 => "L2 load hits (per interval)",
+    l2_misses: u64 => "L2 load misses (per interval)",
+    l2_hit_rate: f64 => "L2 hit rate (fraction of loads)",
+    l2_to_l1_gbps: f64 => "L2 → L1 bandwidth (GB/s)",
     /// DRAM reads, writes, bytes, GB/s.
-    pub dram_reads: u64,
-    pub dram_writes: u64,
-    pub dram_bytes: u64,
-    pub dram_gbps: f64,
+    dram_reads: u64 => "DRAM reads (per interval)",
+    dram_writes: u64 => "DRAM writes (per interval)",
+    dram_bytes: u64 => "DRAM bytes (per interval)",
+    dram_gbps: f64 => "DRAM bandwidth (GB/s)",
     /// Rays in the stream memory, averaged over the interval (`None` without one).
-    pub mean_rays_in_flight: Option<f64>,
+    mean_rays_in_flight: Option<f64> => "rays in flight (mean over interval)",
     /// Energy, joules, and average power, watts.
-    pub energy_j: f64,
-    pub power_w: f64,
+    energy_j: f64 => "energy (J per interval)",
+    power_w: f64 => "power (W)",
 }
 
 fn ratio(a: f64, b: f64) -> f64 {
@@ -128,22 +147,6 @@ fn ratio(a: f64, b: f64) -> f64 {
         a / b
     } else {
         0.0
-    }
-}
-
-fn tc_diff(a: &ThreadCycles, b: &ThreadCycles) -> ThreadCycles {
-    ThreadCycles {
-        issued: a.issued - b.issued,
-        data_dependence: a.data_dependence - b.data_dependence,
-        unit_conflict: a.unit_conflict - b.unit_conflict,
-        icache_conflict: a.icache_conflict - b.icache_conflict,
-        l1_bank_conflict: a.l1_bank_conflict - b.l1_bank_conflict,
-        l1_mshr_full: a.l1_mshr_full - b.l1_mshr_full,
-        sync_wait: a.sync_wait - b.sync_wait,
-        stream_drain: a.stream_drain - b.stream_drain,
-        stream_idle: a.stream_idle - b.stream_idle,
-        global_sync: a.global_sync - b.global_sync,
-        halted: a.halted - b.halted,
     }
 }
 
@@ -235,7 +238,7 @@ impl Interval {
         let cycles = s.cycle - prev.cycle;
         let secs = cycles as f64 / (clock_ghz * 1e9);
         let gbps = |bytes: u64| ratio(bytes as f64, secs) / 1e9;
-        let tc = tc_diff(&s.tc, &prev.tc);
+        let tc = s.tc.minus(&prev.tc);
         let l1 = |f: fn(&CacheStats) -> u64| f(&s.l1) - f(&prev.l1);
         let l2 = |f: fn(&CacheStats) -> u64| f(&s.l2) - f(&prev.l2);
         let rate = |h: u64, m: u64| ratio(h as f64, (h + m) as f64);

@@ -32,7 +32,7 @@ pub use config::{
     StreamMemoryConfig, TreeletAlign, TreeletConfig, TreeletForm, UnitConfig, CHIP_PRESETS,
     DEFAULT_CHIP, STREAM_ENERGY_TABLE, UNIT_NAMES,
 };
-pub use engine::ThreadCycles;
+pub use engine::{ThreadCycleBucket, ThreadCycles};
 pub use intervals::Interval;
 pub use sample::{Estimate, Estimates, SampleRequest, SampledStats, VtCosts, WorkSource};
 pub use stats::{

@@ -526,19 +526,8 @@ impl TimingStats {
             self.rays, self.mrps, self.mrps_per_mm2
         );
         let _ = writeln!(s, "thread-cycles:");
-        for (name, v) in [
-            ("issued", tc.issued),
-            ("data dependence", tc.data_dependence),
-            ("unit conflict", tc.unit_conflict),
-            ("icache conflict", tc.icache_conflict),
-            ("L1 bank conflict", tc.l1_bank_conflict),
-            ("L1 MSHRs full", tc.l1_mshr_full),
-            ("barrier/semaphore", tc.sync_wait),
-            ("stream drain", tc.stream_drain),
-            ("stream idle", tc.stream_idle),
-            ("chip-wide order", tc.global_sync),
-            ("halted", tc.halted),
-        ] {
+        for b in ThreadCycles::BUCKETS {
+            let (name, v) = (b.label, (b.get)(tc));
             let _ = writeln!(s, "   {name:<18} {v:>14} ({:5.2}%)", pct(v, thread_cycles));
         }
         let dep_total: u64 = self.data_stalls_by_producer.values().sum();

@@ -4,27 +4,12 @@
 //! `CacheCost`) derive no `Serialize` and can change without changing the document's schema.
 //! Field names and order are the document's; their meaning is documented there.
 
+use serde::ser::SerializeMap;
 use serde::{Serialize, Serializer};
 
 use super::engine::ThreadCycles;
 use crate::memsys::cacti::{CacheCost, Source};
 use crate::memsys::{CacheStats, DramEnergy, DramStats, MemStats};
-
-/// `timing.thread_cycles`.
-#[derive(Serialize)]
-struct ThreadCyclesDoc {
-    issued: u64,
-    data_dependence: u64,
-    unit_conflict: u64,
-    icache_conflict: u64,
-    l1_bank_conflict: u64,
-    l1_mshr_full: u64,
-    sync_wait: u64,
-    stream_drain: u64,
-    stream_idle: u64,
-    global_sync: u64,
-    halted: u64,
-}
 
 /// `timing.memory`.
 #[derive(Serialize)]
@@ -173,22 +158,13 @@ impl From<&DramStats> for DramStatsDoc {
     }
 }
 
-/// Serializes `timing.thread_cycles`.
+/// Serializes `timing.thread_cycles`: every bucket of [`ThreadCycles::BUCKETS`], in its order.
 pub(super) fn thread_cycles<S: Serializer>(t: &ThreadCycles, s: S) -> Result<S::Ok, S::Error> {
-    ThreadCyclesDoc {
-        issued: t.issued,
-        data_dependence: t.data_dependence,
-        unit_conflict: t.unit_conflict,
-        icache_conflict: t.icache_conflict,
-        l1_bank_conflict: t.l1_bank_conflict,
-        l1_mshr_full: t.l1_mshr_full,
-        sync_wait: t.sync_wait,
-        stream_drain: t.stream_drain,
-        stream_idle: t.stream_idle,
-        global_sync: t.global_sync,
-        halted: t.halted,
+    let mut m = s.serialize_map(Some(ThreadCycles::BUCKETS.len()))?;
+    for b in ThreadCycles::BUCKETS {
+        m.serialize_entry(b.name, &(b.get)(t))?;
     }
-    .serialize(s)
+    m.end()
 }
 
 /// Serializes `timing.memory`.

@@ -9,51 +9,24 @@ use std::path::{Path, PathBuf};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use serde_json::Value;
+use trax_emulator::timing::{Interval, ThreadCycles};
 
 use super::axis::{Axis, Unit};
 use super::{colour, register_font, PlotArgs, SIZE};
 
-/// The metrics of an interval that can be drawn: field (of `timing.intervals[]`), axis
-/// label with its unit.
-const METRICS: &[(&str, &str)] = &[
-    ("issue_rate", "issue rate (issued / thread-cycles)"),
-    ("instructions", "instructions issued (per interval)"),
-    ("l1_hit_rate", "L1 hit rate (fraction of loads)"),
-    ("l2_hit_rate", "L2 hit rate (fraction of loads)"),
-    ("l1_to_register_gbps", "L1 → register bandwidth (GB/s)"),
-    ("l2_to_l1_gbps", "L2 → L1 bandwidth (GB/s)"),
-    ("dram_gbps", "DRAM bandwidth (GB/s)"),
-    ("l1_accesses", "L1 accesses (per interval)"),
-    ("l1_hits", "L1 load hits (per interval)"),
-    ("l1_misses", "L1 load misses (per interval)"),
-    ("l2_accesses", "L2 accesses (per interval)"),
-    ("l2_hits", "L2 load hits (per interval)"),
-    ("l2_misses", "L2 load misses (per interval)"),
-    ("dram_reads", "DRAM reads (per interval)"),
-    ("dram_writes", "DRAM writes (per interval)"),
-    ("dram_bytes", "DRAM bytes (per interval)"),
-    ("mean_rays_in_flight", "rays in flight (mean over interval)"),
-    ("energy_j", "energy (J per interval)"),
-    ("power_w", "power (W)"),
-];
-
-/// Thread-cycle buckets (`thread_cycles.NAME`), drawn as a fraction of the interval's
-/// thread-cycles.
-const BUCKETS: &[&str] = &[
-    "issued",
-    "data_dependence",
-    "unit_conflict",
-    "icache_conflict",
-    "l1_bank_conflict",
-    "l1_mshr_full",
-    "sync_wait",
-    "global_sync",
-    "halted",
-];
-
+/// Every series the chart can draw: the interval's own ([`Interval::SERIES`]) and its
+/// thread-cycle buckets (`thread_cycles.NAME`, [`ThreadCycles::BUCKETS`]), both from their
+/// one declaration in the emulator.
 fn names() -> String {
-    let mut v: Vec<String> = METRICS.iter().map(|(n, _)| n.to_string()).collect();
-    v.extend(BUCKETS.iter().map(|b| format!("thread_cycles.{b}")));
+    let mut v: Vec<String> = Interval::SERIES
+        .iter()
+        .map(|(n, _)| n.to_string())
+        .collect();
+    v.extend(
+        ThreadCycles::BUCKETS
+            .iter()
+            .map(|b| format!("thread_cycles.{}", b.name)),
+    );
     v.join(", ")
 }
 
@@ -90,12 +63,13 @@ fn load(path: &Path, y: &str) -> Result<(Vec<Step>, f64, String), String> {
         .filter(|g| *g > 0.0)
         .ok_or_else(|| format!("{name}: chip.clock_ghz missing or not positive"))?;
     let label = if let Some(b) = y.strip_prefix("thread_cycles.") {
-        if !BUCKETS.contains(&b) {
-            return Err(format!("no interval metric `{y}`; one of: {}", names()));
-        }
-        format!("{} (fraction of thread-cycles)", b.replace('_', " "))
+        let bucket = ThreadCycles::BUCKETS
+            .iter()
+            .find(|k| k.name == b)
+            .ok_or_else(|| format!("no interval metric `{y}`; one of: {}", names()))?;
+        format!("{} (fraction of thread-cycles)", bucket.label)
     } else {
-        METRICS
+        Interval::SERIES
             .iter()
             .find(|(n, _)| *n == y)
             .map(|(_, l)| l.to_string())

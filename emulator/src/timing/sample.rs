@@ -1256,6 +1256,30 @@ pub(crate) fn run(
     let mut pooled = Tally::default();
     let mut costs;
     let mut windows: Vec<Option<(Tally, bool)>> = Vec::with_capacity(k);
+    // Fast-forward to the counter value `$to` at the costs measured so far (the windows'
+    // pooled, else the head's).
+    macro_rules! fast_forward_to {
+        ($to:expr) => {{
+            let t = Instant::now();
+            costs = VtCosts::of(
+                if pooled.0[CYCLES] > 0.0 {
+                    &pooled
+                } else {
+                    &head
+                },
+                chip,
+            );
+            let ff = fast_forward(engine, m, costs, reg, $to, &mut cross, out);
+            ff_wall += t.elapsed().as_secs_f64();
+            match ff {
+                Some(Outcome::Finished) => {
+                    return Err(ended_early(Some(&work), m.shared.globals[reg]))
+                }
+                Some(o) => return failed(o),
+                None => {}
+            }
+        }};
+    }
     // Items the longest window so far handed out: later windows start at least that far
     // before their stratum's end (at most half-way), so few are cut short.
     let mut span = 0u32;
@@ -1264,22 +1288,7 @@ pub(crate) fn run(
         let room = (b - a) - span.min((b - a) / 2);
         let at = a + ((u64::from(rng.next_u32()) * u64::from(room)) >> 32) as u32;
         // Fast-forward to the window's start.
-        let t = Instant::now();
-        costs = VtCosts::of(
-            if pooled.0[CYCLES] > 0.0 {
-                &pooled
-            } else {
-                &head
-            },
-            chip,
-        );
-        let ff = fast_forward(engine, m, costs, reg, at, &mut cross, out);
-        ff_wall += t.elapsed().as_secs_f64();
-        match ff {
-            Some(Outcome::Finished) => return Err(ended_early(Some(&work), m.shared.globals[reg])),
-            Some(o) => return failed(o),
-            None => {}
-        }
+        fast_forward_to!(at);
         // The window: warm-up, then measured, stopping at the stratum's end.
         let begin = engine.now;
         let first = m.shared.globals[reg];
@@ -1311,22 +1320,7 @@ pub(crate) fn run(
     }
     // Fast-forward to the tail, then the tail in full.
     let tail_start = *plan.bounds.last().expect("K+1 bounds");
-    let t = Instant::now();
-    costs = VtCosts::of(
-        if pooled.0[CYCLES] > 0.0 {
-            &pooled
-        } else {
-            &head
-        },
-        chip,
-    );
-    let ff = fast_forward(engine, m, costs, reg, tail_start, &mut cross, out);
-    ff_wall += t.elapsed().as_secs_f64();
-    match ff {
-        Some(Outcome::Finished) => return Err(ended_early(Some(&work), m.shared.globals[reg])),
-        Some(o) => return failed(o),
-        None => {}
-    }
+    fast_forward_to!(tail_start);
     let tail0 = Tally::of(&engine.snapshot(m));
     engine.pause_at = Vec::new();
     engine.set_limits(Limits::default());

@@ -443,31 +443,14 @@ fn build_kernel(
         return Ok(exe);
     }
     let tmp = scratch_dir(cache, "kernel")?;
-    let mut cmd = rustc.command();
-    cmd.args(["--crate-type", "bin", "--crate-name", "trax_kernel", "-"])
-        .arg("--extern")
-        .arg(format!("trax={}", rlib.display()));
-    for o in objs {
-        cmd.arg("-C").arg(format!("link-arg={}", o.display()));
-    }
-    let mut child = cmd
-        .arg("-o")
-        .arg(tmp.join("kernel"))
-        .current_dir(kernel_dir(kernel))
-        .stdin(Stdio::piped())
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .map_err(|source| NativeError::NoRustc {
-            rustc: rustc.program.to_string_lossy().into_owned(),
-            source,
-        })?;
     let full = format!("{src}{tail}");
-    if let Some(mut stdin) = child.stdin.take() {
-        // A write error shows up as a compile failure below.
-        let _ = stdin.write_all(full.as_bytes());
-    }
-    let out = child.wait_with_output().map_err(io_err(kernel))?;
+    let link = Link {
+        rlib,
+        objs,
+        out: &tmp.join("kernel"),
+        cwd: Some(&kernel_dir(kernel)),
+    };
+    let out = link.run(rustc, &full, kernel)?;
     let diag = String::from_utf8_lossy(&out.stderr);
     let shown = kernel.display().to_string();
     if !diag.is_empty() {
@@ -479,6 +462,55 @@ fn build_kernel(
     }
     publish(&tmp, &dir)?;
     Ok(exe)
+}
+
+/// One host program linked by rustc over the host prelude: the crate read from stdin,
+/// `objs` (clang's objects) passed to the linker.
+struct Link<'a> {
+    /// The host prelude rlib (`--extern trax=`).
+    rlib: &'a Path,
+    /// Objects to link in.
+    objs: &'a [PathBuf],
+    /// The program to write.
+    out: &'a Path,
+    /// rustc's working directory (where relative `include!`s resolve), if not ours.
+    cwd: Option<&'a Path>,
+}
+
+impl Link<'_> {
+    /// Runs rustc on `source`; rustc's output, or an error naming `name` if it could not be
+    /// waited for. (A failed write to its stdin shows up as a build failure.)
+    fn run(
+        &self,
+        rustc: &Rustc,
+        source: &str,
+        name: &Path,
+    ) -> Result<std::process::Output, NativeError> {
+        let mut cmd = rustc.command();
+        cmd.args(["--crate-type", "bin", "--crate-name", "trax_kernel", "-"])
+            .arg("--extern")
+            .arg(format!("trax={}", self.rlib.display()));
+        for o in self.objs {
+            cmd.arg("-C").arg(format!("link-arg={}", o.display()));
+        }
+        cmd.arg("-o").arg(self.out);
+        if let Some(dir) = self.cwd {
+            cmd.current_dir(dir);
+        }
+        let mut child = cmd
+            .stdin(Stdio::piped())
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .map_err(|source| NativeError::NoRustc {
+                rustc: rustc.program.to_string_lossy().into_owned(),
+                source,
+            })?;
+        if let Some(mut stdin) = child.stdin.take() {
+            let _ = stdin.write_all(source.as_bytes());
+        }
+        child.wait_with_output().map_err(io_err(name))
+    }
 }
 
 /// Builds (or finds in the cache) the host program of C and C++ sources: clang compiled
@@ -527,27 +559,13 @@ fn build_c_kernel(
         return Ok(exe);
     }
     let tmp = scratch_dir(cache, "ckernel")?;
-    let mut cmd = rustc.command();
-    cmd.args(["--crate-type", "bin", "--crate-name", "trax_kernel", "-"])
-        .arg("--extern")
-        .arg(format!("trax={}", rlib.display()));
-    for o in objs {
-        cmd.arg("-C").arg(format!("link-arg={}", o.display()));
-    }
-    cmd.arg("-o")
-        .arg(tmp.join("kernel"))
-        .stdin(Stdio::piped())
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped());
-    let mut child = cmd.spawn().map_err(|source| NativeError::NoRustc {
-        rustc: rustc.program.to_string_lossy().into_owned(),
-        source,
-    })?;
-    if let Some(mut stdin) = child.stdin.take() {
-        // A write error shows up as a build failure below.
-        let _ = stdin.write_all(shim.as_bytes());
-    }
-    let out = child.wait_with_output().map_err(io_err(&tmp))?;
+    let link = Link {
+        rlib,
+        objs,
+        out: &tmp.join("kernel"),
+        cwd: None,
+    };
+    let out = link.run(rustc, &shim, &tmp)?;
     if !out.status.success() {
         eprint!("{}", String::from_utf8_lossy(&out.stderr));
         let _ = std::fs::remove_dir_all(&tmp);

@@ -794,6 +794,42 @@ fn string_item(src: &Src, name: &str, item: &Item) -> Result<String, SpecError> 
     }
 }
 
+fn bool_item(src: &Src, name: &str, item: &Item) -> Result<bool, SpecError> {
+    match item.as_value() {
+        Some(Value::Boolean(b)) => Ok(*b.value()),
+        other => Err(src.err(
+            src.loc(item.span()),
+            name,
+            format!(
+                "must be true or false, found {}",
+                other.map_or("a table", value_type)
+            ),
+        )),
+    }
+}
+
+/// An array of strings (`components = ["dram", "l2"]`).
+fn string_list(src: &Src, name: &str, item: &Item) -> Result<Vec<String>, SpecError> {
+    let Some(Value::Array(a)) = item.as_value() else {
+        return Err(src.err(
+            src.loc(item.span()),
+            name,
+            "must be an array of strings",
+        ));
+    };
+    a.iter()
+        .enumerate()
+        .map(|(i, v)| match v {
+            Value::String(s) => Ok(s.value().clone()),
+            other => Err(src.err(
+                src.loc(v.span()).or(src.loc(item.span())),
+                &format!("{name}[{i}]"),
+                format!("must be a string, found {}", value_type(other)),
+            )),
+        })
+        .collect()
+}
+
 /// Whether `s` is a name (of a sweep, a plot): it becomes a file or directory name, so it
 /// is letters, digits, `-`, `_` and `.`, not first `.`, at most 100 characters.
 pub fn is_name(s: &str) -> bool {
@@ -941,6 +977,8 @@ fn parse_plots(src: &Src, item: &Item, kloc: Option<Loc>) -> Result<Vec<PlotSpec
         let mut title = None;
         let mut name = None;
         let mut filter = Vec::new();
+        let (mut xlabel, mut ylabel, mut log_x, mut log_y) = (None, None, None, None);
+        let mut components = Vec::new();
         let table_item = Item::Table(t.clone());
         for (k, it, l) in table_entries(src, "plot", &table_item, tloc)? {
             let field = format!("plot[{i}].{k}");
@@ -954,6 +992,11 @@ fn parse_plots(src: &Src, item: &Item, kloc: Option<Loc>) -> Result<Vec<PlotSpec
                 "y" => y = Some(string_item(src, &field, it).map_err(at)?),
                 "by" => by = Some(string_item(src, &field, it).map_err(at)?),
                 "title" => title = Some(string_item(src, &field, it).map_err(at)?),
+                "xlabel" => xlabel = Some(string_item(src, &field, it).map_err(at)?),
+                "ylabel" => ylabel = Some(string_item(src, &field, it).map_err(at)?),
+                "log_x" => log_x = Some(bool_item(src, &field, it).map_err(at)?),
+                "log_y" => log_y = Some(bool_item(src, &field, it).map_err(at)?),
+                "components" => components = string_list(src, &field, it).map_err(at)?,
                 "name" => name = Some(name_item(src, &field, it).map_err(at)?),
                 "kind" => {
                     let s = string_item(src, &field, it).map_err(at)?;
@@ -989,7 +1032,8 @@ fn parse_plots(src: &Src, item: &Item, kloc: Option<Loc>) -> Result<Vec<PlotSpec
                     return Err(src.err(
                         l,
                         &field,
-                        "unknown field (expected x, y, by, kind, title, name, where)",
+                        "unknown field (expected x, y, by, kind, title, name, where, xlabel, \
+                         ylabel, log_x, log_y, components)",
                     ))
                 }
             }
@@ -1013,11 +1057,11 @@ fn parse_plots(src: &Src, item: &Item, kloc: Option<Loc>) -> Result<Vec<PlotSpec
             kind,
             title,
             filter,
-            xlabel: None,
-            ylabel: None,
-            log_x: None,
-            log_y: None,
-            components: Vec::new(),
+            xlabel,
+            ylabel,
+            log_x,
+            log_y,
+            components,
             loc: tloc,
         });
     }
@@ -1336,4 +1380,44 @@ pub fn columns(spec: &SweepSpec) -> Vec<String> {
         add("rep");
     }
     cols
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn plots(body: &str) -> Result<Vec<PlotSpec>, String> {
+        let text = format!("kernel = \"k.rs\"\n[axes]\ntms = [1, 2]\n[[plot]]\n{body}");
+        parse(&text, Path::new("s.toml"))
+            .map(|s| s.plots)
+            .map_err(|e| e.to_string())
+    }
+
+    #[test]
+    fn plot_keys_of_the_command_line_are_sweep_file_keys_too() {
+        let p = plots(
+            "x = \"tms\"\ny = \"energy_j\"\nkind = \"energy\"\nxlabel = \"TMs\"\n\
+             ylabel = \"Energy (J)\"\nlog_x = true\nlog_y = false\n\
+             components = [\"dram\", \"l2\"]\n",
+        )
+        .unwrap();
+        assert_eq!(p[0].xlabel.as_deref(), Some("TMs"));
+        assert_eq!(p[0].ylabel.as_deref(), Some("Energy (J)"));
+        assert_eq!((p[0].log_x, p[0].log_y), (Some(true), Some(false)));
+        assert_eq!(p[0].components, ["dram", "l2"]);
+        // Left out: chosen when drawing.
+        let p = plots("x = \"tms\"\ny = \"fps\"\n").unwrap();
+        assert_eq!((p[0].xlabel.clone(), p[0].log_x), (None, None));
+        assert!(p[0].components.is_empty());
+        // Wrong types name the field and its line.
+        for (body, field, line, msg) in [
+            ("x = \"tms\"\ny = \"fps\"\nlog_x = \"yes\"\n", "plot[0].log_x", ":7", "true or false"),
+            ("x = \"tms\"\ny = \"fps\"\ncomponents = \"dram\"\n", "plot[0].components", ":7", "array"),
+            ("x = \"tms\"\ny = \"fps\"\ncomponents = [1]\n", "plot[0].components[0]", ":7", "string"),
+            ("x = \"tms\"\ny = \"fps\"\nxlabel = 3\n", "plot[0].xlabel", ":7", "string"),
+        ] {
+            let e = plots(body).unwrap_err();
+            assert!(e.contains(field) && e.contains(line) && e.contains(msg), "{body}: {e}");
+        }
+    }
 }

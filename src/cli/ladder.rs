@@ -390,41 +390,132 @@ fn csv_text(rungs: &[Rung]) -> String {
     s
 }
 
-/// Reads one error of a rung.
-type ErrorOf = fn(&Rung) -> Option<f64>;
+/// Reads one error of a rung, and its 95% interval's bounds.
+type ErrorOf = fn(&Rung) -> (Option<f64>, Option<[f64; 2]>);
 
-/// Absolute error (%) against host seconds, log-log: one colour per metric, one point per
-/// rung (labelled); the reference (no error) and functional mode (no timing) as vertical
-/// lines at their host times. Errors below 0.001% are drawn at 0.001%.
+/// A box in pixels: left, top, right, bottom.
+type Rect = (i32, i32, i32, i32);
+
+fn overlaps(a: Rect, b: Rect) -> bool {
+    a.0 < b.2 && b.0 < a.2 && a.1 < b.3 && b.1 < a.3
+}
+
+/// Places labels of the given sizes (w, h) near their anchors: right of the anchor, else
+/// left of it, else nudged up or down a line at a time (up to 20 lines), taking the first
+/// place where the label stays inside `area` and overlaps no placed label and no marker
+/// (`markers`, boxes).
+/// Returns each label's top-left corner. A label that fits nowhere keeps the last place
+/// tried, clamped inside `area`.
+fn place_labels(
+    anchors: &[(i32, i32)],
+    sizes: &[(i32, i32)],
+    markers: &[Rect],
+    area: Rect,
+) -> Vec<(i32, i32)> {
+    const GAP: i32 = 11;
+    let mut placed: Vec<Rect> = Vec::new();
+    let mut out = Vec::new();
+    for (&(ax, ay), &(w, h)) in anchors.iter().zip(sizes) {
+        let mut best = None;
+        'search: for step in 0..40 {
+            let dy = (step + 1) / 2 * (h + 2) * if step % 2 == 1 { -1 } else { 1 };
+            for x in [ax + GAP, ax - GAP - w] {
+                let r = (x, ay - h / 2 + dy, x + w, ay - h / 2 + dy + h);
+                let inside = r.0 >= area.0 && r.1 >= area.1 && r.2 <= area.2 && r.3 <= area.3;
+                if inside
+                    && !placed.iter().any(|p| overlaps(*p, r))
+                    && !markers.iter().any(|m| overlaps(*m, r))
+                {
+                    best = Some(r);
+                    break 'search;
+                }
+            }
+        }
+        let r = best.unwrap_or_else(|| {
+            let x = (ax + GAP).min(area.2 - w).max(area.0);
+            let y = (ay - h / 2).min(area.3 - h).max(area.1);
+            (x, y, x + w, y + h)
+        });
+        placed.push(r);
+        out.push((r.0, r.1));
+    }
+    out
+}
+
+/// The absolute error (%) of a relative error, floored at `floor`.
+fn abs_pct(e: f64, floor: f64) -> f64 {
+    (100.0 * e.abs()).max(floor)
+}
+
+/// Absolute error (%) against host seconds, log-log: one colour and marker per metric, one
+/// point per rung, sampled rungs with their 95% intervals as error bars (a bar reaching the
+/// floor: the interval includes the reference's value); each rung named beside its point
+/// (placed so no name covers another or a marker, nor leaves the plot); the reference (no
+/// error) and functional mode (no timing) as vertical lines at their host times. Errors
+/// below 0.001% are drawn at 0.001%. The legend is right of the plot.
 fn plot(path: &Path, rungs: &[Rung], name: &str) -> Result<(), String> {
+    use super::plot::axis::{Axis, Unit};
     super::plot::register_font();
     const FLOOR: f64 = 1e-3;
     let metrics: [(&str, ErrorOf); 3] = [
-        ("cycles", |r| r.cycles_error),
-        ("MRPS", |r| r.mrps_error),
-        ("energy", |r| r.energy_error),
+        ("cycles", |r| (r.cycles_error, r.cycles_ci)),
+        ("MRPS", |r| (r.mrps_error, r.mrps_ci)),
+        ("energy", |r| (r.energy_error, r.energy_ci)),
     ];
     let last = rungs.len() - 1;
-    let pts = |f: ErrorOf| -> Vec<(f64, f64, usize)> {
+    let reference = &rungs[last];
+    let refv = [reference.cycles, reference.mrps, reference.energy_j];
+    // Per metric: (host s, |error| %, the interval's |error| range %) of each rung.
+    type Pt = (f64, f64, Option<(f64, f64)>);
+    let pts = |k: usize, f: ErrorOf| -> Vec<Pt> {
         rungs[..last]
             .iter()
-            .enumerate()
-            .filter_map(|(i, r)| f(r).map(|e| (r.wall_seconds, (100.0 * e.abs()).max(FLOOR), i)))
+            .filter_map(|r| {
+                let (e, ci) = f(r);
+                let bar = match (ci, refv[k]) {
+                    (Some([lo, hi]), Some(v)) if v != 0.0 => {
+                        let (a, b) = (lo / v - 1.0, hi / v - 1.0);
+                        let top = abs_pct(a, FLOOR).max(abs_pct(b, FLOOR));
+                        let bottom = if a <= 0.0 && b >= 0.0 {
+                            FLOOR
+                        } else {
+                            abs_pct(a, FLOOR).min(abs_pct(b, FLOOR))
+                        };
+                        Some((bottom, top))
+                    }
+                    _ => None,
+                };
+                e.map(|e| (r.wall_seconds.max(1e-3), abs_pct(e, FLOOR), bar))
+            })
             .collect()
     };
-    let all: Vec<(f64, f64, usize)> = metrics.iter().flat_map(|(_, f)| pts(*f)).collect();
-    let walls: Vec<f64> = rungs.iter().map(|r| r.wall_seconds.max(1e-3)).collect();
-    let (xlo, xhi) = walls
+    let series: Vec<Vec<Pt>> = metrics
         .iter()
-        .fold((f64::MAX, f64::MIN), |(lo, hi), &w| (lo.min(w), hi.max(w)));
-    let yhi = all.iter().map(|p| p.1).fold(1.0, f64::max);
+        .enumerate()
+        .map(|(k, (_, f))| pts(k, *f))
+        .collect();
+    let walls: Vec<f64> = rungs.iter().map(|r| r.wall_seconds.max(1e-3)).collect();
+    let mut ys: Vec<f64> = vec![FLOOR];
+    for p in series.iter().flatten() {
+        ys.push(p.1);
+        if let Some((_, top)) = p.2 {
+            ys.push(top);
+        }
+    }
+    let xa = Axis::fit(&walls, Unit::Number, Some(true), false, 0.12)?;
+    let mut ya = Axis::fit(&ys, Unit::Percent, Some(true), false, 0.08)?;
+    // Room above the highest point for the names of rungs without an error (functional).
+    ya.range.end += 0.12 * (ya.range.end - ya.range.start);
+    let top_y = ya.value(ya.range.end - 0.04 * (ya.range.end - ya.range.start));
     let size = super::plot::SIZE;
+    let legend_width = 130;
     let mut rgb = vec![0u8; (size.0 * size.1 * 3) as usize];
     let e = |e: &dyn std::fmt::Display| format!("{}: {e}", path.display());
     {
         let root = BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area();
         root.fill(&WHITE).map_err(|x| e(&x))?;
-        let mut chart = ChartBuilder::on(&root)
+        let (main, legend) = root.split_horizontally(size.0 - legend_width);
+        let mut chart = ChartBuilder::on(&main)
             .caption(
                 format!("{name}: error against host time"),
                 ("sans-serif", 22),
@@ -432,77 +523,205 @@ fn plot(path: &Path, rungs: &[Rung], name: &str) -> Result<(), String> {
             .margin(20)
             .x_label_area_size(50)
             .y_label_area_size(80)
-            .build_cartesian_2d(
-                (xlo / 1.5..xhi * 1.5).log_scale(),
-                (FLOOR / 2.0..yhi * 3.0).log_scale(),
-            )
+            .build_cartesian_2d(xa.coord(), ya.coord())
             .map_err(|x| e(&x))?;
+        let xf = |t: &f64| xa.label(*t);
+        let yf = |t: &f64| ya.label(*t);
         chart
             .configure_mesh()
             .x_desc("host seconds")
             .y_desc("|error| vs full detailed timing, %")
             .label_style(("sans-serif", 15))
-            .x_label_formatter(&|v| super::plot::tick(*v))
-            .y_label_formatter(&|v| super::plot::tick(*v))
+            .x_label_formatter(&xf)
+            .y_label_formatter(&yf)
             .light_line_style(WHITE)
             .draw()
             .map_err(|x| e(&x))?;
+        let at = |x: f64, y: f64| chart.backend_coord(&(xa.to_axis(x), ya.to_axis(y)));
         // Cycles and MRPS errors are often equal (the rays are exact): a ring, a dot and
-        // a cross keep every metric visible.
-        for (k, (label, f)) in metrics.iter().enumerate() {
+        // a cross keep every metric visible; their error bars sit side by side.
+        let marker = |k: usize, (x, y): (i32, i32)| -> DynElement<BitMapBackend, (i32, i32)> {
             let c = super::plot::colour(k);
-            let p = pts(*f);
-            let marker = move |(x, y): (i32, i32)| -> DynElement<BitMapBackend, (i32, i32)> {
-                match k {
-                    0 => Circle::new((x, y), 7, c.stroke_width(2)).into_dyn(),
-                    1 => Circle::new((x, y), 3, c.filled()).into_dyn(),
-                    _ => Cross::new((x, y), 5, c.stroke_width(2)).into_dyn(),
+            match k {
+                0 => Circle::new((x, y), 7, c.stroke_width(2)).into_dyn(),
+                1 => Circle::new((x, y), 3, c.filled()).into_dyn(),
+                _ => Cross::new((x, y), 5, c.stroke_width(2)).into_dyn(),
+            }
+        };
+        let mut boxes: Vec<Rect> = Vec::new();
+        for (k, p) in series.iter().enumerate() {
+            let c = super::plot::colour(k);
+            for &(x, y, bar) in p {
+                let (px, py) = at(x, y);
+                if let Some((lo, hi)) = bar {
+                    let bx = px + 4 * (k as i32 - 1);
+                    let (y0, y1) = (at(x, lo).1, at(x, hi).1);
+                    root.draw(&PathElement::new([(bx, y0), (bx, y1)], c.stroke_width(2)))
+                        .map_err(|x| e(&x))?;
+                    for yy in [y0, y1] {
+                        root.draw(&PathElement::new(
+                            [(bx - 4, yy), (bx + 4, yy)],
+                            c.stroke_width(2),
+                        ))
+                        .map_err(|x| e(&x))?;
+                    }
+                    boxes.push((bx - 5, y1.min(y0), bx + 5, y1.max(y0)));
                 }
-            };
-            chart
-                .draw_series(
-                    p.iter()
-                        .map(|&(x, y, _)| EmptyElement::at((x, y)) + marker((0, 0))),
-                )
-                .map_err(|x| e(&x))?
-                .label(*label)
-                .legend(move |(x, y)| marker((x + 10, y)));
+                root.draw(&marker(k, (px, py))).map_err(|x| e(&x))?;
+                boxes.push((px - 8, py - 8, px + 8, py + 8));
+            }
         }
-        // Rung names beside their cycles point (or at the top for rungs without one).
+        // Vertical lines at rungs without an error (functional) and at the reference.
+        let (y_lo, y_hi) = (ya.value(ya.range.start), ya.value(ya.range.end));
         for (i, r) in rungs.iter().enumerate() {
-            let y = r
-                .cycles_error
-                .map_or(yhi * 2.0, |e| (100.0 * e.abs()).max(FLOOR));
+            if r.cycles_error.is_none() || i == last {
+                let x = r.wall_seconds.max(1e-3);
+                let (p0, p1) = (at(x, y_lo), at(x, y_hi));
+                root.draw(&PathElement::new([p0, p1], BLACK.mix(0.3).stroke_width(1)))
+                    .map_err(|x| e(&x))?;
+            }
+        }
+        // Rung names: beside their cycles point, at the top for rungs without one and at
+        // the floor for the reference.
+        let font = TextStyle::from(("sans-serif", 13).into_font());
+        let mut anchors = Vec::new();
+        let mut sizes = Vec::new();
+        let mut texts = Vec::new();
+        for (i, r) in rungs.iter().enumerate() {
+            let y = match (i == last, r.cycles_error) {
+                (true, _) => FLOOR,
+                (false, Some(err)) => abs_pct(err, FLOOR),
+                (false, None) => top_y,
+            };
             let text = if i == last {
                 format!("{} (reference)", r.name)
             } else {
                 r.name.clone()
             };
-            chart
-                .draw_series(std::iter::once(Text::new(
-                    text,
-                    (r.wall_seconds.max(1e-3), y),
-                    ("sans-serif", 13),
-                )))
+            let (w, h) = root.estimate_text_size(&text, &font).map_err(|x| e(&x))?;
+            anchors.push(at(r.wall_seconds.max(1e-3), y));
+            sizes.push((w as i32, h as i32));
+            texts.push(text);
+        }
+        let (lo, hi) = (
+            at(xa.value(xa.range.start), y_hi),
+            at(xa.value(xa.range.end), y_lo),
+        );
+        let area = (lo.0 + 2, lo.1 + 2, hi.0 - 2, hi.1 - 2);
+        let placed = place_labels(&anchors, &sizes, &boxes, area);
+        for (i, (x, y)) in placed.into_iter().enumerate() {
+            root.draw(&Text::new(texts[i].clone(), (x, y), font.clone()))
                 .map_err(|x| e(&x))?;
-            if r.cycles_error.is_none() || i == last {
-                let x = r.wall_seconds.max(1e-3);
-                chart
-                    .draw_series(LineSeries::new(
-                        [(x, FLOOR / 2.0), (x, yhi * 3.0)],
-                        BLACK.mix(0.3).stroke_width(1),
-                    ))
+            // A name moved off its point's line gets a leader line to the point.
+            let ((ax, ay), (w, h)) = (anchors[i], sizes[i]);
+            if (y + h / 2 - ay).abs() > h {
+                let ex = if x > ax { x - 2 } else { x + w + 2 };
+                let ey = if y > ay { y } else { y + h };
+                root.draw(&PathElement::new([(ax, ay), (ex, ey)], BLACK.mix(0.5)))
                     .map_err(|x| e(&x))?;
             }
         }
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 15))
-            .draw()
-            .map_err(|x| e(&x))?;
+        let lfont = ("sans-serif", 15).into_font();
+        for (k, (label, _)) in metrics.iter().enumerate() {
+            let y = 90 + 26 * k as i32;
+            legend.draw(&marker(k, (16, y))).map_err(|x| e(&x))?;
+            legend
+                .draw(&Text::new(label.to_string(), (32, y - 8), lfont.clone()))
+                .map_err(|x| e(&x))?;
+        }
         root.present().map_err(|x| e(&x))?;
     }
     super::native::write_png(path, size.0, size.1, &rgb).map_err(|x| x.to_string())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rung(name: &str, wall: f64, err: Option<f64>, ci: Option<[f64; 2]>) -> Rung {
+        let v = err.map(|e| 1000.0 * (1.0 + e));
+        Rung {
+            name: name.into(),
+            mode: if ci.is_some() { "sampled" } else { "timing" },
+            dram: None,
+            windows: None,
+            wall_seconds: wall,
+            speedup: 1.0,
+            instructions: 1,
+            cycles: v,
+            mrps: v,
+            energy_j: v,
+            cycles_error: err,
+            mrps_error: err,
+            energy_error: err.map(|e| 3.0 * e),
+            cycles_ci: ci,
+            mrps_ci: ci,
+            energy_ci: ci,
+            covers: None,
+            detailed_fraction: None,
+            same_image: true,
+        }
+    }
+
+    /// Labels never overlap each other or a marker and stay in the plot, even when the
+    /// rungs crowd one spot (the chart once drew names over markers and clipped the
+    /// reference's name at the right edge).
+    #[test]
+    fn labels_are_placed_apart_and_inside() {
+        let anchors = [(700, 300), (700, 306), (702, 300), (940, 580)];
+        let sizes = [(150, 14), (150, 14), (120, 14), (200, 14)];
+        let markers: Vec<Rect> = anchors
+            .iter()
+            .map(|&(x, y)| (x - 8, y - 8, x + 8, y + 8))
+            .collect();
+        let area = (100, 50, 950, 590);
+        let at = place_labels(&anchors, &sizes, &markers, area);
+        let boxes: Vec<Rect> = at
+            .iter()
+            .zip(sizes)
+            .map(|(&(x, y), (w, h))| (x, y, x + w, y + h))
+            .collect();
+        for (i, b) in boxes.iter().enumerate() {
+            assert!(
+                b.0 >= area.0 && b.1 >= area.1 && b.2 <= area.2 && b.3 <= area.3,
+                "{b:?}"
+            );
+            assert!(
+                !markers.iter().any(|m| overlaps(*m, *b)),
+                "{i}: {b:?} over a marker"
+            );
+            for c in &boxes[..i] {
+                assert!(!overlaps(*b, *c), "{b:?} over {c:?}");
+            }
+        }
+        // The reference's name at the right edge goes left of its point.
+        assert!(boxes[3].2 <= 940);
+    }
+
+    /// The chart of a ladder with every kind of rung fits its canvas.
+    #[test]
+    fn ladder_chart_fits_its_canvas() {
+        let rungs = [
+            rung("functional", 0.3, None, None),
+            rung("timing, simple DRAM", 9.0, Some(0.0076), None),
+            rung(
+                "sampled, 10 windows",
+                3.3,
+                Some(0.0007),
+                Some([990.0, 1012.0]),
+            ),
+            rung(
+                "sampled, 30 windows",
+                3.8,
+                Some(-0.0024),
+                Some([988.0, 1006.0]),
+            ),
+            rung("timing, detailed DRAM", 9.5, Some(0.0), None),
+        ];
+        let path = std::env::temp_dir().join(format!("trax-ladder-{}.png", std::process::id()));
+        plot(&path, &rungs, "pathtracer.rs on cornell").unwrap();
+        let fits = crate::cli::plot::margins_blank(&path);
+        let _ = std::fs::remove_file(&path);
+        fits.unwrap();
+    }
 }

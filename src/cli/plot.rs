@@ -593,11 +593,6 @@ struct Labels {
     parts: Vec<&'static str>,
 }
 
-/// A tick label with SI prefixes ([`axis::format_value`]).
-pub(crate) fn tick(v: f64) -> String {
-    axis::format_value(v, Unit::Number)
-}
-
 /// The values the y axis must show: every value, or every stack's total.
 fn y_values(data: &Data, stacked: bool) -> Vec<f64> {
     if stacked {
@@ -841,6 +836,30 @@ pub fn draw_plan_plots(dir: &Path, plots: &[PlotSpec]) -> (Vec<PathBuf>, Vec<Str
     (files, errors)
 }
 
+/// Tests: whether a chart PNG is [`SIZE`] and has nothing drawn in its outer 3 pixels (no
+/// text outside the canvas or clipped at its edge).
+#[cfg(test)]
+pub(crate) fn margins_blank(png: &Path) -> Result<(), String> {
+    let dec = png::Decoder::new(std::fs::File::open(png).map_err(|e| e.to_string())?);
+    let mut reader = dec.read_info().map_err(|e| e.to_string())?;
+    let mut buf = vec![0; reader.output_buffer_size()];
+    let info = reader.next_frame(&mut buf).map_err(|e| e.to_string())?;
+    if (info.width, info.height) != SIZE {
+        return Err(format!("size {}x{}", info.width, info.height));
+    }
+    let (w, h) = (info.width as usize, info.height as usize);
+    let white = |x: usize, y: usize| buf[(y * w + x) * 3..][..3] == [255, 255, 255];
+    for m in 0..3 {
+        if let Some(x) = (0..w).find(|&x| !white(x, m) || !white(x, h - 1 - m)) {
+            return Err(format!("ink at ({x}, edge)"));
+        }
+        if let Some(y) = (0..h).find(|&y| !white(m, y) || !white(w - 1 - m, y)) {
+            return Err(format!("ink at (edge, {y})"));
+        }
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::{energy_parts, short_labels, Table};
@@ -900,14 +919,23 @@ mod tests {
 
     /// A line chart of power-of-two sizes: drawn at the chart's size, with nothing drawn
     /// in the outer margin (no text outside the canvas or clipped at its edge); bars and
-    /// stacked energy likewise; a log y axis is refused for bars.
+    /// stacked energy (12 bars, 3 components) likewise; a log y axis is refused for bars.
     #[test]
     fn charts_fit_their_canvas() {
         use super::*;
-        let header: Vec<String> = ["id", "status", "memory.l2.capacity_bytes", "tms", "fps"]
-            .iter()
-            .map(|s| s.to_string())
-            .collect();
+        let header: Vec<String> = [
+            "id",
+            "status",
+            "memory.l2.capacity_bytes",
+            "tms",
+            "fps",
+            "energy_l1_j",
+            "energy_l2_j",
+            "energy_dram_j",
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
         let mut rows = Vec::new();
         for (i, kib) in [128u64, 256, 512, 1024, 2048, 4096].iter().enumerate() {
             for tms in ["4", "16"] {
@@ -918,16 +946,24 @@ mod tests {
                     (kib * 1024).to_string(),
                     tms.to_string(),
                     fps.to_string(),
+                    (0.01 * fps).to_string(),
+                    (0.002 * fps).to_string(),
+                    (0.05 / (i as f64 + 1.0)).to_string(),
                 ]);
             }
         }
         let table = Table { header, rows };
         let dir = std::env::temp_dir().join(format!("trax-plot-fit-{}", std::process::id()));
-        for kind in [PlotKind::Line, PlotKind::Bar] {
+        for kind in [PlotKind::Line, PlotKind::Bar, PlotKind::Energy] {
             let spec = PlotSpec {
                 name: "t".into(),
                 x: "memory.l2.capacity_bytes".into(),
-                y: "fps".into(),
+                y: if kind == PlotKind::Energy {
+                    "energy_j"
+                } else {
+                    "fps"
+                }
+                .into(),
                 by: Some("tms".into()),
                 kind,
                 title: None,
@@ -940,26 +976,8 @@ mod tests {
                 loc: None,
             };
             let (png, svg) = draw(&table, &spec, &dir.join(format!("{kind:?}"))).unwrap();
-            let dec = png::Decoder::new(std::fs::File::open(&png).unwrap());
-            let mut reader = dec.read_info().unwrap();
-            let mut buf = vec![0; reader.output_buffer_size()];
-            let info = reader.next_frame(&mut buf).unwrap();
-            assert_eq!((info.width, info.height), SIZE);
-            let (w, h) = (info.width as usize, info.height as usize);
-            let white = |x: usize, y: usize| buf[(y * w + x) * 3..][..3] == [255, 255, 255];
-            for m in 0..3 {
-                for x in 0..w {
-                    assert!(
-                        white(x, m) && white(x, h - 1 - m),
-                        "{kind:?}: ink at ({x}, edge)"
-                    );
-                }
-                for y in 0..h {
-                    assert!(
-                        white(m, y) && white(w - 1 - m, y),
-                        "{kind:?}: ink at (edge, {y})"
-                    );
-                }
+            if let Err(m) = margins_blank(&png) {
+                panic!("{kind:?}: {m}");
             }
             let text = std::fs::read_to_string(svg).unwrap();
             if kind == PlotKind::Line {

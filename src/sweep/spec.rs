@@ -811,11 +811,7 @@ fn bool_item(src: &Src, name: &str, item: &Item) -> Result<bool, SpecError> {
 /// An array of strings (`components = ["dram", "l2"]`).
 fn string_list(src: &Src, name: &str, item: &Item) -> Result<Vec<String>, SpecError> {
     let Some(Value::Array(a)) = item.as_value() else {
-        return Err(src.err(
-            src.loc(item.span()),
-            name,
-            "must be an array of strings",
-        ));
+        return Err(src.err(src.loc(item.span()), name, "must be an array of strings"));
     };
     a.iter()
         .enumerate()
@@ -1411,13 +1407,36 @@ mod tests {
         assert!(p[0].components.is_empty());
         // Wrong types name the field and its line.
         for (body, field, line, msg) in [
-            ("x = \"tms\"\ny = \"fps\"\nlog_x = \"yes\"\n", "plot[0].log_x", ":7", "true or false"),
-            ("x = \"tms\"\ny = \"fps\"\ncomponents = \"dram\"\n", "plot[0].components", ":7", "array"),
-            ("x = \"tms\"\ny = \"fps\"\ncomponents = [1]\n", "plot[0].components[0]", ":7", "string"),
-            ("x = \"tms\"\ny = \"fps\"\nxlabel = 3\n", "plot[0].xlabel", ":7", "string"),
+            (
+                "x = \"tms\"\ny = \"fps\"\nlog_x = \"yes\"\n",
+                "plot[0].log_x",
+                ":7",
+                "true or false",
+            ),
+            (
+                "x = \"tms\"\ny = \"fps\"\ncomponents = \"dram\"\n",
+                "plot[0].components",
+                ":7",
+                "array",
+            ),
+            (
+                "x = \"tms\"\ny = \"fps\"\ncomponents = [1]\n",
+                "plot[0].components[0]",
+                ":7",
+                "string",
+            ),
+            (
+                "x = \"tms\"\ny = \"fps\"\nxlabel = 3\n",
+                "plot[0].xlabel",
+                ":7",
+                "string",
+            ),
         ] {
             let e = plots(body).unwrap_err();
-            assert!(e.contains(field) && e.contains(line) && e.contains(msg), "{body}: {e}");
+            assert!(
+                e.contains(field) && e.contains(line) && e.contains(msg),
+                "{body}: {e}"
+            );
         }
     }
 }

@@ -60,6 +60,9 @@ pub enum Unit {
     Bytes,
     /// Anything else: SI prefixes (k, M, G, m, µ, n) beyond 10^4 or below 10^-2.
     Number,
+    /// Percentages: plain decimals (`0.001`, never `1 m`: a prefix on a percentage reads
+    /// as a unit), scientific only beyond 10^-6..10^6.
+    Percent,
 }
 
 /// One axis: scale, unit, the drawn range and the ticks, in axis coordinates.
@@ -208,8 +211,9 @@ impl Axis {
             Scale::Log10 => {
                 let (first, last) = (a.floor() as i64, b.ceil() as i64);
                 let decades = last - first;
-                // Few decades: 1-2-5 in each; many: every decade (or every few).
-                let subs: &[f64] = if decades <= 2 {
+                // Few decades (as drawn, not as rounded out to whole decades: 0.4..9 is
+                // 1.4): 1-2-5 in each; many: every decade (or every few).
+                let subs: &[f64] = if b - a <= 2.5 {
                     &[1.0, 2.0, 5.0]
                 } else {
                     &[1.0]
@@ -302,6 +306,8 @@ pub fn format_value(v: f64, unit: Unit) -> String {
         }
         Unit::Bytes => format!("{} B", digits3(v)),
         Unit::Number if (1e-2..1e4).contains(&a) => digits3(v),
+        Unit::Percent if (1e-6..1e6).contains(&a) => digits3(v),
+        Unit::Percent => format!("{v:.1e}"),
         Unit::Number => match si_prefix(a) {
             Some((f, p)) => format!("{} {p}", digits3(v / f)),
             None => format!("{v:.1e}"),
@@ -322,6 +328,9 @@ mod tests {
         assert_eq!(format_value(0.05, Unit::Number), "0.05");
         assert_eq!(format_value(1234.0, Unit::Number), "1234");
         assert_eq!(format_value(2.5e9, Unit::Number), "2.5 G");
+        assert_eq!(format_value(0.001, Unit::Percent), "0.001");
+        assert_eq!(format_value(0.25, Unit::Percent), "0.25");
+        assert_eq!(format_value(100.0, Unit::Percent), "100");
     }
 
     /// A linear axis labels every tick with the prefix of its largest value: never `5 m`
@@ -377,6 +386,10 @@ mod tests {
         let a = Axis::fit(&[0.02, 0.9], Unit::Number, Some(true), false, 0.0).unwrap();
         let fine: Vec<String> = a.ticks.iter().map(|t| a.label(*t)).collect();
         assert_eq!(fine, ["0.02", "0.05", "0.1", "0.2", "0.5"], "{fine:?}");
+        // Under two decades that round out to three (0.4..9: 0.1..10) still get 1-2-5.
+        let a = Axis::fit(&[0.4, 9.0], Unit::Number, Some(true), false, 0.0).unwrap();
+        let fine: Vec<String> = a.ticks.iter().map(|t| a.label(*t)).collect();
+        assert_eq!(fine, ["0.5", "1", "2", "5"], "{fine:?}");
         let mut sorted = labels.clone();
         sorted.dedup();
         assert_eq!(sorted, labels);

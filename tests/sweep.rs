@@ -677,7 +677,7 @@ fn plots_have_title_labels_and_legend() {
     assert!(out.status.success(), "{}", text(&out.stderr));
     let svg = std::fs::read_to_string(dir.join("fps.svg")).unwrap();
     for want in [
-        "Frame rate vs tms by spp",
+        "Frame rate vs TMs by spp",
         "Frame rate (frames/s)",
         "Thread multiprocessors (TMs)",
         "spp = 1",

@@ -226,18 +226,65 @@ pub fn param_label(name: &str) -> String {
     if let Some((_, l)) = known.iter().find(|(k, _)| *k == name) {
         return l.to_string();
     }
-    let units = [
-        ("_bytes", "bytes"),
-        ("_ghz", "GHz"),
-        ("_mhz", "MHz"),
-        ("latency", "cycles"),
-        ("_mm2", "mm²"),
-        ("_nj", "nJ"),
-    ];
-    match units.iter().find(|(suffix, _)| name.ends_with(suffix)) {
-        Some((_, u)) => format!("{name} ({u})"),
-        None => name.to_string(),
+    let (base, unit) = split_unit(name);
+    let words = param_name(base);
+    let mut c = words.chars();
+    let words: String = match c.next() {
+        Some(f) => f.to_uppercase().chain(c).collect(),
+        None => words,
+    };
+    match unit {
+        Some(u) => format!("{words} ({u})"),
+        None => words,
     }
+}
+
+/// A parameter's unit from its name's suffix (`_ghz`: GHz, `latency`: cycles), and the name
+/// without it. Byte sizes have none: their ticks carry it (`512 KiB`).
+fn split_unit(name: &str) -> (&str, Option<&'static str>) {
+    const UNITS: [(&str, Option<&str>); 8] = [
+        ("_bytes", None),
+        ("_kb", Some("KB")),
+        ("_ghz", Some("GHz")),
+        ("_mhz", Some("MHz")),
+        ("_cycles", Some("cycles")),
+        ("latency", Some("cycles")),
+        ("_mm2", Some("mm²")),
+        ("_nj", Some("nJ")),
+    ];
+    for (suffix, unit) in UNITS {
+        if let Some(base) = name.strip_suffix(suffix).filter(|b| !b.is_empty()) {
+            // `latency` is a word of the name as well as its unit's hint.
+            let base = if suffix == "latency" { name } else { base };
+            return (base, unit);
+        }
+    }
+    (name, None)
+}
+
+/// A parameter's name as a reader says it (in titles and legends): a config path read as
+/// words (`memory.l2.capacity` → `L2 capacity`, `stream_memory.buffers` → `stream memory buffers`), a label without its `label.`
+/// prefix, `tms` as `TMs`; other run knobs as they are.
+fn param_name(name: &str) -> String {
+    let name = name.strip_prefix("label.").unwrap_or(name);
+    if name == "tms" {
+        return "TMs".into();
+    }
+    let segments: Vec<&str> = name.split('.').collect();
+    let words: Vec<String> = segments
+        .iter()
+        .enumerate()
+        // `memory.` only groups the caches and DRAM: `memory.l1.banks` reads `L1 banks`.
+        .filter(|(i, s)| !(*s == &"memory" && i + 1 < segments.len()))
+        .flat_map(|(_, s)| s.split('_'))
+        .filter(|w| !w.is_empty())
+        .map(|w| match w {
+            "l1" | "l2" | "dram" | "tm" | "bvh" | "mshrs" | "ii" => w.to_uppercase(),
+            "tms" => "TMs".into(),
+            _ => w.to_string(),
+        })
+        .collect();
+    words.join(" ")
 }
 
 /// Okabe–Ito colours (distinguishable with colour-vision deficiencies), then greys.
@@ -489,9 +536,9 @@ pub fn draw(t: &Table, spec: &PlotSpec, out: &Path) -> Result<(PathBuf, PathBuf)
         return Err("--log-y needs a line chart (bars start at 0)".into());
     }
     let title = spec.title.clone().unwrap_or_else(|| {
-        let mut t = format!("{} vs {}", ymetric.label, spec.x);
+        let mut t = format!("{} vs {}", ymetric.label, param_name(split_unit(&spec.x).0));
         if let Some(b) = &spec.by {
-            t.push_str(&format!(" by {b}"));
+            t.push_str(&format!(" by {}", param_name(split_unit(b).0)));
         }
         t
     });
@@ -657,6 +704,7 @@ fn render<DB: DrawingBackend>(
         }
         (_, Some(b)) => {
             for (s, name) in data.series.iter().enumerate() {
+                let b = param_name(split_unit(b).0);
                 entries.push((format!("{b} = {name}"), colour(s), kind == PlotKind::Line));
             }
         }
@@ -999,6 +1047,25 @@ mod tests {
             }
         }
         let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// Config paths read as words, with the unit their suffix names (byte sizes none: their
+    /// ticks say KiB/MiB); run knobs keep their names.
+    #[test]
+    fn parameters_read_as_words() {
+        for (name, want) in [
+            ("memory.l2.capacity_bytes", "L2 capacity"),
+            ("memory.l1.banks", "L1 banks"),
+            ("stream_memory.capacity_bytes", "Stream memory capacity"),
+            ("memory.dram.preset", "DRAM preset"),
+            ("memory.l2.latency", "L2 latency (cycles)"),
+            ("label.size_kb", "Size (KB)"),
+            ("clock_ghz", "Core clock (GHz)"),
+            ("tms", "Thread multiprocessors (TMs)"),
+            ("scene", "Scene"),
+        ] {
+            assert_eq!(super::param_label(name), want, "{name}");
+        }
     }
 
     #[test]

@@ -84,7 +84,7 @@ pub const LOG_SPAN: f64 = 100.0;
 impl Axis {
     /// The axis for `values` (non-finite ones ignored). `log`: `Some(true)` asks for a log
     /// axis (refused, with an error, for values <= 0), `Some(false)` for a linear one,
-    /// `None` chooses: log2 for byte sizes that are all powers of two and span 4x or more,
+    /// `None` chooses: log2 for byte sizes that are all powers of two (two or more of them),
     /// log10 for positive values spanning [`LOG_SPAN`] or more, else linear. `zero`: a
     /// linear axis starts at 0 (bars, counts). `pad`: fraction of the span added each side.
     pub fn fit(
@@ -110,7 +110,7 @@ impl Axis {
             Some(true) if unit == Unit::Bytes && pow2 => Scale::Log2,
             Some(true) => Scale::Log10,
             Some(false) => Scale::Linear,
-            None if positive && unit == Unit::Bytes && pow2 && hi / lo >= 4.0 => Scale::Log2,
+            None if positive && unit == Unit::Bytes && pow2 && hi / lo >= 2.0 => Scale::Log2,
             None if positive && hi / lo >= LOG_SPAN => Scale::Log10,
             None => Scale::Linear,
         };
@@ -367,6 +367,10 @@ mod tests {
             labels,
             ["128 KiB", "256 KiB", "512 KiB", "1 MiB", "2 MiB", "4 MiB"]
         );
+        // Two sizes (an L1 of 32 or 64 KiB): ticks at the sizes, not at 39.1 KiB, 48.8 KiB.
+        let a = Axis::fit(&[32768.0, 65536.0], Unit::Bytes, None, false, 0.05).unwrap();
+        let labels: Vec<String> = a.ticks.iter().map(|t| a.label(*t)).collect();
+        assert_eq!(labels, ["32 KiB", "64 KiB"]);
     }
 
     /// Decades: a log10 axis, labelled below 0.1 too, no tick twice ("10" once).

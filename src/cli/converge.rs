@@ -356,7 +356,6 @@ fn render_reference(a: &ConvergeArgs) -> Result<Image, String> {
 
 /// Draws RMSE against spp on log-log axes, with the fitted line and a −1/2 guide.
 fn plot(path: &Path, levels: &[Level], slope: Option<f64>, name: &str) -> Result<(), String> {
-    super::plot::register_font();
     let pts: Vec<(f64, f64)> = levels
         .iter()
         .map(|l| (l.spp as f64, l.metrics.rmse))
@@ -371,56 +370,44 @@ fn plot(path: &Path, levels: &[Level], slope: Option<f64>, name: &str) -> Result
     let (ylo, yhi) = pts.iter().fold((f64::MAX, f64::MIN), |(lo, hi), p| {
         (lo.min(p.1), hi.max(p.1))
     });
-    let size = (800u32, 600u32);
-    let mut rgb = vec![0u8; (size.0 * size.1 * 3) as usize];
-    let e = |e: &dyn std::fmt::Display| format!("{}: {e}", path.display());
-    {
-        let root = BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area();
-        root.fill(&WHITE).map_err(|x| e(&x))?;
-        let title = match slope {
-            Some(k) => format!("{name}: RMSE vs spp (fitted slope {k:.3})"),
-            None => format!("{name}: RMSE vs spp"),
-        };
-        // Log10 axes from the shared axis helper (src/cli/plot/axis.rs): every decade
-        // labelled once, 1-2-5 ticks within a few decades, below 0.1 too.
-        let xa = Axis::fit(
-            &[xlo / 1.5, xhi * 1.5],
-            Unit::Number,
-            Some(true),
-            false,
-            0.0,
+    // The kernel's file name: a full path would crowd the title.
+    let name = Path::new(name)
+        .file_name()
+        .map_or_else(|| name.to_string(), |f| f.to_string_lossy().into_owned());
+    let title = match slope {
+        Some(k) => format!("{name}: RMSE vs spp (fitted slope {k:.3})"),
+        None => format!("{name}: RMSE vs spp"),
+    };
+    // Log10 axes from the shared axis helper (src/cli/plot/axis.rs): every decade
+    // labelled once, 1-2-5 ticks within a few decades, below 0.1 too.
+    let xa = Axis::fit(
+        &[xlo / 1.5, xhi * 1.5],
+        Unit::Number,
+        Some(true),
+        false,
+        0.0,
+    )?;
+    let ya = Axis::fit(
+        &[ylo / 2.0, yhi * 2.0],
+        Unit::Number,
+        Some(true),
+        false,
+        0.0,
+    )?;
+    super::plot::png_chart(path, |root| {
+        let e = |x: &dyn std::fmt::Display| x.to_string();
+        let (main, legend) = root.split_horizontally(super::plot::SIZE.0 - 230);
+        let mut chart = super::plot::axes_chart(
+            &main,
+            &title,
+            (&xa, "samples per pixel"),
+            (&ya, "RMSE vs reference"),
         )?;
-        let ya = Axis::fit(
-            &[ylo / 2.0, yhi * 2.0],
-            Unit::Number,
-            Some(true),
-            false,
-            0.0,
-        )?;
-        let mut chart = ChartBuilder::on(&root)
-            .caption(title, ("sans-serif", 22))
-            .margin(20)
-            .x_label_area_size(50)
-            .y_label_area_size(80)
-            .build_cartesian_2d(xa.coord(), ya.coord())
-            .map_err(|x| e(&x))?;
-        chart
-            .configure_mesh()
-            .x_desc("samples per pixel")
-            .y_desc("RMSE vs reference")
-            .label_style(("sans-serif", 15))
-            .x_label_formatter(&|t| xa.label(*t))
-            .y_label_formatter(&|t| ya.label(*t))
-            .light_line_style(WHITE)
-            .draw()
-            .map_err(|x| e(&x))?;
         let at = |(x, y): (f64, f64)| (xa.to_axis(x), ya.to_axis(y));
         let pts: Vec<(f64, f64)> = pts.iter().map(|p| at(*p)).collect();
         chart
             .draw_series(LineSeries::new(pts.clone(), BLUE.stroke_width(2)))
-            .map_err(|x| e(&x))?
-            .label("measured")
-            .legend(|(x, y)| PathElement::new([(x, y), (x + 20, y)], BLUE.stroke_width(2)));
+            .map_err(|x| e(&x))?;
         chart
             .draw_series(pts.iter().map(|&p| Circle::new(p, 4, BLUE.filled())))
             .map_err(|x| e(&x))?;
@@ -431,17 +418,53 @@ fn plot(path: &Path, levels: &[Level], slope: Option<f64>, name: &str) -> Result
         ];
         chart
             .draw_series(LineSeries::new(guide, RED.stroke_width(1)))
-            .map_err(|x| e(&x))?
-            .label("slope -1/2 (Monte Carlo)")
-            .legend(|(x, y)| PathElement::new([(x, y), (x + 20, y)], RED));
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 15))
-            .draw()
             .map_err(|x| e(&x))?;
-        root.present().map_err(|x| e(&x))?;
+        super::plot::draw_legend(
+            &legend,
+            &[
+                ("measured".into(), BLUE, true),
+                ("slope -1/2 (Monte Carlo)".into(), RED, true),
+            ],
+        )?;
+        Ok(())
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The convergence chart fits its canvas (legend beside the plot), from 1 to 1024 spp
+    /// and RMSE across three decades.
+    #[test]
+    fn convergence_chart_fits_its_canvas() {
+        let levels: Vec<Level> = [1u32, 4, 16, 64, 256, 1024]
+            .iter()
+            .map(|&spp| Level {
+                spp,
+                metrics: Metrics {
+                    pixels: 1024,
+                    left_out: 0,
+                    rmse: 0.5 / f64::from(spp).sqrt(),
+                    mse: 0.25 / f64::from(spp),
+                    rel_mse: 0.0,
+                    psnr_db: None,
+                    max_abs_error: 1.0,
+                },
+                cycles: None,
+                host_seconds: 1.0,
+            })
+            .collect();
+        let path = std::env::temp_dir().join(format!("trax-converge-{}.png", std::process::id()));
+        plot(
+            &path,
+            &levels,
+            Some(-0.5),
+            "/some/long/path/to/pathtracer.rs",
+        )
+        .unwrap();
+        let fits = crate::cli::plot::margins_blank(&path);
+        let _ = std::fs::remove_file(&path);
+        fits.unwrap();
     }
-    super::native::write_png(path, size.0, size.1, &rgb).map_err(|x| x.to_string())
 }

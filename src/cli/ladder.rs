@@ -455,7 +455,6 @@ fn abs_pct(e: f64, floor: f64) -> f64 {
 /// below 0.001% are drawn at 0.001%. The legend is right of the plot.
 fn plot(path: &Path, rungs: &[Rung], name: &str) -> Result<(), String> {
     use super::plot::axis::{Axis, Unit};
-    super::plot::register_font();
     const FLOOR: f64 = 1e-3;
     let metrics: [(&str, ErrorOf); 3] = [
         ("cycles", |r| (r.cycles_error, r.cycles_ci)),
@@ -509,34 +508,15 @@ fn plot(path: &Path, rungs: &[Rung], name: &str) -> Result<(), String> {
     let top_y = ya.value(ya.range.end - 0.04 * (ya.range.end - ya.range.start));
     let size = super::plot::SIZE;
     let legend_width = 130;
-    let mut rgb = vec![0u8; (size.0 * size.1 * 3) as usize];
-    let e = |e: &dyn std::fmt::Display| format!("{}: {e}", path.display());
-    {
-        let root = BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area();
-        root.fill(&WHITE).map_err(|x| e(&x))?;
+    super::plot::png_chart(path, |root| {
+        let e = |x: &dyn std::fmt::Display| x.to_string();
         let (main, legend) = root.split_horizontally(size.0 - legend_width);
-        let mut chart = ChartBuilder::on(&main)
-            .caption(
-                format!("{name}: error against host time"),
-                ("sans-serif", 22),
-            )
-            .margin(20)
-            .x_label_area_size(50)
-            .y_label_area_size(80)
-            .build_cartesian_2d(xa.coord(), ya.coord())
-            .map_err(|x| e(&x))?;
-        let xf = |t: &f64| xa.label(*t);
-        let yf = |t: &f64| ya.label(*t);
-        chart
-            .configure_mesh()
-            .x_desc("host seconds")
-            .y_desc("|error| vs full detailed timing, %")
-            .label_style(("sans-serif", 15))
-            .x_label_formatter(&xf)
-            .y_label_formatter(&yf)
-            .light_line_style(WHITE)
-            .draw()
-            .map_err(|x| e(&x))?;
+        let chart = super::plot::axes_chart(
+            &main,
+            &format!("{name}: error against host time"),
+            (&xa, "host seconds"),
+            (&ya, "|error| vs full detailed timing, %"),
+        )?;
         let at = |x: f64, y: f64| chart.backend_coord(&(xa.to_axis(x), ya.to_axis(y)));
         // Cycles and MRPS errors are often equal (the rays are exact): a ring, a dot and
         // a cross keep every metric visible; their error bars sit side by side.
@@ -629,9 +609,8 @@ fn plot(path: &Path, rungs: &[Rung], name: &str) -> Result<(), String> {
                 .draw(&Text::new(label.to_string(), (32, y - 8), lfont.clone()))
                 .map_err(|x| e(&x))?;
         }
-        root.present().map_err(|x| e(&x))?;
-    }
-    super::native::write_png(path, size.0, size.1, &rgb).map_err(|x| x.to_string())
+        Ok(())
+    })
 }
 
 #[cfg(test)]

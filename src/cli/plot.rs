@@ -320,6 +320,52 @@ pub(crate) fn register_font() {
     });
 }
 
+/// A PNG chart of [`SIZE`] at `path`: `draw` gets the white drawing area (the font
+/// registered); errors name the file. Shared by `trax ladder` and `trax converge`.
+pub(crate) fn png_chart(
+    path: &Path,
+    draw: impl FnOnce(&DrawingArea<BitMapBackend, Shift>) -> Result<(), String>,
+) -> Result<(), String> {
+    register_font();
+    let mut rgb = vec![0u8; (SIZE.0 * SIZE.1 * 3) as usize];
+    {
+        let root = BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area();
+        root.fill(&WHITE).map_err(|x| x.to_string())?;
+        draw(&root).map_err(|x| format!("{}: {x}", path.display()))?;
+        root.present()
+            .map_err(|x| format!("{}: {x}", path.display()))?;
+    }
+    super::native::write_png(path, SIZE.0, SIZE.1, &rgb).map_err(|x| x.to_string())
+}
+
+/// A chart on `area` with `title` over axes `xa` and `ya` (described `xdesc`, `ydesc`),
+/// the mesh drawn: grid lines at the axes' ticks, tick labels from [`Axis::label`].
+pub(crate) fn axes_chart<'a, 'b>(
+    area: &'a DrawingArea<BitMapBackend<'b>, Shift>,
+    title: &str,
+    (xa, xdesc): (&Axis, &str),
+    (ya, ydesc): (&Axis, &str),
+) -> Result<ChartContext<'a, BitMapBackend<'b>, Cartesian2d<axis::Ticked, axis::Ticked>>, String> {
+    let mut chart = ChartBuilder::on(area)
+        .caption(title, ("sans-serif", 22))
+        .margin(20)
+        .x_label_area_size(50)
+        .y_label_area_size(80)
+        .build_cartesian_2d(xa.coord(), ya.coord())
+        .map_err(|x| x.to_string())?;
+    chart
+        .configure_mesh()
+        .x_desc(xdesc)
+        .y_desc(ydesc)
+        .label_style(("sans-serif", 15))
+        .x_label_formatter(&|t| xa.label(*t))
+        .y_label_formatter(&|t| ya.label(*t))
+        .light_line_style(WHITE)
+        .draw()
+        .map_err(|x| x.to_string())?;
+    Ok(chart)
+}
+
 /// Values in display order: numerically when all are numbers, else as first seen.
 fn ordered(values: impl Iterator<Item = String>) -> Vec<String> {
     let mut seen: Vec<String> = Vec::new();
@@ -662,7 +708,7 @@ fn y_values(data: &Data, stacked: bool) -> Vec<f64> {
 }
 
 /// A legend entry: text, colour, and whether its mark is a line (else a box).
-type Entry = (String, RGBColor, bool);
+pub(crate) type Entry = (String, RGBColor, bool);
 
 fn render<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
@@ -843,21 +889,28 @@ fn render<DB: DrawingBackend>(
             }
         }
     }
+    draw_legend(&legend_area, &entries)
+}
+
+/// Legend entries down `area` (a strip beside the plot, where they hide no data): a line
+/// or a box of each entry's colour, then its text.
+pub(crate) fn draw_legend<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    entries: &[Entry],
+) -> Result<(), String> {
+    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
     let font =
         TextStyle::from(("sans-serif", 15).into_font()).pos(Pos::new(HPos::Left, VPos::Center));
     for (i, (text, c, line)) in entries.iter().enumerate() {
         let y = 70 + 26 * i as i32;
         if *line {
-            legend_area
-                .draw(&PathElement::new(vec![(6, y), (30, y)], c.stroke_width(3)))
+            area.draw(&PathElement::new(vec![(6, y), (30, y)], c.stroke_width(3)))
                 .map_err(e)?;
         } else {
-            legend_area
-                .draw(&Rectangle::new([(10, y - 7), (24, y + 7)], c.filled()))
+            area.draw(&Rectangle::new([(10, y - 7), (24, y + 7)], c.filled()))
                 .map_err(e)?;
         }
-        legend_area
-            .draw(&Text::new(text.clone(), (38, y), font.clone()))
+        area.draw(&Text::new(text.clone(), (38, y), font.clone()))
             .map_err(e)?;
     }
     Ok(())

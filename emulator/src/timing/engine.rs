@@ -517,8 +517,7 @@ impl<'c> Engine<'c> {
                 // SAFETY: the round job of TM `k`: this host thread claimed it.
                 let t = unsafe { sims[k].get_mut() };
                 if !t.local && rounds.owner(k) == w {
-                    *t = t.clone();
-                    t.local = true;
+                    t.relocate();
                 }
                 t.run_quantum(shape, sh, &mut p.c, prof, from, to);
                 t.summary.0

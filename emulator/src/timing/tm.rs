@@ -243,6 +243,25 @@ pub(crate) struct TmSim {
 }
 
 impl TmSim {
+    /// Reallocates the state from the calling host thread (its own heap arena), so host
+    /// threads do not write the same cache lines; marks it [`Self::local`]. The threads'
+    /// local stores stay where they are: each is a large block of its own (64 KiB by
+    /// default) that shares a cache line with other state at its ends at most, and
+    /// copying them (256 MiB at 128 TMs x 32 threads) cost every
+    /// [`super::engine::Engine::run`], so every detailed window of a sampled run.
+    pub fn relocate(&mut self) {
+        let stores: Vec<Vec<u8>> = self
+            .threads
+            .iter_mut()
+            .map(|t| std::mem::take(&mut t.local))
+            .collect();
+        *self = self.clone();
+        for (t, store) in self.threads.iter_mut().zip(stores) {
+            t.local = store;
+        }
+        self.local = true;
+    }
+
     pub fn new(tm: usize, threads: Vec<Thread>, mem: TmMem, shape: &Shape) -> TmSim {
         let n = threads.len();
         let lanes = (0..n)
@@ -1025,5 +1044,70 @@ mod tests {
         s.ready[4] = 999;
         s.rebase(999);
         assert_eq!(&s.ready[..5], &[0, 0, 1, PENDING32, 0]);
+    }
+
+    /// Relocating a TM's state for its host thread copies everything but the threads'
+    /// local stores, which stay where they are with their contents.
+    #[test]
+    fn relocating_keeps_the_local_stores_in_place() {
+        use super::super::engine::{PipeSpec, UnitSpec};
+        let cfg = crate::timing::config::ChipConfig::preset("tiny").expect("a preset");
+        let mut mem =
+            crate::memsys::MemSystem::new(&cfg.memory, 1, 1, cfg.clock_mhz()).expect("memory");
+        let threads: Vec<Thread> = (0..4u32)
+            .map(|i| {
+                let mut t = Thread::new(0x1000, i, 0, i, 1024, 7);
+                t.local[5] = i as u8 + 1;
+                t.regs.gpr[3] = i + 10;
+                t
+            })
+            .collect();
+        let pipe = PipeSpec {
+            ii: 1,
+            latency: 1,
+            width: 1,
+            fp_mul: 0,
+            fp_add: 0,
+        };
+        let shape = Shape {
+            info: Vec::new(),
+            ops: Vec::new(),
+            base: 0x1000,
+            units: vec![
+                UnitSpec {
+                    count: 1,
+                    latency: 1,
+                    pipelined: true,
+                };
+                NUM_CLASSES
+            ],
+            icaches: 1,
+            icache_banks: 1,
+            icache_bank_mask: Some(0),
+            fetches_per_bank: 1,
+            icache_slots: 1,
+            local_latency: 1,
+            pipes: [pipe, pipe],
+            reconfig_cycles: 0,
+        };
+        let mut sim = TmSim::new(0, threads, mem.take_tms().remove(0), &shape);
+        let stores: Vec<*const u8> = sim.threads.iter().map(|t| t.local.as_ptr()).collect();
+        let regs: Vec<*const u32> = sim.threads.iter().map(|t| t.regs.gpr.as_ptr()).collect();
+        sim.relocate();
+        assert!(sim.local);
+        for (i, t) in sim.threads.iter().enumerate() {
+            assert_eq!(
+                t.local.as_ptr(),
+                stores[i],
+                "thread {i}'s local store was copied"
+            );
+            assert_ne!(
+                t.regs.gpr.as_ptr(),
+                regs[i],
+                "thread {i} was not reallocated"
+            );
+            assert_eq!((t.local.len(), t.local[5]), (1024, i as u8 + 1));
+            assert_eq!(t.regs.gpr[3], i as u32 + 10);
+        }
     }
 }

@@ -6,9 +6,10 @@ use std::fmt::Write as _;
 use serde::Serialize;
 use trax_runtime::isa::UnitClass;
 
-use super::config::{class_name, ChipConfig, UNIT_NAMES};
+use super::config::ChipConfig;
 use super::engine::{Counters, ThreadCycles};
 use super::stats_doc;
+use super::units::{self, UNITS};
 use crate::memsys::{CacheStats, MemStats};
 use crate::program::Program;
 
@@ -248,9 +249,9 @@ pub(crate) fn energy_of(
 ) -> EnergyBreakdown {
     let nj = 1e-9;
     let mut eu_energy = 0.0;
-    for k in 0..c.class_ops.len() {
-        if let Some((cl, _)) = UNIT_NAMES.iter().find(|(cl, _)| *cl as usize == k) {
-            eu_energy += cfg.unit(*cl).energy_nj * c.class_ops[k] as f64;
+    for (k, &ops) in c.class_ops.iter().enumerate() {
+        if let Some(u) = units::unit_at(k) {
+            eu_energy += cfg.unit_named(u.name).energy_nj * ops as f64;
         }
     }
     let sm = &cfg.stream_memory;
@@ -325,10 +326,12 @@ pub fn area_breakdown(cfg: &ChipConfig, l1_area_mm2: f64, l2_area_mm2: f64) -> A
     let sm = &cfg.stream_memory;
     let has_stream = sm.capacity_bytes > 0;
     let tms = cfg.tms as f64;
-    let per_tm_units: f64 = UNIT_NAMES
+    // A unit that takes instructions is on the chip only when its config lists it.
+    let per_tm_units: f64 = UNITS
         .iter()
-        .map(|(cl, _)| {
-            let u = cfg.unit(*cl);
+        .filter(|d| d.takes.is_none() || cfg.units.contains_key(d.name))
+        .map(|d| {
+            let u = cfg.unit_named(d.name);
             u.area_mm2 * u.count as f64
         })
         .sum();
@@ -373,7 +376,7 @@ pub fn build(
     let mut unit_conflicts = BTreeMap::new();
     let mut class_mix = BTreeMap::new();
     for k in 0..c.class_ops.len() {
-        let name = class_name_of(k);
+        let name = units::counter_name(k);
         if c.unit_conflicts[k] > 0 {
             unit_conflicts.insert(name.to_string(), c.unit_conflicts[k]);
         }
@@ -470,18 +473,6 @@ pub fn build(
         pipelines,
         interval_cycles: None,
     }
-}
-
-fn class_name_of(k: usize) -> &'static str {
-    use UnitClass::*;
-    let all = [
-        RegFile, IntAdd, IntMul, IntDiv, Bitwise, Branch, FpAdd, FpMul, FpMinMax, FpCmp, FpDiv,
-        FpInvSqrt, Conv, Memory, LocalStore, GlobalRegs, Debug, Stream, BoxPipe, TriPipe,
-    ];
-    all.iter()
-        .find(|c| **c as usize == k)
-        .map(|c| class_name(*c))
-        .unwrap_or("other")
 }
 
 fn pct(a: u64, b: u64) -> f64 {

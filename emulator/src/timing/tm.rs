@@ -140,12 +140,14 @@ pub(crate) enum Claim {
 }
 
 /// What issuing one instruction needs: the scoreboard slots it reads and writes, its
-/// class (for the counters) and its claim.
+/// unit (for the counters) and its claim.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) struct Op {
     pub src: [u8; 4],
     pub dst: u8,
-    pub class: UnitClass,
+    /// Counter index of its unit or class (`UnitClass as u8`, or a unit that takes
+    /// instructions: `timing::units`); indexes `Counters::class_ops` and the thread's units.
+    pub unit: u8,
     pub reg_accesses: u8,
     pub claim: Claim,
 }
@@ -559,7 +561,9 @@ impl TmSim {
                 }
             };
             if info.class != UnitClass::Debug {
-                return Some((idx, pc, shape.resolve(&info)));
+                // The text's resolved op: its unit may be one that takes it.
+                let op = shape.ops.get(idx).copied();
+                return Some((idx, pc, op.unwrap_or_else(|| shape.resolve(&info))));
             }
             c.debug_ops += 1;
             let done = self.execute(shared, c, tid, idx, now);
@@ -639,15 +643,15 @@ impl TmSim {
             return;
         }
         // Unit, memory or local store.
-        let mut class = op.class;
+        let mut unit = op.unit as usize;
         let mut ready_at = now + 1;
         let mut pending_load = false;
         match op.claim {
             Claim::Unit { latency, busy } => {
-                let free = &mut self.unit_free[lane.units[class as usize] as usize];
+                let free = &mut self.unit_free[lane.units[unit] as usize];
                 if *free > now {
                     c.tc.unit_conflict += 1;
-                    c.unit_conflicts[class as usize] += 1;
+                    c.unit_conflicts[unit] += 1;
                     charge!(CostKind::ResourceStall);
                     return;
                 }
@@ -662,7 +666,7 @@ impl TmSim {
                     t.regs.gpr[mo.base as usize & 31].wrapping_add(mo.off as u32)
                 };
                 if addr >= shared.mem.global_end() {
-                    class = UnitClass::LocalStore;
+                    unit = UnitClass::LocalStore as usize;
                     c.local_accesses += 1;
                     ready_at = now + shape.local_latency;
                 } else {
@@ -712,7 +716,7 @@ impl TmSim {
                     self.pipe_used += 1;
                 } else {
                     c.tc.unit_conflict += 1;
-                    c.unit_conflicts[class as usize] += 1;
+                    c.unit_conflicts[unit] += 1;
                     charge!(CostKind::ResourceStall);
                     return;
                 }
@@ -724,7 +728,10 @@ impl TmSim {
         // Issue: execute functionally now. The issue cycle belongs to the stack and pc
         // before execution (a call pushes, a return pops).
         charge!(CostKind::Issue);
-        let op = Op { class, ..*op };
+        let op = Op {
+            unit: unit as u8,
+            ..*op
+        };
         match self.execute(shared, c, tid, idx, now) {
             Executed::Done => {}
             Executed::Halted => self.record(tid, idx, op, now, ready_at, true),
@@ -784,7 +791,7 @@ impl TmSim {
     #[inline(always)]
     pub fn retire(&mut self, c: &mut Counters, tid: usize, op: &Op, idx: usize, ready: u64) {
         c.tc.issued += 1;
-        c.class_ops[op.class as usize] += 1;
+        c.class_ops[op.unit as usize] += 1;
         c.reg_accesses += u64::from(op.reg_accesses);
         self.lanes[tid].fetched = false;
         if op.dst != 0 {

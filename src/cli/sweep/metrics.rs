@@ -6,7 +6,7 @@
 use serde_json::Value;
 
 /// One headline metric.
-#[derive(Debug)]
+#[derive(Clone, Copy, Debug)]
 pub struct Metric {
     /// Column name.
     pub column: &'static str,
@@ -19,6 +19,9 @@ pub struct Metric {
     pub path: &'static str,
     /// A component of the energy per frame (stacked in energy charts).
     pub energy_part: bool,
+    /// A count kept in a map that lists only what happened (`timing.class_mix.NAME`):
+    /// absent from the map is 0.
+    pub absent_is_zero: bool,
 }
 
 impl Metric {
@@ -42,6 +45,7 @@ const fn m(
         unit,
         path,
         energy_part: false,
+        absent_is_zero: false,
     }
 }
 
@@ -221,9 +225,22 @@ pub const METRICS: &[Metric] = &[
     ),
 ];
 
+/// Every metric, in table order: [`METRICS`], then per execution unit of the registry
+/// (`trax_emulator::timing::UNITS`) the operations issued to it.
+pub fn all() -> &'static [Metric] {
+    static ALL: std::sync::LazyLock<Vec<Metric>> = std::sync::LazyLock::new(|| {
+        let units = trax_emulator::timing::UNITS.iter().map(|u| Metric {
+            absent_is_zero: true,
+            ..m(u.ops_column, u.ops_label, "", u.ops_path)
+        });
+        METRICS.iter().copied().chain(units).collect()
+    });
+    &ALL
+}
+
 /// The metric of a column.
 pub fn metric(column: &str) -> Option<&'static Metric> {
-    METRICS.iter().find(|m| m.column == column)
+    all().iter().find(|m| m.column == column)
 }
 
 /// `label (unit)`.
@@ -241,7 +258,25 @@ pub fn extract(m: &Metric, stats: &Value) -> Option<f64> {
     if stats.get("schema").and_then(Value::as_u64) != Some(u64::from(trax::stats::SCHEMA)) {
         return None;
     }
-    m.path.split('+').map(|p| sum_at(stats, p)).sum()
+    m.path
+        .split('+')
+        .map(|p| match sum_at(stats, p) {
+            None if m.absent_is_zero && absent_from_its_map(stats, p) => Some(0.0),
+            v => v,
+        })
+        .sum()
+}
+
+/// Whether `path`'s last key is missing from a map that is there.
+fn absent_from_its_map(v: &Value, path: &str) -> bool {
+    let (map, key) = path.rsplit_once('.').unwrap_or(("", path));
+    let parent = map
+        .split('.')
+        .filter(|k| !k.is_empty())
+        .try_fold(v, |v, k| v.get(k));
+    parent
+        .and_then(Value::as_object)
+        .is_some_and(|o| !o.contains_key(key))
 }
 
 /// The number at dotted `path` in `v`, summed over arrays marked `name[]`.
@@ -265,7 +300,7 @@ fn sum_at(v: &Value, path: &str) -> Option<f64> {
 
 /// The metric columns for runs in these modes (`functional`, `timing`).
 pub fn columns_for(functional: bool, timing: bool) -> Vec<&'static Metric> {
-    METRICS
+    all()
         .iter()
         .filter(|m| timing || (functional && m.functional()))
         .collect()
@@ -302,8 +337,13 @@ mod tests {
     #[test]
     fn every_path_names_documented_fields() {
         let stats = include_str!("../../../docs/STATS.md");
-        for m in METRICS {
+        for m in all() {
             for field in m.path.split('+') {
+                // A map's entries are documented as `MAP.*`.
+                let field = match m.absent_is_zero {
+                    true => format!("{}.*", field.rsplit_once('.').unwrap().0),
+                    false => field.to_string(),
+                };
                 assert!(
                     stats.contains(&format!("`{field}`")),
                     "{}: `{field}` is not in docs/STATS.md",
@@ -313,5 +353,28 @@ mod tests {
         }
         assert!(!metric("energy_memsys_j").unwrap().functional());
         assert!(metric("instructions").unwrap().functional());
+    }
+
+    /// Every execution unit of the registry has its column, read from the document's
+    /// class mix, 0 when the map does not list it, none in functional runs.
+    #[test]
+    fn every_unit_has_an_operations_column() {
+        let d = serde_json::json!({
+            "schema": trax::stats::SCHEMA,
+            "timing": { "class_mix": { "fp_mul": 12 } }
+        });
+        let f = serde_json::json!({ "schema": trax::stats::SCHEMA, "timing": null });
+        for u in trax_emulator::timing::UNITS {
+            let m = metric(u.ops_column).unwrap_or_else(|| panic!("{}", u.name));
+            assert!(columns_for(false, true)
+                .iter()
+                .any(|c| c.column == m.column));
+            assert!(!columns_for(true, false)
+                .iter()
+                .any(|c| c.column == m.column));
+            let want = if u.name == "fp_mul" { 12.0 } else { 0.0 };
+            assert_eq!(extract(m, &d), Some(want), "{}", u.name);
+            assert_eq!(extract(m, &f), None, "{}", u.name);
+        }
     }
 }

@@ -922,7 +922,7 @@ impl Driver<'_, '_> {
                         // for the spill sentinel: retry next quantum.
                         Stop::Retry | Stop::Defer => {
                             c.tc.sync_wait += 1;
-                            if d.op.unit == UnitClass::Stream as u8 {
+                            if d.op.unit() == UnitClass::Stream as usize {
                                 let gid = d.tm as usize * sim.threads.len() + tid;
                                 let n = tms as usize * sim.threads.len();
                                 self.streams.spill_wait(c, n, gid, d.cycle, true);
@@ -946,7 +946,7 @@ impl Driver<'_, '_> {
                 c.issued_at[idx.min(last)] += 1;
                 let op = d.op;
                 let mut ready = d.ready_at;
-                if op.unit == UnitClass::Stream as u8 {
+                if op.unit() == UnitClass::Stream as usize {
                     let gid = d.tm as usize * sim.threads.len() + tid;
                     let n = tms as usize * sim.threads.len();
                     self.streams.spill_wait(c, n, gid, d.cycle, false);
@@ -957,7 +957,7 @@ impl Driver<'_, '_> {
                         self.streams.rays(c, d.cycle, sh.streams.in_flight);
                     }
                 }
-                if op.unit == UnitClass::GlobalRegs as u8 {
+                if op.unit() == UnitClass::GlobalRegs as usize {
                     let g = &self.cfg.global_registers;
                     if gr.0 < d.cycle {
                         gr = (d.cycle, 0);
@@ -1191,11 +1191,5 @@ fn resolve(info: &OpInfo, unit: usize, units: &[UnitSpec]) -> Op {
             }
         }
     };
-    Op {
-        src: info.src,
-        dst: info.dst,
-        unit: unit as u8,
-        reg_accesses: info.reg_accesses,
-        claim,
-    }
+    Op::new(info.src, info.dst, unit, info.reg_accesses, claim)
 }

@@ -38,7 +38,7 @@ pub use engine::{ThreadCycleBucket, ThreadCycles};
 pub use intervals::Interval;
 pub use sample::{Estimate, Estimates, SampleRequest, SampledStats, VtCosts, WorkSource};
 pub use stats::{
-    area_breakdown, pipe_op_energy_nj, AreaBreakdown, EnergyBreakdown, PipelineStats, SpillStats,
-    StreamStats, TimingStats,
+    area_breakdown, pipe_op_energy_nj, stats_md_rows, AreaBreakdown, EnergyBreakdown, Part,
+    PipelineStats, SpillStats, StreamStats, TimingStats,
 };
 pub use units::{class_name, UnitDecl, UNITS};

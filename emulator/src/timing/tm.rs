@@ -146,10 +146,41 @@ pub(crate) struct Op {
     pub src: [u8; 4],
     pub dst: u8,
     /// Counter index of its unit or class (`UnitClass as u8`, or a unit that takes
-    /// instructions: `timing::units`); indexes `Counters::class_ops` and the thread's units.
-    pub unit: u8,
+    /// instructions: `timing::units`), below `NUM_CLASSES`: private, see [`Op::unit`].
+    unit: u8,
     pub reg_accesses: u8,
     pub claim: Claim,
+}
+
+const _: () = assert!(NUM_CLASSES <= 256, "counter indices are u8");
+
+impl Op {
+    /// An op on the unit of counter index `unit` (panics unless `unit < NUM_CLASSES`;
+    /// ops are made once per text word, when a run starts).
+    pub fn new(src: [u8; 4], dst: u8, unit: usize, reg_accesses: u8, claim: Claim) -> Op {
+        assert!(unit < NUM_CLASSES, "counter index {unit}");
+        Op {
+            src,
+            dst,
+            unit: unit as u8,
+            reg_accesses,
+            claim,
+        }
+    }
+
+    /// Counter index of its unit, below `NUM_CLASSES`: indexes the counters and the
+    /// thread's units without bounds checks (the issue loop's hottest lines).
+    #[inline(always)]
+    pub fn unit(&self) -> usize {
+        let k = usize::from(self.unit);
+        // SAFETY: `unit` is private to this module; an `Op` is made by `Op::new`, which
+        // checks `unit < NUM_CLASSES`, and in this module only changed to
+        // `UnitClass::LocalStore` (`issue`), an ISA class index, below
+        // `UnitClass::COUNT <= NUM_CLASSES`. Every timing run exercises it
+        // (`units::toy::tests` with a unit index beyond the ISA classes).
+        unsafe { std::hint::assert_unchecked(k < NUM_CLASSES) };
+        k
+    }
 }
 
 /// What a TM's quantum left for the serial phase, as bits: host threads OR them into the
@@ -643,7 +674,7 @@ impl TmSim {
             return;
         }
         // Unit, memory or local store.
-        let mut unit = op.unit as usize;
+        let mut unit = op.unit();
         let mut ready_at = now + 1;
         let mut pending_load = false;
         match op.claim {
@@ -791,7 +822,7 @@ impl TmSim {
     #[inline(always)]
     pub fn retire(&mut self, c: &mut Counters, tid: usize, op: &Op, idx: usize, ready: u64) {
         c.tc.issued += 1;
-        c.class_ops[op.unit as usize] += 1;
+        c.class_ops[op.unit()] += 1;
         c.reg_accesses += u64::from(op.reg_accesses);
         self.lanes[tid].fetched = false;
         if op.dst != 0 {

@@ -49,13 +49,6 @@ const fn m(
     }
 }
 
-const fn e(column: &'static str, label: &'static str, path: &'static str) -> Metric {
-    Metric {
-        energy_part: true,
-        ..m(column, label, "J", path)
-    }
-}
-
 /// The metrics, in table order.
 pub const METRICS: &[Metric] = &[
     m("instructions", "Instructions", "", "instructions"),
@@ -114,35 +107,6 @@ pub const METRICS: &[Metric] = &[
     ),
     m("power_w", "Power", "W", "timing.power_w"),
     m("energy_j", "Energy per frame", "J", "timing.energy.total"),
-    e(
-        "energy_units_j",
-        "Execution units",
-        "timing.energy.execution_units",
-    ),
-    e(
-        "energy_regs_j",
-        "Register files",
-        "timing.energy.register_files",
-    ),
-    e(
-        "energy_icache_j",
-        "Instruction caches",
-        "timing.energy.instruction_caches",
-    ),
-    e(
-        "energy_local_j",
-        "Local stores",
-        "timing.energy.local_stores",
-    ),
-    e("energy_l1_j", "L1", "timing.energy.l1"),
-    e("energy_l2_j", "L2", "timing.energy.l2"),
-    e(
-        "energy_stream_j",
-        "Stream memory",
-        "timing.energy.stream_memory",
-    ),
-    e("energy_pipelines_j", "Pipelines", "timing.energy.pipelines"),
-    e("energy_dram_j", "DRAM", "timing.energy.dram"),
     m(
         "dram_background_nj",
         "DRAM background energy (standby + refresh)",
@@ -225,15 +189,32 @@ pub const METRICS: &[Metric] = &[
     ),
 ];
 
-/// Every metric, in table order: [`METRICS`], then per execution unit of the registry
-/// (`trax_emulator::timing::UNITS`) the operations issued to it.
+/// Every metric, in table order: [`METRICS`] with the energy components after
+/// `energy_j` and the area components after `area_mm2` (their declarations:
+/// `EnergyBreakdown::PARTS`, `AreaBreakdown::PARTS`), then per execution unit of the
+/// registry (`trax_emulator::timing::UNITS`) the operations issued to it.
 pub fn all() -> &'static [Metric] {
+    use trax_emulator::timing::{AreaBreakdown, EnergyBreakdown};
     static ALL: std::sync::LazyLock<Vec<Metric>> = std::sync::LazyLock::new(|| {
-        let units = trax_emulator::timing::UNITS.iter().map(|u| Metric {
+        let mut v = Vec::new();
+        for x in METRICS {
+            v.push(*x);
+            if x.column == "energy_j" {
+                v.extend(EnergyBreakdown::PARTS.iter().map(|p| Metric {
+                    energy_part: true,
+                    ..m(p.column, p.label, "J", p.path)
+                }));
+            }
+            if x.column == "area_mm2" {
+                let area = AreaBreakdown::PARTS.iter();
+                v.extend(area.map(|p| m(p.column, p.label, "mm²", p.path)));
+            }
+        }
+        v.extend(trax_emulator::timing::UNITS.iter().map(|u| Metric {
             absent_is_zero: true,
             ..m(u.ops_column, u.ops_label, "", u.ops_path)
-        });
-        METRICS.iter().copied().chain(units).collect()
+        }));
+        v
     });
     &ALL
 }

@@ -710,6 +710,14 @@ mod tests {
             assert_eq!((p.get)(&e), (1u64 << i) as f64, "{}", p.path);
         }
         assert_eq!(e.total, 511.0);
+        let line = summary_line("energy (J)", &e, EnergyBreakdown::PARTS, e.total, |v| {
+            format!("{v}")
+        });
+        let mut want = String::from("energy (J):");
+        for (i, p) in EnergyBreakdown::PARTS.iter().enumerate() {
+            want += &format!(" {} {} ", p.short, 1u64 << i);
+        }
+        assert_eq!(line, want + " total 511");
         let json = serde_json::to_value(&e).unwrap();
         for p in EnergyBreakdown::PARTS {
             let key = p.path.rsplit_once('.').unwrap().1;

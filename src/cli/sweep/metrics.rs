@@ -336,6 +336,22 @@ mod tests {
         assert!(metric("instructions").unwrap().functional());
     }
 
+    /// Every energy and area component has its column at its path; energy ones stack.
+    #[test]
+    fn every_breakdown_part_has_a_column() {
+        use trax_emulator::timing::{AreaBreakdown, EnergyBreakdown};
+        let parts = EnergyBreakdown::PARTS
+            .iter()
+            .map(|p| (p.column, p.path, true));
+        let area = AreaBreakdown::PARTS
+            .iter()
+            .map(|p| (p.column, p.path, false));
+        for (column, path, energy) in parts.chain(area) {
+            let m = metric(column).unwrap_or_else(|| panic!("{column}"));
+            assert_eq!((m.path, m.energy_part), (path, energy), "{column}");
+        }
+    }
+
     /// Every execution unit of the registry has its column, read from the document's
     /// class mix, 0 when the map does not list it, none in functional runs.
     #[test]

@@ -449,8 +449,10 @@ mod tests {
         for (i, c) in UnitClass::ALL.iter().enumerate() {
             assert_eq!(*c as usize, i, "{c:?}");
         }
-        // Exhaustive: a new variant does not compile until it is listed here, and is
-        // then missing from `ALL` unless added there too.
+        // Exhaustive: a new variant does not compile until it is listed here (and named
+        // by `timing::units`); one added before `TriPipe` but not to `ALL` moves the
+        // discriminants checked above. (One added after `TriPipe` and not to `ALL` is not
+        // caught: keep `TriPipe` last or extend `ALL`.)
         let listed = |c: UnitClass| {
             use UnitClass::*;
             match c {

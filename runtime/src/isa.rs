@@ -129,6 +129,19 @@ pub enum UnitClass {
     TriPipe,
 }
 
+impl UnitClass {
+    /// Every class, in discriminant order (`ALL[c as usize] == c`).
+    pub const ALL: [UnitClass; 20] = {
+        use UnitClass::*;
+        [
+            RegFile, IntAdd, IntMul, IntDiv, Bitwise, Branch, FpAdd, FpMul, FpMinMax, FpCmp, FpDiv,
+            FpInvSqrt, Conv, Memory, LocalStore, GlobalRegs, Debug, Stream, BoxPipe, TriPipe,
+        ]
+    };
+    /// Number of classes.
+    pub const COUNT: usize = UnitClass::ALL.len();
+}
+
 /// Every TRaX extension operation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum TraxOp {
@@ -430,6 +443,27 @@ pub fn decode(word: u32) -> Option<&'static TraxInstr> {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn unit_class_all_is_every_class_in_discriminant_order() {
+        use super::UnitClass;
+        for (i, c) in UnitClass::ALL.iter().enumerate() {
+            assert_eq!(*c as usize, i, "{c:?}");
+        }
+        // Exhaustive: a new variant does not compile until it is listed here (and named
+        // by `timing::units`); one added before `TriPipe` but not to `ALL` moves the
+        // discriminants checked above. (One added after `TriPipe` and not to `ALL` is not
+        // caught: keep `TriPipe` last or extend `ALL`.)
+        let listed = |c: UnitClass| {
+            use UnitClass::*;
+            match c {
+                RegFile | IntAdd | IntMul | IntDiv | Bitwise | Branch | FpAdd | FpMul
+                | FpMinMax | FpCmp | FpDiv | FpInvSqrt | Conv | Memory | LocalStore
+                | GlobalRegs | Debug | Stream | BoxPipe | TriPipe => c as usize,
+            }
+        };
+        assert_eq!(listed(UnitClass::TriPipe) + 1, UnitClass::COUNT);
+    }
+
     use super::*;
     use std::collections::HashSet;
 

@@ -23,7 +23,7 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 use plotters::style::FontStyle;
 
-use super::sweep::metrics::{self, Metric, METRICS};
+use super::sweep::metrics::{self, Metric};
 
 pub(crate) mod axis;
 mod over_time;
@@ -444,7 +444,7 @@ fn gather(t: &Table, spec: &PlotSpec, ycols: &[&str]) -> Result<Data, String> {
         match t.col(y) {
             Some(c) if metrics::metric(y).is_some() => ycs.push(c),
             _ => {
-                let have: Vec<&str> = METRICS
+                let have: Vec<&str> = metrics::all()
                     .iter()
                     .map(|m| m.column)
                     .filter(|m| t.col(m).is_some())
@@ -638,7 +638,7 @@ pub fn draw(t: &Table, spec: &PlotSpec, out: &Path) -> Result<(PathBuf, PathBuf)
 /// The energy components a stacked chart draws: those named in `chosen` (a name such as
 /// `dram`, its label or its column), in that order, or every one `t` has.
 fn energy_parts(t: &Table, chosen: &[String]) -> Result<Vec<&'static Metric>, String> {
-    let have: Vec<&'static Metric> = METRICS
+    let have: Vec<&'static Metric> = metrics::all()
         .iter()
         .filter(|m| m.energy_part && t.col(m.column).is_some())
         .collect();

@@ -19,6 +19,8 @@ use std::collections::BTreeMap;
 use serde::{Deserialize, Serialize};
 use trax_runtime::isa::UnitClass;
 
+use super::units::{self, class_name, UNITS};
+
 use crate::memsys::{self, DramConfig, MemSysConfig};
 
 /// Longest latency, initiation interval or busy time of an on-chip unit, core cycles
@@ -640,10 +642,11 @@ pub struct ChipConfig {
     pub tms_per_l2: u32,
     /// Core clock, GHz. Default 1.0 (thesis).
     pub clock_ghz: f64,
-    /// Execution units per TM, keyed by class (`int_add`, `int_mul`, `int_div`, `bitwise`,
-    /// `branch`, `fp_add`, `fp_mul`, `fp_min_max`, `fp_cmp`, `fp_div`, `fp_inv_sqrt`, `conv`,
-    /// `stream`; the fused pipelines are configured in `pipelines`). A class not listed gets one unit per thread with
-    /// latency 1 and no area or energy. Default: the baseline TM (Table 2.5).
+    /// Execution units per TM, keyed by unit name (the registry `timing::units::UNITS`;
+    /// each table below says what its unit executes; the fused pipelines are configured
+    /// in `pipelines`). A unit of an instruction class not listed gets one unit per thread
+    /// with latency 1 and no area or energy; a unit that takes instructions from another
+    /// class's units is on the chip only when listed. Default: the baseline TM (Table 2.5).
     pub units: BTreeMap<String, UnitConfig>,
     /// Instruction caches.
     pub icache: ICacheConfig,
@@ -661,41 +664,6 @@ pub struct ChipConfig {
     pub pipelines: PipelinesConfig,
     /// The BVH's treelet layout in the memory image.
     pub treelets: TreeletConfig,
-}
-
-/// Execution-unit classes that can be configured, with their config key.
-pub const UNIT_NAMES: &[(UnitClass, &str)] = &[
-    (UnitClass::IntAdd, "int_add"),
-    (UnitClass::IntMul, "int_mul"),
-    (UnitClass::IntDiv, "int_div"),
-    (UnitClass::Bitwise, "bitwise"),
-    (UnitClass::Branch, "branch"),
-    (UnitClass::FpAdd, "fp_add"),
-    (UnitClass::FpMul, "fp_mul"),
-    (UnitClass::FpMinMax, "fp_min_max"),
-    (UnitClass::FpCmp, "fp_cmp"),
-    (UnitClass::FpDiv, "fp_div"),
-    (UnitClass::FpInvSqrt, "fp_inv_sqrt"),
-    (UnitClass::Conv, "conv"),
-    (UnitClass::Stream, "stream"),
-];
-
-/// Config key / stats name of a unit class.
-pub fn class_name(c: UnitClass) -> &'static str {
-    match c {
-        UnitClass::RegFile => "reg_file",
-        UnitClass::Memory => "memory",
-        UnitClass::LocalStore => "local_store",
-        UnitClass::GlobalRegs => "global_regs",
-        UnitClass::Debug => "debug",
-        UnitClass::BoxPipe => "box_pipe",
-        UnitClass::TriPipe => "tri_pipe",
-        c => UNIT_NAMES
-            .iter()
-            .find(|(k, _)| *k == c)
-            .map(|(_, n)| *n)
-            .unwrap_or("other"),
-    }
 }
 
 fn unit(count: u32, latency: u32, area_mm2: f64, energy_nj: f64) -> UnitConfig {
@@ -1006,8 +974,13 @@ impl ChipConfig {
 
     /// The units of `class` (configured or the default one-per-thread).
     pub fn unit(&self, class: UnitClass) -> UnitConfig {
+        self.unit_named(class_name(class))
+    }
+
+    /// The units named `name` in the registry (configured or the default one-per-thread).
+    pub fn unit_named(&self, name: &str) -> UnitConfig {
         self.units
-            .get(class_name(class))
+            .get(name)
             .cloned()
             .unwrap_or_else(|| unit(self.threads_per_tm, 1, 0.0, 0.0))
     }
@@ -1054,8 +1027,8 @@ impl ChipConfig {
             ));
         }
         for (k, u) in &self.units {
-            if !UNIT_NAMES.iter().any(|(_, n)| n == k) {
-                let names: Vec<&str> = UNIT_NAMES.iter().map(|(_, n)| *n).collect();
+            if units::named(k).is_none() {
+                let names: Vec<&str> = UNITS.iter().map(|u| u.name).collect();
                 let hint = if k == "box_pipe" || k == "tri_pipe" {
                     "; the fused pipelines are configured in [pipelines.box] and [pipelines.tri]"
                 } else {

@@ -161,6 +161,10 @@ fn render(out: &mut String, docs: &Docs, path: &str, ty: &str, table: &toml::Tab
         if let Some(d) = doc_of(k).filter(|d| !d.is_empty() && !map) {
             comment(out, d);
         }
+        // An execution unit's table: what the unit is, from its declaration.
+        if let Some(u) = (path == "units").then(|| super::units::named(k)).flatten() {
+            comment(out, u.doc);
+        }
         let _ = writeln!(out, "[{p}]");
         render(out, docs, &p, &sub_ty, t, sub_map);
     }

@@ -33,6 +33,7 @@ use super::config::ChipConfig;
 use super::intervals::{IntervalStream, Snapshot};
 use super::operands::{classify, OpInfo};
 use super::tm::{Claim, Deferred, Op, Summary, TmSim};
+use super::units;
 use super::workers::{rebalance, Batch, Crew, RoundCell, Rounds};
 use crate::chip::Effects;
 use crate::exec::Stop;
@@ -44,8 +45,7 @@ use crate::profile::Profiler;
 use crate::run::{Limits, Progress};
 use crate::thread::{Shared, Thread};
 
-/// Number of `UnitClass` values (array index bound).
-pub const NUM_CLASSES: usize = 24;
+pub use super::units::NUM_CLASSES;
 
 /// Declares [`ThreadCycles`] and its bucket table [`ThreadCycles::BUCKETS`] from one list:
 /// each bucket's field (also its name in the statistics document, `thread_cycles.NAME`, and
@@ -262,9 +262,10 @@ impl Shape {
             .map_or(0, |p| u64::from(p.fp_mul + p.fp_add))
     }
 
-    /// What issuing an instruction of timing facts `info` needs on this chip.
+    /// What issuing an instruction of timing facts `info` needs on this chip, on its
+    /// class's unit (instructions outside the text: no unit takes them).
     pub fn resolve(&self, info: &OpInfo) -> Op {
-        resolve(info, &self.units)
+        resolve(info, info.class as usize, &self.units)
     }
 
     /// Text index of `pc` (`info.len()` when outside the text or misaligned).
@@ -348,22 +349,27 @@ impl<'c> Engine<'c> {
         let mem = MemSystem::new(&cfg.memory, tms, cfg.tms_per_l2 as usize, cfg.clock_mhz())
             .map_err(|e| e.to_string())?;
         let units: Vec<UnitSpec> = (0..NUM_CLASSES)
-            .map(|k| match class_from_index(k).map(|c| cfg.unit(c)) {
-                Some(u) => UnitSpec {
-                    count: u.count,
-                    latency: u.latency as u64,
-                    pipelined: u.pipelined,
+            .map(
+                |k| match units::unit_at(k).map(|u| cfg.unit_named(u.name)) {
+                    Some(u) => UnitSpec {
+                        count: u.count,
+                        latency: u.latency as u64,
+                        pipelined: u.pipelined,
+                    },
+                    None => UnitSpec {
+                        count: 1,
+                        latency: 1,
+                        pipelined: true,
+                    },
                 },
-                None => UnitSpec {
-                    count: 1,
-                    latency: 1,
-                    pipelined: true,
-                },
-            })
+            )
             .collect();
         let prog = &machine.shared.program;
         let info: Vec<OpInfo> = prog.insts.iter().map(classify).collect();
-        let ops = info.iter().map(|i| resolve(i, &units)).collect();
+        let takers = units::takers_present(cfg.units.keys());
+        let ops = (prog.insts.iter().zip(&info))
+            .map(|(inst, i)| resolve(i, units::counter_of(&takers, inst, i.class), &units))
+            .collect();
         let n = info.len() + 1;
         let ic = &cfg.icache;
         Ok(Engine {
@@ -915,7 +921,7 @@ impl Driver<'_, '_> {
                         // for the spill sentinel: retry next quantum.
                         Stop::Retry | Stop::Defer => {
                             c.tc.sync_wait += 1;
-                            if d.op.class == UnitClass::Stream {
+                            if d.op.unit() == UnitClass::Stream as usize {
                                 let gid = d.tm as usize * sim.threads.len() + tid;
                                 let n = tms as usize * sim.threads.len();
                                 self.streams.spill_wait(c, n, gid, d.cycle, true);
@@ -939,7 +945,7 @@ impl Driver<'_, '_> {
                 c.issued_at[idx.min(last)] += 1;
                 let op = d.op;
                 let mut ready = d.ready_at;
-                if op.class == UnitClass::Stream {
+                if op.unit() == UnitClass::Stream as usize {
                     let gid = d.tm as usize * sim.threads.len() + tid;
                     let n = tms as usize * sim.threads.len();
                     self.streams.spill_wait(c, n, gid, d.cycle, false);
@@ -950,7 +956,7 @@ impl Driver<'_, '_> {
                         self.streams.rays(c, d.cycle, sh.streams.in_flight);
                     }
                 }
-                if op.class == UnitClass::GlobalRegs {
+                if op.unit() == UnitClass::GlobalRegs as usize {
                     let g = &self.cfg.global_registers;
                     if gr.0 < d.cycle {
                         gr = (d.cycle, 0);
@@ -1166,16 +1172,17 @@ impl Counters {
     }
 }
 
-/// What issuing an instruction of timing facts `info` needs, on a chip of `units`.
-fn resolve(info: &OpInfo, units: &[UnitSpec]) -> Op {
+/// What issuing an instruction of timing facts `info` needs, on a chip of `units`, when
+/// the unit at counter index `unit` executes it.
+fn resolve(info: &OpInfo, unit: usize, units: &[UnitSpec]) -> Op {
     let claim = match (info.class, info.mem) {
         (UnitClass::Debug, _) => Claim::Slow,
         (_, Some(mo)) => Claim::Mem(mo),
         (UnitClass::RegFile | UnitClass::GlobalRegs, None) => Claim::Free,
         (UnitClass::BoxPipe, None) => Claim::Pipe(0),
         (UnitClass::TriPipe, None) => Claim::Pipe(1),
-        (class, None) => {
-            let u = &units[class as usize];
+        (_, None) => {
+            let u = &units[unit];
             let latency = u32::try_from(u.latency).expect("unit latencies are configured as u32");
             Claim::Unit {
                 latency,
@@ -1183,19 +1190,5 @@ fn resolve(info: &OpInfo, units: &[UnitSpec]) -> Op {
             }
         }
     };
-    Op {
-        src: info.src,
-        dst: info.dst,
-        class: info.class,
-        reg_accesses: info.reg_accesses,
-        claim,
-    }
-}
-
-/// The `UnitClass` with discriminant `k`, for classes that have configurable units.
-fn class_from_index(k: usize) -> Option<UnitClass> {
-    super::config::UNIT_NAMES
-        .iter()
-        .map(|(c, _)| *c)
-        .find(|c| *c as usize == k)
+    Op::new(info.src, info.dst, unit, info.reg_accesses, claim)
 }

@@ -5,7 +5,8 @@
 //! [`engine`] (TMs of in-order single-issue thread processors, shared execution units,
 //! I-cache banks, scoreboards, local stores, global registers, the memory system of
 //! [`crate::memsys`]), [`operands`] (what each instruction reads, writes and uses),
-//! [`config`] (TOML chip configs and presets) and [`stats`] (summary and JSON).
+//! [`config`] (TOML chip configs and presets), [`units`] (the execution units, declared
+//! once) and [`stats`] (summary and JSON).
 //!
 //! Determinism and parallelism: time advances in quanta; within a quantum every TM is
 //! simulated on its own (TMs are spread over `host_threads` host threads), then chip-wide
@@ -24,18 +25,20 @@ pub mod sample;
 pub(crate) mod stats;
 mod stats_doc;
 mod tm;
+pub mod units;
 mod workers;
 
 pub use config::{
-    class_name, stream_energy_nj, ChipConfig, ConfigError, GlobalRegConfig, ICacheConfig,
-    LocalStoreConfig, Overflow, PipeConfig, PipelinesConfig, RegisterFileConfig, SpillConfig,
-    StreamMemoryConfig, TreeletAlign, TreeletConfig, TreeletForm, UnitConfig, CHIP_PRESETS,
-    DEFAULT_CHIP, STREAM_ENERGY_TABLE, UNIT_NAMES,
+    stream_energy_nj, ChipConfig, ConfigError, GlobalRegConfig, ICacheConfig, LocalStoreConfig,
+    Overflow, PipeConfig, PipelinesConfig, RegisterFileConfig, SpillConfig, StreamMemoryConfig,
+    TreeletAlign, TreeletConfig, TreeletForm, UnitConfig, CHIP_PRESETS, DEFAULT_CHIP,
+    STREAM_ENERGY_TABLE,
 };
 pub use engine::{ThreadCycleBucket, ThreadCycles};
 pub use intervals::Interval;
 pub use sample::{Estimate, Estimates, SampleRequest, SampledStats, VtCosts, WorkSource};
 pub use stats::{
-    area_breakdown, pipe_op_energy_nj, AreaBreakdown, EnergyBreakdown, PipelineStats, SpillStats,
-    StreamStats, TimingStats,
+    area_breakdown, pipe_op_energy_nj, stats_md_rows, AreaBreakdown, EnergyBreakdown, Part,
+    PipelineStats, SpillStats, StreamStats, TimingStats,
 };
+pub use units::{class_name, UnitDecl, UNITS};

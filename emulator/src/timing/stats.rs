@@ -6,59 +6,122 @@ use std::fmt::Write as _;
 use serde::Serialize;
 use trax_runtime::isa::UnitClass;
 
-use super::config::{class_name, ChipConfig, UNIT_NAMES};
+use super::config::ChipConfig;
 use super::engine::{Counters, ThreadCycles};
 use super::stats_doc;
+use super::units::{self, UNITS};
 use crate::memsys::{CacheStats, MemStats};
 use crate::program::Program;
 
-/// Energy per frame by component (thesis Figure 1.1 categories), joules.
-#[derive(Clone, Debug, Default, PartialEq, Serialize)]
-pub struct EnergyBreakdown {
-    /// Execution units.
-    pub execution_units: f64,
-    /// Register files (reads and writes).
-    pub register_files: f64,
-    /// Instruction fetch (I-caches).
-    pub instruction_caches: f64,
-    /// Local stores (stacks).
-    pub local_stores: f64,
-    /// L1 data caches.
-    pub l1: f64,
-    /// L2 data caches.
-    pub l2: f64,
-    /// Ray stream memory (STRaTA).
-    pub stream_memory: f64,
-    /// Fused box and triangle pipelines (their units' operations).
-    pub pipelines: f64,
-    /// Off-chip DRAM.
-    pub dram: f64,
-    /// Sum.
-    pub total: f64,
+/// One component of a breakdown ([`EnergyBreakdown::PARTS`], [`AreaBreakdown::PARTS`]).
+pub struct Part<B> {
+    /// Its path in the statistics document (`timing.energy.l1`).
+    pub path: &'static str,
+    /// Label in the text summary.
+    pub short: &'static str,
+    /// Sweep column (`results.csv`, `trax plot --y`; energy parts stack in energy charts).
+    pub column: &'static str,
+    /// Axis or legend label.
+    pub label: &'static str,
+    /// What it counts (the field's doc and its `docs/STATS.md` row).
+    pub doc: &'static str,
+    /// Its value.
+    pub get: fn(&B) -> f64,
 }
 
-/// Chip area by component, mm².
-#[derive(Clone, Debug, Default, PartialEq, Serialize)]
-pub struct AreaBreakdown {
-    /// Execution units (all TMs).
-    pub execution_units: f64,
-    /// Register files.
-    pub register_files: f64,
-    /// Instruction caches.
-    pub instruction_caches: f64,
-    /// Local stores.
-    pub local_stores: f64,
-    /// L1 data caches.
-    pub l1: f64,
-    /// L2 data caches.
-    pub l2: f64,
-    /// Ray stream memory (0 without one).
-    pub stream_memory: f64,
-    /// Fused pipelines beyond their units (MUXes and latches, taken as negligible, thesis
-    /// §3.2.3; the units are in `execution_units`): 0.
-    pub pipelines: f64,
-    /// Sum.
-    pub total: f64,
+/// Declares a breakdown by component from one list — per component its field, summary
+/// label, sweep column, chart label and doc — with a `total` that sums them in order: the
+/// struct, its JSON, `PARTS` (which the summary line, the sweep's energy columns and the
+/// `docs/STATS.md` rows walk).
+macro_rules! breakdown {
+    ($(#[$sdoc:meta])* $name:ident at $path:literal {
+        $( $field:ident => ($short:literal, $column:literal, $label:literal, $doc:literal), )*
+    }) => {
+        $(#[$sdoc])*
+        #[derive(Clone, Debug, Default, PartialEq, Serialize)]
+        pub struct $name {
+            $( #[doc = $doc] pub $field: f64, )*
+            /// Sum of the above.
+            pub total: f64,
+        }
+
+        impl $name {
+            /// The components, in field order.
+            pub const PARTS: &'static [Part<$name>] = &[
+                $( Part {
+                    path: concat!($path, ".", stringify!($field)),
+                    short: $short,
+                    column: $column,
+                    label: $label,
+                    doc: $doc,
+                    get: |b| b.$field,
+                }, )*
+            ];
+
+            /// `self` with `total` the sum of the components, in field order.
+            fn totalled(mut self) -> Self {
+                self.total = 0.0 $( + self.$field )*;
+                self
+            }
+        }
+    };
+}
+
+breakdown!(
+    /// Energy per frame by component (thesis Figure 1.1 categories), joules.
+    EnergyBreakdown at "timing.energy" {
+        execution_units => ("units", "energy_units_j", "Execution units", "execution units"),
+        register_files => ("regs", "energy_regs_j", "Register files", "register-file reads and writes"),
+        instruction_caches => ("icache", "energy_icache_j", "Instruction caches", "instruction fetch"),
+        local_stores => ("local", "energy_local_j", "Local stores", "local stores (stacks)"),
+        l1 => ("L1", "energy_l1_j", "L1", "L1 data caches"),
+        l2 => ("L2", "energy_l2_j", "L2", "L2 data caches"),
+        stream_memory => ("stream", "energy_stream_j", "Stream memory", "ray stream memory: `timing.stream.energy_per_access_nj` × (reads + writes + rays the spill sentinel moved)"),
+        pipelines => ("pipelines", "energy_pipelines_j", "Pipelines", "fused pipelines: box tests × `timing.pipelines.box_op_energy_nj` + triangle tests × `tri_op_energy_nj`"),
+        dram => ("DRAM", "energy_dram_j", "DRAM", "off-chip DRAM"),
+    }
+);
+
+breakdown!(
+    /// Chip area by component, mm².
+    AreaBreakdown at "timing.area" {
+        execution_units => ("units", "area_units_mm2", "Execution units", "execution units, all TMs"),
+        register_files => ("regs", "area_regs_mm2", "Register files", "register files"),
+        instruction_caches => ("icache", "area_icache_mm2", "Instruction caches", "instruction caches"),
+        local_stores => ("local", "area_local_mm2", "Local stores", "local stores"),
+        l1 => ("L1", "area_l1_mm2", "L1", "L1 data caches"),
+        l2 => ("L2", "area_l2_mm2", "L2", "L2 data caches"),
+        stream_memory => ("stream", "area_stream_mm2", "Stream memory", "ray stream memory (`chip.stream_memory.area_mm2`, or a data cache's of its capacity and banks); 0 without one"),
+        pipelines => ("pipelines", "area_pipelines_mm2", "Pipelines", "pipelines beyond the units they borrow (MUXes, latches: taken as negligible, thesis §3.2.3): 0"),
+    }
+);
+
+/// `docs/STATS.md`'s rows of a breakdown: one per component, then the total.
+pub fn stats_md_rows<B>(parts: &[Part<B>]) -> String {
+    let mut s = String::new();
+    for p in parts {
+        let _ = writeln!(s, "| `{}` | float | {} |", p.path, p.doc);
+    }
+    if let Some((map, _)) = parts.first().and_then(|p| p.path.rsplit_once('.')) {
+        let _ = writeln!(s, "| `{map}.total` | float | sum of the above |");
+    }
+    s
+}
+
+/// `title: short value  short value ...  total value` over a breakdown's parts.
+fn summary_line<B>(
+    title: &str,
+    b: &B,
+    parts: &[Part<B>],
+    total: f64,
+    fmt: fn(f64) -> String,
+) -> String {
+    let mut s = format!("{title}:");
+    for p in parts {
+        let _ = write!(s, " {} {} ", p.short, fmt((p.get)(b)));
+    }
+    let _ = write!(s, " total {}", fmt(total));
+    s
 }
 
 /// The ray stream memory's activity (all zero when the kernel uses no stream).
@@ -248,9 +311,9 @@ pub(crate) fn energy_of(
 ) -> EnergyBreakdown {
     let nj = 1e-9;
     let mut eu_energy = 0.0;
-    for k in 0..c.class_ops.len() {
-        if let Some((cl, _)) = UNIT_NAMES.iter().find(|(cl, _)| *cl as usize == k) {
-            eu_energy += cfg.unit(*cl).energy_nj * c.class_ops[k] as f64;
+    for (k, &ops) in c.class_ops.iter().enumerate() {
+        if let Some(u) = units::unit_at(k) {
+            eu_energy += cfg.unit_named(u.name).energy_nj * ops as f64;
         }
     }
     let sm = &cfg.stream_memory;
@@ -262,7 +325,7 @@ pub(crate) fn energy_of(
     let e = |p: &super::config::PipeConfig, ops: UnitClass| {
         c.class_ops[ops as usize] as f64 * pipe_op_energy_nj(cfg, p)
     };
-    let mut energy = EnergyBreakdown {
+    EnergyBreakdown {
         execution_units: eu_energy * nj,
         register_files: cfg.register_file.energy_nj * c.reg_accesses as f64 * nj,
         instruction_caches: cfg.icache.energy_nj * c.fetches as f64 * nj,
@@ -275,17 +338,8 @@ pub(crate) fn energy_of(
             * nj,
         dram: mem.dram.energy.total_nj() * nj,
         total: 0.0,
-    };
-    energy.total = energy.execution_units
-        + energy.register_files
-        + energy.instruction_caches
-        + energy.local_stores
-        + energy.l1
-        + energy.l2
-        + energy.stream_memory
-        + energy.pipelines
-        + energy.dram;
-    energy
+    }
+    .totalled()
 }
 
 fn mnemonic(p: &Program, idx: usize) -> String {
@@ -325,14 +379,16 @@ pub fn area_breakdown(cfg: &ChipConfig, l1_area_mm2: f64, l2_area_mm2: f64) -> A
     let sm = &cfg.stream_memory;
     let has_stream = sm.capacity_bytes > 0;
     let tms = cfg.tms as f64;
-    let per_tm_units: f64 = UNIT_NAMES
+    // A unit that takes instructions is on the chip only when its config lists it.
+    let per_tm_units: f64 = UNITS
         .iter()
-        .map(|(cl, _)| {
-            let u = cfg.unit(*cl);
+        .filter(|d| d.takes.is_none() || cfg.units.contains_key(d.name))
+        .map(|d| {
+            let u = cfg.unit_named(d.name);
             u.area_mm2 * u.count as f64
         })
         .sum();
-    let mut area = AreaBreakdown {
+    AreaBreakdown {
         execution_units: per_tm_units * tms,
         register_files: cfg.register_file.area_mm2 * threads as f64,
         instruction_caches: cfg.icache.area_mm2 * cfg.icache.per_tm as f64 * tms,
@@ -342,16 +398,8 @@ pub fn area_breakdown(cfg: &ChipConfig, l1_area_mm2: f64, l2_area_mm2: f64) -> A
         stream_memory: if has_stream { sm.area() } else { 0.0 },
         pipelines: 0.0,
         total: 0.0,
-    };
-    area.total = area.execution_units
-        + area.register_files
-        + area.instruction_caches
-        + area.local_stores
-        + area.l1
-        + area.l2
-        + area.stream_memory
-        + area.pipelines;
-    area
+    }
+    .totalled()
 }
 
 /// Builds the statistics from the raw counters and the chip after the run (program,
@@ -373,7 +421,7 @@ pub fn build(
     let mut unit_conflicts = BTreeMap::new();
     let mut class_mix = BTreeMap::new();
     for k in 0..c.class_ops.len() {
-        let name = class_name_of(k);
+        let name = units::counter_name(k);
         if c.unit_conflicts[k] > 0 {
             unit_conflicts.insert(name.to_string(), c.unit_conflicts[k]);
         }
@@ -470,18 +518,6 @@ pub fn build(
         pipelines,
         interval_cycles: None,
     }
-}
-
-fn class_name_of(k: usize) -> &'static str {
-    use UnitClass::*;
-    let all = [
-        RegFile, IntAdd, IntMul, IntDiv, Bitwise, Branch, FpAdd, FpMul, FpMinMax, FpCmp, FpDiv,
-        FpInvSqrt, Conv, Memory, LocalStore, GlobalRegs, Debug, Stream, BoxPipe, TriPipe,
-    ];
-    all.iter()
-        .find(|c| **c as usize == k)
-        .map(|c| class_name(*c))
-        .unwrap_or("other")
 }
 
 fn pct(a: u64, b: u64) -> f64 {
@@ -591,18 +627,15 @@ impl TimingStats {
             d.avg_read_latency_cycles,
             d.avg_read_queue
         );
-        let a = &self.area;
-        let _ = writeln!(
-            s,
-            "area (mm2): units {:.2}  regs {:.2}  icache {:.2}  local {:.2}  L1 {:.2}  L2 {:.2}  stream {:.2}  pipelines {:.2}  total {:.2}",
-            a.execution_units, a.register_files, a.instruction_caches, a.local_stores, a.l1, a.l2, a.stream_memory, a.pipelines, a.total
-        );
-        let e = &self.energy;
-        let _ = writeln!(
-            s,
-            "energy (J): units {:.3e}  regs {:.3e}  icache {:.3e}  local {:.3e}  L1 {:.3e}  L2 {:.3e}  stream {:.3e}  pipelines {:.3e}  DRAM {:.3e}  total {:.3e}  ({:.2} W)",
-            e.execution_units, e.register_files, e.instruction_caches, e.local_stores, e.l1, e.l2, e.stream_memory, e.pipelines, e.dram, e.total, self.power_w
-        );
+        let (a, e) = (&self.area, &self.energy);
+        let area = summary_line("area (mm2)", a, AreaBreakdown::PARTS, a.total, |v| {
+            format!("{v:.2}")
+        });
+        let energy = summary_line("energy (J)", e, EnergyBreakdown::PARTS, e.total, |v| {
+            format!("{v:.3e}")
+        });
+        let _ = writeln!(s, "{area}");
+        let _ = writeln!(s, "{energy}  ({:.2} W)", self.power_w);
         let de = &d.energy;
         let _ = writeln!(
             s,
@@ -631,5 +664,64 @@ impl TimingStats {
             );
         }
         s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `docs/STATS.md` documents the breakdowns with the rows their declarations give.
+    #[test]
+    fn stats_md_has_the_declared_breakdown_rows() {
+        let doc = include_str!("../../../docs/STATS.md");
+        for rows in [
+            stats_md_rows(EnergyBreakdown::PARTS),
+            stats_md_rows(AreaBreakdown::PARTS),
+        ] {
+            assert!(
+                doc.contains(&rows),
+                "docs/STATS.md lacks these rows:\n{rows}"
+            );
+        }
+    }
+
+    /// The total is the sum of the parts, and every part is read by its own field.
+    #[test]
+    fn parts_read_their_fields_and_total_sums_them() {
+        let mut e = EnergyBreakdown::default();
+        let fields = [
+            &mut e.execution_units,
+            &mut e.register_files,
+            &mut e.instruction_caches,
+            &mut e.local_stores,
+            &mut e.l1,
+            &mut e.l2,
+            &mut e.stream_memory,
+            &mut e.pipelines,
+            &mut e.dram,
+        ];
+        assert_eq!(fields.len(), EnergyBreakdown::PARTS.len());
+        for (i, f) in fields.into_iter().enumerate() {
+            *f = (1u64 << i) as f64;
+        }
+        let e = e.totalled();
+        for (i, p) in EnergyBreakdown::PARTS.iter().enumerate() {
+            assert_eq!((p.get)(&e), (1u64 << i) as f64, "{}", p.path);
+        }
+        assert_eq!(e.total, 511.0);
+        let line = summary_line("energy (J)", &e, EnergyBreakdown::PARTS, e.total, |v| {
+            format!("{v}")
+        });
+        let mut want = String::from("energy (J):");
+        for (i, p) in EnergyBreakdown::PARTS.iter().enumerate() {
+            want += &format!(" {} {} ", p.short, 1u64 << i);
+        }
+        assert_eq!(line, want + " total 511");
+        let json = serde_json::to_value(&e).unwrap();
+        for p in EnergyBreakdown::PARTS {
+            let key = p.path.rsplit_once('.').unwrap().1;
+            assert_eq!(json[key].as_f64(), Some((p.get)(&e)), "{}", p.path);
+        }
     }
 }

@@ -140,14 +140,47 @@ pub(crate) enum Claim {
 }
 
 /// What issuing one instruction needs: the scoreboard slots it reads and writes, its
-/// class (for the counters) and its claim.
+/// unit (for the counters) and its claim.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) struct Op {
     pub src: [u8; 4],
     pub dst: u8,
-    pub class: UnitClass,
+    /// Counter index of its unit or class (`UnitClass as u8`, or a unit that takes
+    /// instructions: `timing::units`), below `NUM_CLASSES`: private, see [`Op::unit`].
+    unit: u8,
     pub reg_accesses: u8,
     pub claim: Claim,
+}
+
+const _: () = assert!(NUM_CLASSES <= 256, "counter indices are u8");
+
+impl Op {
+    /// An op on the unit of counter index `unit` (panics unless `unit < NUM_CLASSES`;
+    /// ops are made once per text word, when a run starts).
+    pub fn new(src: [u8; 4], dst: u8, unit: usize, reg_accesses: u8, claim: Claim) -> Op {
+        assert!(unit < NUM_CLASSES, "counter index {unit}");
+        Op {
+            src,
+            dst,
+            unit: unit as u8,
+            reg_accesses,
+            claim,
+        }
+    }
+
+    /// Counter index of its unit, below `NUM_CLASSES`: indexes the counters and the
+    /// thread's units without bounds checks (the issue loop's hottest lines).
+    #[inline(always)]
+    pub fn unit(&self) -> usize {
+        let k = usize::from(self.unit);
+        // SAFETY: `unit` is private to this module; an `Op` is made by `Op::new`, which
+        // checks `unit < NUM_CLASSES`, and in this module only changed to
+        // `UnitClass::LocalStore` (`issue`), an ISA class index, below
+        // `UnitClass::COUNT <= NUM_CLASSES`. Every timing run exercises it
+        // (`units::toy::tests` with a unit index beyond the ISA classes).
+        unsafe { std::hint::assert_unchecked(k < NUM_CLASSES) };
+        k
+    }
 }
 
 /// What a TM's quantum left for the serial phase, as bits: host threads OR them into the
@@ -578,7 +611,9 @@ impl TmSim {
                 }
             };
             if info.class != UnitClass::Debug {
-                return Some((idx, pc, shape.resolve(&info)));
+                // The text's resolved op: its unit may be one that takes it.
+                let op = shape.ops.get(idx).copied();
+                return Some((idx, pc, op.unwrap_or_else(|| shape.resolve(&info))));
             }
             c.debug_ops += 1;
             let done = self.execute(shared, c, tid, idx, now);
@@ -658,15 +693,15 @@ impl TmSim {
             return;
         }
         // Unit, memory or local store.
-        let mut class = op.class;
+        let mut unit = op.unit();
         let mut ready_at = now + 1;
         let mut pending_load = false;
         match op.claim {
             Claim::Unit { latency, busy } => {
-                let free = &mut self.unit_free[lane.units[class as usize] as usize];
+                let free = &mut self.unit_free[lane.units[unit] as usize];
                 if *free > now {
                     c.tc.unit_conflict += 1;
-                    c.unit_conflicts[class as usize] += 1;
+                    c.unit_conflicts[unit] += 1;
                     charge!(CostKind::ResourceStall);
                     return;
                 }
@@ -681,7 +716,7 @@ impl TmSim {
                     t.regs.gpr[mo.base as usize & 31].wrapping_add(mo.off as u32)
                 };
                 if addr >= shared.mem.global_end() {
-                    class = UnitClass::LocalStore;
+                    unit = UnitClass::LocalStore as usize;
                     c.local_accesses += 1;
                     ready_at = now + shape.local_latency;
                 } else {
@@ -731,7 +766,7 @@ impl TmSim {
                     self.pipe_used += 1;
                 } else {
                     c.tc.unit_conflict += 1;
-                    c.unit_conflicts[class as usize] += 1;
+                    c.unit_conflicts[unit] += 1;
                     charge!(CostKind::ResourceStall);
                     return;
                 }
@@ -743,7 +778,10 @@ impl TmSim {
         // Issue: execute functionally now. The issue cycle belongs to the stack and pc
         // before execution (a call pushes, a return pops).
         charge!(CostKind::Issue);
-        let op = Op { class, ..*op };
+        let op = Op {
+            unit: unit as u8,
+            ..*op
+        };
         match self.execute(shared, c, tid, idx, now) {
             Executed::Done => {}
             Executed::Halted => self.record(tid, idx, op, now, ready_at, true),
@@ -803,7 +841,7 @@ impl TmSim {
     #[inline(always)]
     pub fn retire(&mut self, c: &mut Counters, tid: usize, op: &Op, idx: usize, ready: u64) {
         c.tc.issued += 1;
-        c.class_ops[op.class as usize] += 1;
+        c.class_ops[op.unit()] += 1;
         c.reg_accesses += u64::from(op.reg_accesses);
         self.lanes[tid].fetched = false;
         if op.dst != 0 {

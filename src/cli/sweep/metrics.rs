@@ -6,7 +6,7 @@
 use serde_json::Value;
 
 /// One headline metric.
-#[derive(Debug)]
+#[derive(Clone, Copy, Debug)]
 pub struct Metric {
     /// Column name.
     pub column: &'static str,
@@ -19,6 +19,9 @@ pub struct Metric {
     pub path: &'static str,
     /// A component of the energy per frame (stacked in energy charts).
     pub energy_part: bool,
+    /// A count kept in a map that lists only what happened (`timing.class_mix.NAME`):
+    /// absent from the map is 0.
+    pub absent_is_zero: bool,
 }
 
 impl Metric {
@@ -42,13 +45,7 @@ const fn m(
         unit,
         path,
         energy_part: false,
-    }
-}
-
-const fn e(column: &'static str, label: &'static str, path: &'static str) -> Metric {
-    Metric {
-        energy_part: true,
-        ..m(column, label, "J", path)
+        absent_is_zero: false,
     }
 }
 
@@ -110,35 +107,6 @@ pub const METRICS: &[Metric] = &[
     ),
     m("power_w", "Power", "W", "timing.power_w"),
     m("energy_j", "Energy per frame", "J", "timing.energy.total"),
-    e(
-        "energy_units_j",
-        "Execution units",
-        "timing.energy.execution_units",
-    ),
-    e(
-        "energy_regs_j",
-        "Register files",
-        "timing.energy.register_files",
-    ),
-    e(
-        "energy_icache_j",
-        "Instruction caches",
-        "timing.energy.instruction_caches",
-    ),
-    e(
-        "energy_local_j",
-        "Local stores",
-        "timing.energy.local_stores",
-    ),
-    e("energy_l1_j", "L1", "timing.energy.l1"),
-    e("energy_l2_j", "L2", "timing.energy.l2"),
-    e(
-        "energy_stream_j",
-        "Stream memory",
-        "timing.energy.stream_memory",
-    ),
-    e("energy_pipelines_j", "Pipelines", "timing.energy.pipelines"),
-    e("energy_dram_j", "DRAM", "timing.energy.dram"),
     m(
         "dram_background_nj",
         "DRAM background energy (standby + refresh)",
@@ -221,9 +189,39 @@ pub const METRICS: &[Metric] = &[
     ),
 ];
 
+/// Every metric, in table order: [`METRICS`] with the energy components after
+/// `energy_j` and the area components after `area_mm2` (their declarations:
+/// `EnergyBreakdown::PARTS`, `AreaBreakdown::PARTS`), then per execution unit of the
+/// registry (`trax_emulator::timing::UNITS`) the operations issued to it.
+pub fn all() -> &'static [Metric] {
+    use trax_emulator::timing::{AreaBreakdown, EnergyBreakdown};
+    static ALL: std::sync::LazyLock<Vec<Metric>> = std::sync::LazyLock::new(|| {
+        let mut v = Vec::new();
+        for x in METRICS {
+            v.push(*x);
+            if x.column == "energy_j" {
+                v.extend(EnergyBreakdown::PARTS.iter().map(|p| Metric {
+                    energy_part: true,
+                    ..m(p.column, p.label, "J", p.path)
+                }));
+            }
+            if x.column == "area_mm2" {
+                let area = AreaBreakdown::PARTS.iter();
+                v.extend(area.map(|p| m(p.column, p.label, "mm²", p.path)));
+            }
+        }
+        v.extend(trax_emulator::timing::UNITS.iter().map(|u| Metric {
+            absent_is_zero: true,
+            ..m(u.ops_column, u.ops_label, "", u.ops_path)
+        }));
+        v
+    });
+    &ALL
+}
+
 /// The metric of a column.
 pub fn metric(column: &str) -> Option<&'static Metric> {
-    METRICS.iter().find(|m| m.column == column)
+    all().iter().find(|m| m.column == column)
 }
 
 /// `label (unit)`.
@@ -241,7 +239,25 @@ pub fn extract(m: &Metric, stats: &Value) -> Option<f64> {
     if stats.get("schema").and_then(Value::as_u64) != Some(u64::from(trax::stats::SCHEMA)) {
         return None;
     }
-    m.path.split('+').map(|p| sum_at(stats, p)).sum()
+    m.path
+        .split('+')
+        .map(|p| match sum_at(stats, p) {
+            None if m.absent_is_zero && absent_from_its_map(stats, p) => Some(0.0),
+            v => v,
+        })
+        .sum()
+}
+
+/// Whether `path`'s last key is missing from a map that is there.
+fn absent_from_its_map(v: &Value, path: &str) -> bool {
+    let (map, key) = path.rsplit_once('.').unwrap_or(("", path));
+    let parent = map
+        .split('.')
+        .filter(|k| !k.is_empty())
+        .try_fold(v, |v, k| v.get(k));
+    parent
+        .and_then(Value::as_object)
+        .is_some_and(|o| !o.contains_key(key))
 }
 
 /// The number at dotted `path` in `v`, summed over arrays marked `name[]`.
@@ -265,7 +281,7 @@ fn sum_at(v: &Value, path: &str) -> Option<f64> {
 
 /// The metric columns for runs in these modes (`functional`, `timing`).
 pub fn columns_for(functional: bool, timing: bool) -> Vec<&'static Metric> {
-    METRICS
+    all()
         .iter()
         .filter(|m| timing || (functional && m.functional()))
         .collect()
@@ -302,8 +318,13 @@ mod tests {
     #[test]
     fn every_path_names_documented_fields() {
         let stats = include_str!("../../../docs/STATS.md");
-        for m in METRICS {
+        for m in all() {
             for field in m.path.split('+') {
+                // A map's entries are documented as `MAP.*`.
+                let field = match m.absent_is_zero {
+                    true => format!("{}.*", field.rsplit_once('.').unwrap().0),
+                    false => field.to_string(),
+                };
                 assert!(
                     stats.contains(&format!("`{field}`")),
                     "{}: `{field}` is not in docs/STATS.md",
@@ -313,5 +334,44 @@ mod tests {
         }
         assert!(!metric("energy_memsys_j").unwrap().functional());
         assert!(metric("instructions").unwrap().functional());
+    }
+
+    /// Every energy and area component has its column at its path; energy ones stack.
+    #[test]
+    fn every_breakdown_part_has_a_column() {
+        use trax_emulator::timing::{AreaBreakdown, EnergyBreakdown};
+        let parts = EnergyBreakdown::PARTS
+            .iter()
+            .map(|p| (p.column, p.path, true));
+        let area = AreaBreakdown::PARTS
+            .iter()
+            .map(|p| (p.column, p.path, false));
+        for (column, path, energy) in parts.chain(area) {
+            let m = metric(column).unwrap_or_else(|| panic!("{column}"));
+            assert_eq!((m.path, m.energy_part), (path, energy), "{column}");
+        }
+    }
+
+    /// Every execution unit of the registry has its column, read from the document's
+    /// class mix, 0 when the map does not list it, none in functional runs.
+    #[test]
+    fn every_unit_has_an_operations_column() {
+        let d = serde_json::json!({
+            "schema": trax::stats::SCHEMA,
+            "timing": { "class_mix": { "fp_mul": 12 } }
+        });
+        let f = serde_json::json!({ "schema": trax::stats::SCHEMA, "timing": null });
+        for u in trax_emulator::timing::UNITS {
+            let m = metric(u.ops_column).unwrap_or_else(|| panic!("{}", u.name));
+            assert!(columns_for(false, true)
+                .iter()
+                .any(|c| c.column == m.column));
+            assert!(!columns_for(true, false)
+                .iter()
+                .any(|c| c.column == m.column));
+            let want = if u.name == "fp_mul" { 12.0 } else { 0.0 };
+            assert_eq!(extract(m, &d), Some(want), "{}", u.name);
+            assert_eq!(extract(m, &f), None, "{}", u.name);
+        }
     }
 }

@@ -397,7 +397,7 @@ fn check_plot(plan: &Plan, p: &spec::PlotSpec) -> Result<(), (String, String)> {
         }
     }
     if metrics::metric(&p.y).is_none() {
-        let all: Vec<&str> = metrics::METRICS.iter().map(|m| m.column).collect();
+        let all: Vec<&str> = metrics::all().iter().map(|m| m.column).collect();
         return Err((
             "y".into(),
             format!("{:?} is not a metric (metrics: {})", p.y, all.join(", ")),

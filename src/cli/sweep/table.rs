@@ -4,7 +4,7 @@
 //!
 //! Columns: `id`, `status` (`ok`; `failed`; `stale` = its result's inputs changed since, see
 //! [`super::state`]; `running`; `pending` = not run yet), the parameters, the metrics
-//! ([`super::metrics::METRICS`]; timing-only ones when the sweep has timing points; only
+//! ([`super::metrics::all`]; timing-only ones when the sweep has timing points; only
 //! for `ok` rows: a stale result is not reported), `wall_seconds` (host time of the run)
 //! and `error` (a failed point's error, what changed for a stale one). Empty cells are
 //! missing values.

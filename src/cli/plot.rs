@@ -203,7 +203,11 @@ impl Table {
         self.header
             .iter()
             .map(String::as_str)
-            .filter(|h| !FIXED_COLUMNS.contains(h) && metrics::metric(h).is_none())
+            .filter(|h| {
+                !FIXED_COLUMNS.contains(h)
+                    && metrics::metric(h).is_none()
+                    && metrics::ci_of(h).is_none()
+            })
             .collect()
     }
 }
@@ -328,6 +332,9 @@ struct Data {
     series: Vec<String>,
     /// `values[m][s][x]` for metric column `m`.
     values: Vec<Vec<Vec<Option<f64>>>>,
+    /// Half-widths of the values' 95% intervals (sampled points' `METRIC_ci95`), as
+    /// `values`: `None` where there is none.
+    ci95: Vec<Vec<Vec<Option<f64>>>>,
 }
 
 fn gather(t: &Table, spec: &PlotSpec, ycols: &[&str]) -> Result<Data, String> {
@@ -406,31 +413,46 @@ fn gather(t: &Table, spec: &PlotSpec, ycols: &[&str]) -> Result<Data, String> {
         None => vec![String::new()],
     };
     let mut values = Vec::new();
-    for &yc in &ycs {
+    let mut ci95 = Vec::new();
+    for (&yc, y) in ycs.iter().zip(ycols) {
+        let cc = t.col(&format!("{y}{}", metrics::CI_SUFFIX));
         let mut per_series = Vec::new();
+        let mut ci_series = Vec::new();
         for s in &series {
             let mut per_x = Vec::new();
+            let mut ci_x = Vec::new();
             for x in &xs {
-                let vals: Vec<f64> = rows
+                let group: Vec<&&Vec<String>> = rows
                     .iter()
                     .filter(|r| &r[xc] == x && bc.is_none_or(|b| &r[b] == s))
-                    .filter_map(|r| r[yc].parse::<f64>().ok())
+                    .filter(|r| r[yc].parse::<f64>().is_ok())
                     .collect();
-                per_x.push(if vals.is_empty() {
-                    None
-                } else {
-                    Some(vals.iter().sum::<f64>() / vals.len() as f64)
-                });
+                let vals: Vec<f64> = group.iter().filter_map(|r| r[yc].parse().ok()).collect();
+                let n = vals.len() as f64;
+                per_x.push((!vals.is_empty()).then(|| vals.iter().sum::<f64>() / n));
+                // The mean of independent estimates: its half-width is the root of the
+                // sum of squares over n (only when every value has one).
+                let halves: Vec<f64> = group
+                    .iter()
+                    .filter_map(|r| cc.and_then(|c| r[c].parse::<f64>().ok()))
+                    .collect();
+                ci_x.push(
+                    (!halves.is_empty() && halves.len() == vals.len())
+                        .then(|| halves.iter().map(|h| h * h).sum::<f64>().sqrt() / n),
+                );
             }
             per_series.push(per_x);
+            ci_series.push(ci_x);
         }
         values.push(per_series);
+        ci95.push(ci_series);
     }
     Ok(Data {
         xs,
         numeric_x,
         series,
         values,
+        ci95,
     })
 }
 
@@ -456,11 +478,13 @@ pub fn draw(t: &Table, spec: &PlotSpec, out: &Path) -> Result<(PathBuf, PathBuf)
         // One stacked bar per (x, by) pair, labelled with both.
         let mut xs = Vec::new();
         let mut values = vec![vec![Vec::new()]; data.values.len()];
+        let mut ci95 = vec![vec![Vec::new()]; data.values.len()];
         for (x, xv) in data.xs.iter().enumerate() {
             for (s, sv) in data.series.iter().enumerate() {
                 xs.push(format!("{xv} / {sv}"));
                 for (m, per_series) in data.values.iter().enumerate() {
                     values[m][0].push(per_series[s][x]);
+                    ci95[m][0].push(data.ci95[m][s][x]);
                 }
             }
         }
@@ -469,6 +493,7 @@ pub fn draw(t: &Table, spec: &PlotSpec, out: &Path) -> Result<(PathBuf, PathBuf)
             numeric_x: false,
             series: vec![String::new()],
             values,
+            ci95,
         };
         xlabel = format!("{xlabel} / {b}");
     }
@@ -598,7 +623,8 @@ pub(crate) fn tick(v: f64) -> String {
     axis::format_value(v, Unit::Number)
 }
 
-/// The values the y axis must show: every value, or every stack's total.
+/// The values the y axis must show: every value and its interval's ends (those above 0, so
+/// a log axis stays possible), or every stack's total.
 fn y_values(data: &Data, stacked: bool) -> Vec<f64> {
     if stacked {
         let mut v = Vec::new();
@@ -609,18 +635,36 @@ fn y_values(data: &Data, stacked: bool) -> Vec<f64> {
         }
         v
     } else {
-        data.values
-            .iter()
-            .flatten()
-            .flatten()
-            .flatten()
-            .copied()
-            .collect()
+        let mut v: Vec<f64> = Vec::new();
+        for (vm, cm) in data.values.iter().zip(&data.ci95) {
+            for (vs, cs) in vm.iter().zip(cm) {
+                for (val, ci) in vs.iter().zip(cs) {
+                    let Some(val) = *val else { continue };
+                    v.push(val);
+                    if let Some(h) = *ci {
+                        v.push(val + h);
+                        if val - h > 0.0 {
+                            v.push(val - h);
+                        }
+                    }
+                }
+            }
+        }
+        v
     }
 }
 
-/// A legend entry: text, colour, and whether its mark is a line (else a box).
-type Entry = (String, RGBColor, bool);
+/// A legend entry's mark.
+#[derive(Clone, Copy, PartialEq)]
+enum Mark {
+    Line,
+    Box,
+    /// An error bar with caps.
+    Interval,
+}
+
+/// A legend entry: text, colour, mark.
+type Entry = (String, RGBColor, Mark);
 
 fn render<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
@@ -656,16 +700,25 @@ fn render<DB: DrawingBackend>(
     match (kind, &l.by) {
         (PlotKind::Energy, _) => {
             for (m, part) in l.parts.iter().enumerate() {
-                entries.push((part.to_string(), colour(m), false));
+                entries.push((part.to_string(), colour(m), Mark::Box));
             }
             entries.reverse(); // top of the stack first, as drawn
         }
         (_, Some(b)) => {
             for (s, name) in data.series.iter().enumerate() {
-                entries.push((format!("{b} = {name}"), colour(s), kind == PlotKind::Line));
+                let mark = if kind == PlotKind::Line {
+                    Mark::Line
+                } else {
+                    Mark::Box
+                };
+                entries.push((format!("{b} = {name}"), colour(s), mark));
             }
         }
         (_, None) => {}
+    }
+    let intervals = kind != PlotKind::Energy && data.ci95[0].iter().flatten().any(Option::is_some);
+    if intervals {
+        entries.push(("95% interval (sampled)".into(), BLACK, Mark::Interval));
     }
     // The legend goes right of the plot, where it hides no data.
     let legend_width = match entries.iter().map(|(t, _, _)| t.chars().count()).max() {
@@ -800,18 +853,66 @@ fn render<DB: DrawingBackend>(
             }
         }
     }
+    // 95% intervals of sampled points: a bar with caps over each mark.
+    if intervals {
+        let floor = yaxis.range.start;
+        for s in 0..groups {
+            let c = if kind == PlotKind::Bar {
+                BLACK
+            } else {
+                colour(s)
+            };
+            for (i, (v, h)) in data.values[0][s].iter().zip(&data.ci95[0][s]).enumerate() {
+                let (Some(v), Some(h)) = (*v, *h) else {
+                    continue;
+                };
+                let (x, cap) = match kind {
+                    PlotKind::Bar => (bar_x(s, i) + width / 2.0, width / 8.0),
+                    _ if categorical => (i as f64, 0.08),
+                    _ => match data.xs[i].parse::<f64>() {
+                        Ok(xv) => (px(xv), 0.01 * (xcoord.range.end - xcoord.range.start)),
+                        Err(_) => continue,
+                    },
+                };
+                let lo = if v - h > 0.0 || yaxis.scale == axis::Scale::Linear {
+                    py(v - h)
+                } else {
+                    floor
+                };
+                let hi = py(v + h);
+                let style = c.stroke_width(2);
+                chart
+                    .draw_series([
+                        PathElement::new(vec![(x, lo), (x, hi)], style),
+                        PathElement::new(vec![(x - cap, lo), (x + cap, lo)], style),
+                        PathElement::new(vec![(x - cap, hi), (x + cap, hi)], style),
+                    ])
+                    .map_err(e)?;
+            }
+        }
+    }
     let font =
         TextStyle::from(("sans-serif", 15).into_font()).pos(Pos::new(HPos::Left, VPos::Center));
-    for (i, (text, c, line)) in entries.iter().enumerate() {
+    for (i, (text, c, mark)) in entries.iter().enumerate() {
         let y = 70 + 26 * i as i32;
-        if *line {
-            legend_area
+        match mark {
+            Mark::Line => legend_area
                 .draw(&PathElement::new(vec![(6, y), (30, y)], c.stroke_width(3)))
-                .map_err(e)?;
-        } else {
-            legend_area
+                .map_err(e)?,
+            Mark::Box => legend_area
                 .draw(&Rectangle::new([(10, y - 7), (24, y + 7)], c.filled()))
-                .map_err(e)?;
+                .map_err(e)?,
+            Mark::Interval => {
+                for seg in [
+                    [(17, y - 9), (17, y + 9)],
+                    [(12, y - 9), (22, y - 9)],
+                    [(12, y + 9), (22, y + 9)],
+                ] {
+                    legend_area
+                        .draw(&PathElement::new(seg.to_vec(), c.stroke_width(2)))
+                        .map_err(e)?;
+                }
+            }
         }
         legend_area
             .draw(&Text::new(text.clone(), (38, y), font.clone()))

@@ -49,6 +49,8 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 use toml_edit::{ImDocument, Item, Value};
+use trax_emulator::timing::sample::{MIN_WARMUP_CYCLES, MIN_WINDOWS};
+use trax_emulator::NUM_GLOBALS;
 
 /// A parameter value.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -206,6 +208,39 @@ pub const KNOBS: &[Knob] = &[
     knob("quantum", U32, None),
     knob("max_instructions", KnobKind::Int(1, i64::MAX), None),
     knob("max_cycles", KnobKind::Int(1, i64::MAX), None),
+    // Sampled simulation (`trax run --sample N` and its `--sample-*` flags): a point with
+    // `sample` is a sampled run, its metrics estimates with 95% intervals.
+    knob(
+        "sample",
+        KnobKind::Int(MIN_WINDOWS as i64, u32::MAX as i64),
+        None,
+    ),
+    knob(
+        "sample_warmup",
+        KnobKind::Int(MIN_WARMUP_CYCLES as i64, i64::MAX),
+        None,
+    ),
+    knob(
+        "sample_window",
+        KnobKind::Int(MIN_WARMUP_CYCLES as i64, i64::MAX),
+        None,
+    ),
+    knob(
+        "sample_counter",
+        KnobKind::Int(0, NUM_GLOBALS as i64 - 1),
+        None,
+    ),
+    knob("sample_items", U32, None),
+    knob("sample_seed", KnobKind::Int(0, u32::MAX as i64), None),
+];
+
+/// The knobs that set how a sampled point samples (each needs `sample`).
+pub const SAMPLE_KNOBS: &[&str] = &[
+    "sample_warmup",
+    "sample_window",
+    "sample_counter",
+    "sample_items",
+    "sample_seed",
 ];
 
 const fn knob(name: &'static str, kind: KnobKind, default: Option<DefaultVal>) -> Knob {

@@ -74,6 +74,14 @@ pub const MIN_WINDOWS: u32 = 10;
 /// in flight; a loaded DRAM round trip is hundreds of cycles.
 pub const MIN_WARMUP_CYCLES: u64 = 1000;
 
+/// Default warm-up before each window's measurement, cycles (`trax run --sample-warmup`).
+pub const DEFAULT_WARMUP: u64 = 2000;
+
+/// Default measured cycles of each window (`trax run --sample-window`).
+pub const DEFAULT_WINDOW: u64 = 8000;
+
+const _: () = assert!(DEFAULT_WARMUP >= MIN_WARMUP_CYCLES && DEFAULT_WINDOW >= DEFAULT_WARMUP);
+
 /// Virtual cycles per round of the fast-forward (each thread runs until its virtual time,
 /// instructions plus load stalls, reaches the round's): small, so the L1s see a TM's
 /// threads interleaved much as in timing; large enough to cost little.

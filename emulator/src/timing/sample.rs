@@ -441,8 +441,30 @@ pub struct SampledStats {
     pub fast_forward_wall_seconds: f64,
     /// The estimates.
     pub estimates: Estimates,
+    /// Each measured stratum, in frame order: where it lies in the run and what its
+    /// window measured (to set a window beside a full run at the same instructions).
+    pub strata: Vec<StratumRecord>,
     /// What the user should know about these estimates.
     pub warnings: Vec<String>,
+}
+
+/// One measured stratum of a sampled run (`sampled.strata[]`).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct StratumRecord {
+    /// Instructions executed in the run before the stratum (its start, exact).
+    pub start_executed: u64,
+    /// Instructions executed in the stratum (exact; with any unmeasured neighbour's).
+    pub executed: u64,
+    /// Instructions the window executed while measured.
+    pub window_executed: u64,
+    /// Cycles the window measured.
+    pub window_cycles: u64,
+    /// The window's rays in the stream memory per cycle (0 without one) and its
+    /// TM-cycles idle for lack of rays.
+    pub window_rays_in_flight: f64,
+    pub window_idle_tm_cycles: u64,
+    /// Whether the window was cut short at the stratum's end.
+    pub cut: bool,
 }
 
 impl SampledStats {
@@ -1341,7 +1363,9 @@ pub(crate) fn run(
     // Strata: executed instructions between crossings; an unmeasured window's stratum
     // joins the next measured one (the last ones join the previous).
     let mut strata: Vec<Stratum> = Vec::new();
+    let mut records: Vec<StratumRecord> = Vec::new();
     let mut carry = 0.0;
+    let mut carry_from: Option<u64> = None;
     let mut cut = 0;
     for (h, window) in windows.iter().enumerate() {
         let (Some(x0), Some(x1)) = (cross.at[h], cross.at[h + 1]) else {
@@ -1351,20 +1375,34 @@ pub(crate) fn run(
             ));
         };
         let e = (x1 - x0) as f64 + carry;
+        let from = *carry_from.get_or_insert(x0);
         match *window {
             Some((w, was_cut)) => {
                 strata.push(Stratum {
                     executed: e,
                     window: w,
                 });
+                records.push(StratumRecord {
+                    start_executed: from,
+                    executed: e as u64,
+                    window_executed: w.0[EXECUTED] as u64,
+                    window_cycles: w.0[CYCLES] as u64,
+                    window_rays_in_flight: ratio(w.0[RAY_CYCLES], w.0[CYCLES]),
+                    window_idle_tm_cycles: w.0[IDLE_TM_CYCLES] as u64,
+                    cut: was_cut,
+                });
                 cut += u32::from(was_cut);
                 carry = 0.0;
+                carry_from = None;
             }
             None => carry = e,
         }
     }
     if let Some(last) = strata.last_mut() {
         last.executed += carry;
+    }
+    if let Some(last) = records.last_mut() {
+        last.executed += carry as u64;
     }
     let measured = strata.len() as u32;
     if measured < MIN_WINDOWS || measured * 3 < spec.windows * 2 {
@@ -1436,6 +1474,7 @@ pub(crate) fn run(
             detailed_wall_seconds: detailed_wall,
             fast_forward_wall_seconds: ff_wall,
             estimates,
+            strata: records,
             warnings,
         }),
     })

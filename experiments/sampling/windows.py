@@ -1,0 +1,72 @@
+#!/usr/bin/env python3
+"""Sets a sampled run's windows beside a full run of the same frame, stratum by stratum.
+
+    experiments/sampling/windows.py FULL.json SAMPLED.json
+
+FULL.json: `trax run ... --stats-interval N --stats-json` (its `timing.intervals`);
+SAMPLED.json: the same run with `--sample K` (its `sampled.strata`). For each stratum it
+takes the full run's cycles over the stratum's instructions (the intervals' cumulative
+instructions, interpolated; the full run counts issued instructions, the sampled run
+executed ones, so positions are scaled by issued / (issued + debug ops)) and compares
+that stratum's cycles per instruction with its window's: the window's error is the
+estimator's error on that stratum. Prints one line per stratum and the weighted sum
+(the middle's cycles: what the estimate sums) against the full run's.
+"""
+import bisect
+import json
+import sys
+
+
+def main():
+    if len(sys.argv) != 3:
+        sys.exit(__doc__)
+    full = json.load(open(sys.argv[1]))
+    samp = json.load(open(sys.argv[2]))
+    iv = full["timing"]["intervals"]
+    if not iv:
+        sys.exit(f"{sys.argv[1]}: no timing.intervals (run it with --stats-interval N)")
+    strata = samp["sampled"].get("strata")
+    if not strata:
+        sys.exit(f"{sys.argv[2]}: no sampled.strata (a sampled run of this trax or later)")
+    issued = full["instructions"]
+    scale = issued / (issued + full["timing"]["debug_ops"])
+    xs, cs = [0.0], [0.0]
+    for i in iv:
+        xs.append(xs[-1] + i["instructions"])
+        cs.append(i["end_cycle"])
+
+    def cycle_at(executed):
+        x = executed * scale
+        j = min(max(bisect.bisect_left(xs, x), 1), len(xs) - 1)
+        x0, x1 = xs[j - 1], xs[j]
+        f = 0.0 if x1 == x0 else (x - x0) / (x1 - x0)
+        return cs[j - 1] + f * (cs[j] - cs[j - 1])
+
+    print(f"{'h':>3} {'start':>6} {'share':>6} {'full CPI':>9} {'window CPI':>10} "
+          f"{'error':>7} {'rays':>8} {'cut':>4}")
+    total_exec = samp["sampled"]["executed_instructions"]
+    est = truth = 0.0
+    errs = []
+    for h, s in enumerate(strata):
+        a, e = s["start_executed"], s["executed"]
+        true_c = cycle_at(a + e) - cycle_at(a)
+        cpi_full = true_c / e
+        cpi_win = s["window_cycles"] / s["window_executed"]
+        err = cpi_win / cpi_full - 1
+        errs.append(err)
+        est += e * cpi_win
+        truth += true_c
+        print(f"{h:>3} {a / total_exec:>6.1%} {e / total_exec:>6.1%} {cpi_full:>9.4f} "
+              f"{cpi_win:>10.4f} {err:>+7.2%} {s['window_rays_in_flight']:>8.0f} "
+              f"{'cut' if s['cut'] else '':>4}")
+    mean = sum(errs) / len(errs)
+    print(f"middle: windows sum to {est:.0f} cycles, the full run has {truth:.0f} there "
+          f"({est / truth - 1:+.2%}); mean per-stratum error {mean:+.2%}, "
+          f"{sum(1 for x in errs if x > 0)}/{len(errs)} strata high")
+    est_total = samp["sampled"]["estimates"]["cycles"]["estimate"]
+    print(f"whole run: estimate {est_total:.0f}, full {full['cycles']} "
+          f"({est_total / full['cycles'] - 1:+.2%})")
+
+
+if __name__ == "__main__":
+    main()

@@ -35,6 +35,16 @@ def main():
         xs.append(xs[-1] + i["instructions"])
         cs.append(i["end_cycle"])
 
+    def full_rays(c0, c1):
+        """The full run's mean rays in flight over cycles c0..c1 (its intervals')."""
+        num = den = 0.0
+        for i in iv:
+            lo, hi = max(c0, i["start_cycle"]), min(c1, i["end_cycle"])
+            if hi > lo and i.get("mean_rays_in_flight") is not None:
+                num += (hi - lo) * i["mean_rays_in_flight"]
+                den += hi - lo
+        return num / den if den else float("nan")
+
     def cycle_at(executed):
         x = executed * scale
         j = min(max(bisect.bisect_left(xs, x), 1), len(xs) - 1)
@@ -42,14 +52,18 @@ def main():
         f = 0.0 if x1 == x0 else (x - x0) / (x1 - x0)
         return cs[j - 1] + f * (cs[j] - cs[j - 1])
 
+    print(f"head ends at {strata[0]['start_executed'] / samp['sampled']['executed_instructions']:.1%} "
+          f"of the instructions, the tail starts at "
+          f"{(strata[-1]['start_executed'] + strata[-1]['executed']) / samp['sampled']['executed_instructions']:.1%}")
     print(f"{'h':>3} {'start':>6} {'share':>6} {'full CPI':>9} {'window CPI':>10} "
-          f"{'error':>7} {'rays':>8} {'cut':>4}")
+          f"{'error':>7} {'rays full':>9} {'window':>7} {'cut':>4}")
     total_exec = samp["sampled"]["executed_instructions"]
     est = truth = 0.0
     errs = []
     for h, s in enumerate(strata):
         a, e = s["start_executed"], s["executed"]
-        true_c = cycle_at(a + e) - cycle_at(a)
+        c0, c1 = cycle_at(a), cycle_at(a + e)
+        true_c = c1 - c0
         cpi_full = true_c / e
         cpi_win = s["window_cycles"] / s["window_executed"]
         err = cpi_win / cpi_full - 1
@@ -57,7 +71,8 @@ def main():
         est += e * cpi_win
         truth += true_c
         print(f"{h:>3} {a / total_exec:>6.1%} {e / total_exec:>6.1%} {cpi_full:>9.4f} "
-              f"{cpi_win:>10.4f} {err:>+7.2%} {s['window_rays_in_flight']:>8.0f} "
+              f"{cpi_win:>10.4f} {err:>+7.2%} {full_rays(c0, c1):>9.0f} "
+              f"{s['window_rays_in_flight']:>7.0f} "
               f"{'cut' if s['cut'] else '':>4}")
     mean = sum(errs) / len(errs)
     print(f"middle: windows sum to {est:.0f} cycles, the full run has {truth:.0f} there "

@@ -1758,4 +1758,25 @@ fn sampled_points_carry_their_intervals_into_the_table_and_plots() {
         assert_eq!(r["status"], "ok");
         assert!(!sampled_ids.contains(&r["id"]), "the point kept its id");
     }
+    // `trax sweep --sample N` samples every point, as `sample = N` in the file would; a
+    // file that gives `sample` already is refused.
+    let plain = sweep_file(&dir, &format!("kernel = {k:?}\n[axes]\ntms = [1, 2]\n"));
+    let out = trax(&[
+        "sweep",
+        plain.to_str().unwrap(),
+        "--sample",
+        "12",
+        "--dry-run",
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let listed = text(&out.stdout);
+    assert_eq!(listed.matches("sample=12").count(), 2, "{listed}");
+    let f = sweep_file(&dir, &body(10));
+    let out = trax(&["sweep", f.to_str().unwrap(), "--sample", "12", "--dry-run"]);
+    assert!(!out.status.success());
+    assert!(
+        text(&out.stderr).contains("gives `sample` already (line 10)"),
+        "{}",
+        text(&out.stderr)
+    );
 }

@@ -519,6 +519,38 @@ pub struct SweepSpec {
     pub limits: Limits,
 }
 
+impl SweepSpec {
+    /// Adds a parameter every point shares, as if the file gave it at the top level (`trax
+    /// sweep --sample N`); refused when the file gives it already, or the value is not one
+    /// the knob takes. `flag` names the option in errors.
+    pub fn add_fixed(&mut self, flag: &str, name: &str, v: PVal) -> Result<(), String> {
+        check_knob(name, &v).map_err(|m| format!("{flag}: {m}"))?;
+        let given = self
+            .fixed
+            .iter()
+            .map(|(n, _)| n)
+            .chain(self.axes.iter().map(|a| &a.name))
+            .chain(self.cases.iter().flatten().map(|(n, _)| n))
+            .find(|n| n.v == name);
+        if let Some(n) = given {
+            return Err(format!(
+                "{flag}: {} gives `{name}` already (line {})",
+                self.file.display(),
+                n.loc.line
+            ));
+        }
+        let loc = Loc::default();
+        self.fixed.push((
+            At {
+                v: name.to_string(),
+                loc,
+            },
+            At { v, loc },
+        ));
+        Ok(())
+    }
+}
+
 /// One expanded point.
 #[derive(Clone, Debug)]
 pub struct Point {

@@ -19,6 +19,7 @@ use trax_assembler::image::{
 use trax_assembler::link::{link, Input, LinkOptions};
 use trax_assembler::scene::{LoadOptions, Scene};
 use trax_compiler::{compile_file, CompileError, CompileOptions, Emit, Prelude};
+use trax_emulator::memsys::dram_config::{DramConfig, DramModel};
 use trax_emulator::timing::{ChipConfig, TreeletForm, DEFAULT_CHIP};
 use trax_emulator::{Mode, RunReport, RunRequest, Segment};
 use trax_runtime::abi::PIXEL_BYTES;
@@ -674,6 +675,7 @@ pub fn chip_config(
     l2s: Option<u32>,
 ) -> Result<ChipConfig, String> {
     let mut chip = ChipConfig::load(config).map_err(|e| e.to_string())?;
+    let base = (chip.tms, chip.memory.dram.clone());
     chip.apply_overrides(sets).map_err(|e| e.to_string())?;
     chip.name = chip_label_of(config, &chip.name, sets, tms, threads, l2s);
     for (flag, v) in [("tms", tms), ("threads", threads), ("l2s", l2s)] {
@@ -694,5 +696,79 @@ pub fn chip_config(
         chip.tms_per_l2 = chip.tms.div_ceil(l2s);
     }
     chip.validate().map_err(|e| e.to_string())?;
+    if let Some(slice) = slice_note(&chip, base.0, &base.1) {
+        chip.name = format!("{} [{slice}]", chip.name);
+    }
     Ok(chip)
+}
+
+/// What a chip slice (fewer TMs than its config file) keeps of the memory system, for its
+/// label (the summary's `chip:` line and the statistics' `chip.name`): the L2s it has, and
+/// whether the DRAM system is the whole chip's (it is unless changed with `--set
+/// memory.dram...`): a slice's DRAM energy and bandwidth are then the full system's.
+fn slice_note(chip: &ChipConfig, base_tms: u32, base_dram: &DramConfig) -> Option<String> {
+    if chip.tms >= base_tms {
+        return None;
+    }
+    let d = &chip.memory.dram;
+    let dram = match d.model {
+        DramModel::Detailed => format!(
+            "{} channel(s), {:.0} GB/s peak",
+            d.detailed.channels,
+            d.detailed.peak_gbps()
+        ),
+        DramModel::Simple => format!(
+            "simple model, {} B/cycle",
+            d.simple.bandwidth_bytes_per_cycle
+        ),
+    };
+    let kept = if d == base_dram {
+        "the full DRAM system"
+    } else {
+        "a DRAM system as set"
+    };
+    Some(format!(
+        "slice of {} of {base_tms} TMs, {} L2(s), {kept}: {dram}",
+        chip.tms,
+        chip.tms.div_ceil(chip.tms_per_l2)
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::chip_config;
+    use toml::Value;
+
+    /// A chip with fewer TMs than its config says so in its label, with the L2s it keeps
+    /// and whether its DRAM system is the whole chip's.
+    #[test]
+    fn a_chip_slice_states_its_dram_system() {
+        let name = |sets: &[(&str, Value)], tms: Option<u32>| {
+            let sets: Vec<(String, Value)> = sets
+                .iter()
+                .map(|(k, v)| (k.to_string(), v.clone()))
+                .collect();
+            chip_config("strata-plus", &sets, tms, None, None)
+                .unwrap()
+                .name
+        };
+        assert_eq!(
+            name(&[], Some(32)),
+            "strata-plus + 1 override (tms=32) [slice of 32 of 128 TMs, 1 L2(s), \
+             the full DRAM system: 8 channel(s), 512 GB/s peak]"
+        );
+        let set = name(
+            &[
+                ("tms", Value::Integer(64)),
+                ("memory.dram.detailed.channels", Value::Integer(4)),
+            ],
+            None,
+        );
+        assert!(
+            set.ends_with("[slice of 64 of 128 TMs, 2 L2(s), a DRAM system as set: 4 channel(s), 256 GB/s peak]"),
+            "{set}"
+        );
+        assert_eq!(name(&[], None), "strata-plus");
+        assert!(!name(&[], Some(128)).contains("slice"));
+    }
 }

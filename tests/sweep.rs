@@ -162,6 +162,30 @@ fn bad_sweep_files_name_the_field_and_line() {
             "`kernel`",
             "no such file",
         ),
+        (
+            format!("kernel = {k:?}\nsample = 5\n"),
+            ":2:",
+            "`sample`",
+            "5 is out of range 10..=",
+        ),
+        (
+            format!("kernel = {k:?}\n[axes]\nsample_warmup = [1000, 2000]\n"),
+            ":3:",
+            "`sample_warmup`",
+            "needs `sample = N`",
+        ),
+        (
+            format!("kernel = {k:?}\nmode = \"functional\"\nsample = 10\n"),
+            ":3:",
+            "`sample`",
+            "a sampled run is a timing run",
+        ),
+        (
+            format!("kernel = {k:?}\nsample = 10\nsample_window = 1500\n"),
+            ":3:",
+            "`sample_window`",
+            "shorter than its warm-up (2000 cycles)",
+        ),
     ];
     for (body, pos, field, want) in cases {
         let f = sweep_file(&dir, body);
@@ -1601,5 +1625,158 @@ fn sizes_are_checked_names_are_names_and_executables_are_kernels() {
             "notes.txt: not a kernel source (.rs, .c, .cpp, .cc, .cxx) nor a TRaX executable"
         ),
         "{err}"
+    );
+}
+
+/// A sweep with sampled points (`sample = N`): results.csv carries each estimate and its
+/// 95% half-width (`cycles`, `cycles_ci95`) as the point's statistics have them, empty
+/// for full runs; plots draw the intervals as error bars; `trax sweep status` given the
+/// results directory relative to the working directory finds the points done; a changed
+/// sampling setting makes new points that run.
+#[test]
+fn sampled_points_carry_their_intervals_into_the_table_and_plots() {
+    let dir = scratch("sampled");
+    let k = root().join("examples/mandelbrot.rs").display().to_string();
+    let body = |windows: u32| {
+        format!(
+            "kernel = {k:?}\nwidth = 64\nheight = 64\n[axes]\ntms = [1, 2]\n\
+             [[cases]]\nlabel.how = \"full\"\n\
+             [[cases]]\nlabel.how = \"sampled\"\nsample = {windows}\nsample_warmup = 1000\nsample_window = 1000\n\
+             [[plot]]\nname = \"line\"\nx = \"tms\"\ny = \"cycles\"\nby = \"label.how\"\n\
+             [[plot]]\nname = \"bars\"\nx = \"tms\"\ny = \"cycles\"\nkind = \"bar\"\nwhere = {{ \"label.how\" = \"sampled\" }}\n"
+        )
+    };
+    let (out, out_dir, rows) = sweep_rows(&dir, &body(10));
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let (header, _) = read_csv(&out_dir.join("results.csv"));
+    let at = |c: &str| {
+        header
+            .iter()
+            .position(|h| h == c)
+            .unwrap_or_else(|| panic!("no column {c}"))
+    };
+    assert_eq!(at("cycles_ci95"), at("cycles") + 1, "{header:?}");
+    assert_eq!(at("energy_j_ci95"), at("energy_j") + 1, "{header:?}");
+    assert!(
+        header.iter().all(|h| h != "l1_accesses_ci95"),
+        "not estimated: {header:?}"
+    );
+    assert_eq!(rows.len(), 4);
+    let mut sampled_ids = Vec::new();
+    for r in &rows {
+        assert_eq!(r["status"], "ok", "{r:?}");
+        let doc = read_json(&out_dir.join("points").join(format!("{}.json", r["id"])));
+        let stats = &doc["stats"];
+        if r["label.how"] == "full" {
+            assert_eq!(stats["mode"], "timing");
+            assert_eq!(r["cycles"], stats["cycles"].to_string());
+            assert_eq!(r["cycles_ci95"], "", "a full run has no interval");
+            continue;
+        }
+        sampled_ids.push(r["id"].clone());
+        assert_eq!(stats["mode"], "sampled");
+        assert_eq!(r["sample"], "10");
+        for (col, name, scale) in [
+            ("cycles", "cycles", 1.0),
+            ("energy_j", "energy_j", 1.0),
+            ("dram_dynamic_nj", "energy_dram_dynamic_j", 1e9),
+        ] {
+            let e = &stats["sampled"]["estimates"][name];
+            let f = |k: &str| e[k].as_f64().unwrap() * scale;
+            let cell = |c: &str| r[c].parse::<f64>().unwrap();
+            let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * b.abs();
+            assert!(close(cell(col), f("estimate")), "{col}: {r:?}");
+            let half = (f("ci95_high") - f("ci95_low")) / 2.0;
+            let ci = cell(&format!("{col}_ci95"));
+            assert!(ci > 0.0 && close(ci, half), "{col}_ci95 {ci} vs {half}");
+        }
+    }
+    // Error bars: in the legend, and drawn (the chart differs from one without them).
+    for name in ["line", "bars"] {
+        let svg = std::fs::read_to_string(out_dir.join(format!("plots/{name}.svg"))).unwrap();
+        assert!(
+            svg.contains("95% interval (sampled)"),
+            "{name}: no interval legend"
+        );
+    }
+    let bare = dir.join("bare.csv");
+    let (header, rows) = read_csv(&out_dir.join("results.csv"));
+    let mut w = csv::Writer::from_path(&bare).unwrap();
+    let keep: Vec<usize> = (0..header.len())
+        .filter(|&i| !header[i].ends_with("_ci95"))
+        .collect();
+    w.write_record(keep.iter().map(|&i| &header[i])).unwrap();
+    for r in &rows {
+        w.write_record(keep.iter().map(|&i| &r[&header[i]]))
+            .unwrap();
+    }
+    w.flush().unwrap();
+    drop(w);
+    let plain = dir.join("plain");
+    let out = trax(&[
+        "plot",
+        bare.to_str().unwrap(),
+        "--x",
+        "tms",
+        "--y",
+        "cycles",
+        "--by",
+        "label.how",
+        "-o",
+        plain.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let plain_svg = std::fs::read_to_string(dir.join("plain.svg")).unwrap();
+    assert!(!plain_svg.contains("95% interval"));
+    let line_svg = std::fs::read_to_string(out_dir.join("plots/line.svg")).unwrap();
+    let paths = |s: &str| s.matches("<polyline").count() + s.matches("<path").count();
+    assert!(
+        paths(&line_svg) >= paths(&plain_svg) + 3 * 2,
+        "no error bars drawn: {} vs {} paths",
+        paths(&line_svg),
+        paths(&plain_svg)
+    );
+    // Status from the directory above the results, naming them relatively.
+    let status = trax_command()
+        .args(["sweep", "status", "results"])
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    assert!(status.status.success(), "{}", text(&status.stdout));
+    assert!(
+        text(&status.stdout).contains("4 done, 0 stale"),
+        "{}",
+        text(&status.stdout)
+    );
+    // Another window count: new points, run; the full ones stay done.
+    let (out, _, rows) = sweep_rows(&dir, &body(12));
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let err = text(&out.stderr);
+    assert!(err.contains("2 of 4 points already done"), "{err}");
+    for r in rows.iter().filter(|r| r["label.how"] == "sampled") {
+        assert_eq!(r["sample"], "12");
+        assert_eq!(r["status"], "ok");
+        assert!(!sampled_ids.contains(&r["id"]), "the point kept its id");
+    }
+    // `trax sweep --sample N` samples every point, as `sample = N` in the file would; a
+    // file that gives `sample` already is refused.
+    let plain = sweep_file(&dir, &format!("kernel = {k:?}\n[axes]\ntms = [1, 2]\n"));
+    let out = trax(&[
+        "sweep",
+        plain.to_str().unwrap(),
+        "--sample",
+        "12",
+        "--dry-run",
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let listed = text(&out.stdout);
+    assert_eq!(listed.matches("sample=12").count(), 2, "{listed}");
+    let f = sweep_file(&dir, &body(10));
+    let out = trax(&["sweep", f.to_str().unwrap(), "--sample", "12", "--dry-run"]);
+    assert!(!out.status.success());
+    assert!(
+        text(&out.stderr).contains("gives `sample` already (line 10)"),
+        "{}",
+        text(&out.stderr)
     );
 }

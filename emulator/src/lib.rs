@@ -64,5 +64,5 @@ pub use run::{
     RunRequest, DEFAULT_QUANTUM,
 };
 pub use sched::{Driven, Executor, PlainExec, ReferenceExec, Scheduler};
-pub use thread::{CallFrame, Fault, RunState, Shared, Thread};
+pub use thread::{CallFrame, Fault, RunState, Shared, Thread, NUM_GLOBALS};
 pub use whereabouts::{PlaceFrame, PlaceGroup, ThreadAt, ThreadPlaces};

@@ -46,7 +46,16 @@ def wall(base):
             return float(open(base + ext).read().split()[0])
     return float("nan")
 
-rows, points = [], []
+def cpu(base):
+    """Host CPU seconds (user + system) of a run from BASE.time (validate_thesis.sh); NaN
+    without it. On a shared machine these, not wall seconds, compare two runs."""
+    if os.path.exists(base + ".time"):
+        f = open(base + ".time").read().split()
+        if len(f) >= 3:
+            return float(f[1]) + float(f[2])
+    return float("nan")
+
+rows, points, cpus = [], [], []
 for f in sorted(glob.glob(os.path.join(out, "points", "*-full.json"))):
     pid = os.path.basename(f)[: -len("-full.json")]
     s_path = os.path.join(out, "points", pid + "-sampled.json")
@@ -55,6 +64,8 @@ for f in sorted(glob.glob(os.path.join(out, "points", "*-full.json"))):
     full, samp = json.load(open(f)), json.load(open(s_path))
     s = samp["sampled"]
     wall_full = wall(os.path.join(out, "points", pid + "-full"))
+    cpus.append((cpu(os.path.join(out, "points", pid + "-full")),
+                 cpu(os.path.join(out, "points", pid + "-sampled"))))
     img = os.path.join(out, "points", pid + ".image")
     image = open(img).read().strip() if os.path.exists(img) else "?"
     points.append((pid, wall_full, s["wall_seconds"], image,
@@ -100,6 +111,10 @@ lines.append(f"cycles: mean absolute error {100 * sum(cyc) / len(cyc):.3f}%, "
 sp = [wf / ws for _, wf, ws, _, _ in points]
 lines.append(f"host-time speed-up (full / sampled): mean {sum(sp) / len(sp):.2f}x, "
              f"min {min(sp):.2f}x, max {max(sp):.2f}x")
+cs = [a / b for a, b in cpus if a == a and b == b and b > 0]
+if cs:
+    lines.append(f"host CPU-time speed-up (user + system, full / sampled): mean "
+                 f"{sum(cs) / len(cs):.2f}x, min {min(cs):.2f}x, max {max(cs):.2f}x")
 lines.append(f"images identical to the full run's: "
              f"{sum(img == 'same' for _, _, _, img, _ in points)}/{len(points)}")
 lines.append("misses: " + ", ".join(

@@ -7,7 +7,7 @@ use clap::Args;
 use trax::pipeline::Request;
 use trax_assembler::image::RenderOptions;
 use trax_assembler::scene::LoadOptions;
-use trax_emulator::timing::sample::MIN_WARMUP_CYCLES;
+use trax_emulator::timing::sample::{DEFAULT_WARMUP, DEFAULT_WINDOW};
 use trax_emulator::timing::{ChipConfig, SampleRequest, DEFAULT_CHIP};
 
 /// The chip and its thread shape.
@@ -56,13 +56,6 @@ pub struct SampleArgs {
     #[arg(long, value_name = "S")]
     pub sample_seed: Option<u32>,
 }
-
-/// Default `--sample-warmup`, cycles.
-pub const DEFAULT_WARMUP: u64 = 2000;
-/// Default `--sample-window`, cycles.
-pub const DEFAULT_WINDOW: u64 = 8000;
-
-const _: () = assert!(DEFAULT_WARMUP >= MIN_WARMUP_CYCLES && DEFAULT_WINDOW >= DEFAULT_WARMUP);
 
 impl SampleArgs {
     /// The request for `windows` windows over a frame of `pixels` pixels on `chip`,

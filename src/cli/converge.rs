@@ -422,8 +422,12 @@ fn plot(path: &Path, levels: &[Level], slope: Option<f64>, name: &str) -> Result
         super::plot::draw_legend(
             &legend,
             &[
-                ("measured".into(), BLUE, true),
-                ("slope -1/2 (Monte Carlo)".into(), RED, true),
+                ("measured".into(), BLUE, super::plot::Mark::Line),
+                (
+                    "slope -1/2 (Monte Carlo)".into(),
+                    RED,
+                    super::plot::Mark::Line,
+                ),
             ],
         )?;
         Ok(())

@@ -203,7 +203,11 @@ impl Table {
         self.header
             .iter()
             .map(String::as_str)
-            .filter(|h| !FIXED_COLUMNS.contains(h) && metrics::metric(h).is_none())
+            .filter(|h| {
+                !FIXED_COLUMNS.contains(h)
+                    && metrics::metric(h).is_none()
+                    && metrics::ci_of(h).is_none()
+            })
             .collect()
     }
 }
@@ -421,6 +425,9 @@ struct Data {
     series: Vec<String>,
     /// `values[m][s][x]` for metric column `m`.
     values: Vec<Vec<Vec<Option<f64>>>>,
+    /// Half-widths of the values' 95% intervals (sampled points' `METRIC_ci95`), as
+    /// `values`: `None` where there is none.
+    ci95: Vec<Vec<Vec<Option<f64>>>>,
 }
 
 fn gather(t: &Table, spec: &PlotSpec, ycols: &[&str]) -> Result<Data, String> {
@@ -499,31 +506,46 @@ fn gather(t: &Table, spec: &PlotSpec, ycols: &[&str]) -> Result<Data, String> {
         None => vec![String::new()],
     };
     let mut values = Vec::new();
-    for &yc in &ycs {
+    let mut ci95 = Vec::new();
+    for (&yc, y) in ycs.iter().zip(ycols) {
+        let cc = t.col(&format!("{y}{}", metrics::CI_SUFFIX));
         let mut per_series = Vec::new();
+        let mut ci_series = Vec::new();
         for s in &series {
             let mut per_x = Vec::new();
+            let mut ci_x = Vec::new();
             for x in &xs {
-                let vals: Vec<f64> = rows
+                let group: Vec<&&Vec<String>> = rows
                     .iter()
                     .filter(|r| &r[xc] == x && bc.is_none_or(|b| &r[b] == s))
-                    .filter_map(|r| r[yc].parse::<f64>().ok())
+                    .filter(|r| r[yc].parse::<f64>().is_ok())
                     .collect();
-                per_x.push(if vals.is_empty() {
-                    None
-                } else {
-                    Some(vals.iter().sum::<f64>() / vals.len() as f64)
-                });
+                let vals: Vec<f64> = group.iter().filter_map(|r| r[yc].parse().ok()).collect();
+                let n = vals.len() as f64;
+                per_x.push((!vals.is_empty()).then(|| vals.iter().sum::<f64>() / n));
+                // The mean of independent estimates: its half-width is the root of the
+                // sum of squares over n (only when every value has one).
+                let halves: Vec<f64> = group
+                    .iter()
+                    .filter_map(|r| cc.and_then(|c| r[c].parse::<f64>().ok()))
+                    .collect();
+                ci_x.push(
+                    (!halves.is_empty() && halves.len() == vals.len())
+                        .then(|| halves.iter().map(|h| h * h).sum::<f64>().sqrt() / n),
+                );
             }
             per_series.push(per_x);
+            ci_series.push(ci_x);
         }
         values.push(per_series);
+        ci95.push(ci_series);
     }
     Ok(Data {
         xs,
         numeric_x,
         series,
         values,
+        ci95,
     })
 }
 
@@ -549,11 +571,13 @@ pub fn draw(t: &Table, spec: &PlotSpec, out: &Path) -> Result<(PathBuf, PathBuf)
         // One stacked bar per (x, by) pair, labelled with both.
         let mut xs = Vec::new();
         let mut values = vec![vec![Vec::new()]; data.values.len()];
+        let mut ci95 = vec![vec![Vec::new()]; data.values.len()];
         for (x, xv) in data.xs.iter().enumerate() {
             for (s, sv) in data.series.iter().enumerate() {
                 xs.push(format!("{xv} / {sv}"));
                 for (m, per_series) in data.values.iter().enumerate() {
                     values[m][0].push(per_series[s][x]);
+                    ci95[m][0].push(data.ci95[m][s][x]);
                 }
             }
         }
@@ -562,6 +586,7 @@ pub fn draw(t: &Table, spec: &PlotSpec, out: &Path) -> Result<(PathBuf, PathBuf)
             numeric_x: false,
             series: vec![String::new()],
             values,
+            ci95,
         };
         xlabel = format!("{xlabel} / {b}");
     }
@@ -686,7 +711,8 @@ struct Labels {
     parts: Vec<&'static str>,
 }
 
-/// The values the y axis must show: every value, or every stack's total.
+/// The values the y axis must show: every value and its interval's ends (those above 0, so
+/// a log axis stays possible), or every stack's total.
 fn y_values(data: &Data, stacked: bool) -> Vec<f64> {
     if stacked {
         let mut v = Vec::new();
@@ -697,18 +723,36 @@ fn y_values(data: &Data, stacked: bool) -> Vec<f64> {
         }
         v
     } else {
-        data.values
-            .iter()
-            .flatten()
-            .flatten()
-            .flatten()
-            .copied()
-            .collect()
+        let mut v: Vec<f64> = Vec::new();
+        for (vm, cm) in data.values.iter().zip(&data.ci95) {
+            for (vs, cs) in vm.iter().zip(cm) {
+                for (val, ci) in vs.iter().zip(cs) {
+                    let Some(val) = *val else { continue };
+                    v.push(val);
+                    if let Some(h) = *ci {
+                        v.push(val + h);
+                        if val - h > 0.0 {
+                            v.push(val - h);
+                        }
+                    }
+                }
+            }
+        }
+        v
     }
 }
 
-/// A legend entry: text, colour, and whether its mark is a line (else a box).
-pub(crate) type Entry = (String, RGBColor, bool);
+/// A legend entry's mark.
+#[derive(Clone, Copy, PartialEq)]
+pub(crate) enum Mark {
+    Line,
+    Box,
+    /// An error bar with caps.
+    Interval,
+}
+
+/// A legend entry: text, colour, mark.
+pub(crate) type Entry = (String, RGBColor, Mark);
 
 fn render<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
@@ -744,17 +788,26 @@ fn render<DB: DrawingBackend>(
     match (kind, &l.by) {
         (PlotKind::Energy, _) => {
             for (m, part) in l.parts.iter().enumerate() {
-                entries.push((part.to_string(), colour(m), false));
+                entries.push((part.to_string(), colour(m), Mark::Box));
             }
             entries.reverse(); // top of the stack first, as drawn
         }
         (_, Some(b)) => {
             for (s, name) in data.series.iter().enumerate() {
                 let b = param_name(split_unit(b).0);
-                entries.push((format!("{b} = {name}"), colour(s), kind == PlotKind::Line));
+                let mark = if kind == PlotKind::Line {
+                    Mark::Line
+                } else {
+                    Mark::Box
+                };
+                entries.push((format!("{b} = {name}"), colour(s), mark));
             }
         }
         (_, None) => {}
+    }
+    let intervals = kind != PlotKind::Energy && data.ci95[0].iter().flatten().any(Option::is_some);
+    if intervals {
+        entries.push(("95% interval (sampled)".into(), BLACK, Mark::Interval));
     }
     // The legend goes right of the plot, where it hides no data.
     let legend_width = match entries.iter().map(|(t, _, _)| t.chars().count()).max() {
@@ -889,11 +942,49 @@ fn render<DB: DrawingBackend>(
             }
         }
     }
+    // 95% intervals of sampled points: a bar with caps over each mark.
+    if intervals {
+        let floor = yaxis.range.start;
+        for s in 0..groups {
+            let c = if kind == PlotKind::Bar {
+                BLACK
+            } else {
+                colour(s)
+            };
+            for (i, (v, h)) in data.values[0][s].iter().zip(&data.ci95[0][s]).enumerate() {
+                let (Some(v), Some(h)) = (*v, *h) else {
+                    continue;
+                };
+                let (x, cap) = match kind {
+                    PlotKind::Bar => (bar_x(s, i) + width / 2.0, width / 8.0),
+                    _ if categorical => (i as f64, 0.08),
+                    _ => match data.xs[i].parse::<f64>() {
+                        Ok(xv) => (px(xv), 0.01 * (xcoord.range.end - xcoord.range.start)),
+                        Err(_) => continue,
+                    },
+                };
+                let lo = if v - h > 0.0 || yaxis.scale == axis::Scale::Linear {
+                    py(v - h)
+                } else {
+                    floor
+                };
+                let hi = py(v + h);
+                let style = c.stroke_width(2);
+                chart
+                    .draw_series([
+                        PathElement::new(vec![(x, lo), (x, hi)], style),
+                        PathElement::new(vec![(x - cap, lo), (x + cap, lo)], style),
+                        PathElement::new(vec![(x - cap, hi), (x + cap, hi)], style),
+                    ])
+                    .map_err(e)?;
+            }
+        }
+    }
     draw_legend(&legend_area, &entries)
 }
 
-/// Legend entries down `area` (a strip beside the plot, where they hide no data): a line
-/// or a box of each entry's colour, then its text.
+/// Legend entries down `area` (a strip beside the plot, where they hide no data): a line, a
+/// box or an error bar of each entry's colour, then its text.
 pub(crate) fn draw_legend<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     entries: &[Entry],
@@ -901,14 +992,25 @@ pub(crate) fn draw_legend<DB: DrawingBackend>(
     let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
     let font =
         TextStyle::from(("sans-serif", 15).into_font()).pos(Pos::new(HPos::Left, VPos::Center));
-    for (i, (text, c, line)) in entries.iter().enumerate() {
+    for (i, (text, c, mark)) in entries.iter().enumerate() {
         let y = 70 + 26 * i as i32;
-        if *line {
-            area.draw(&PathElement::new(vec![(6, y), (30, y)], c.stroke_width(3)))
-                .map_err(e)?;
-        } else {
-            area.draw(&Rectangle::new([(10, y - 7), (24, y + 7)], c.filled()))
-                .map_err(e)?;
+        match mark {
+            Mark::Line => area
+                .draw(&PathElement::new(vec![(6, y), (30, y)], c.stroke_width(3)))
+                .map_err(e)?,
+            Mark::Box => area
+                .draw(&Rectangle::new([(10, y - 7), (24, y + 7)], c.filled()))
+                .map_err(e)?,
+            Mark::Interval => {
+                for seg in [
+                    [(17, y - 9), (17, y + 9)],
+                    [(12, y - 9), (22, y - 9)],
+                    [(12, y + 9), (22, y + 9)],
+                ] {
+                    area.draw(&PathElement::new(seg.to_vec(), c.stroke_width(2)))
+                        .map_err(e)?;
+                }
+            }
         }
         area.draw(&Text::new(text.clone(), (38, y), font.clone()))
             .map_err(e)?;

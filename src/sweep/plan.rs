@@ -10,6 +10,7 @@ use std::process::{Command, Stdio};
 use crate::pipeline::{chip_config, KernelFile};
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
+use trax_emulator::timing::sample::{DEFAULT_WARMUP, DEFAULT_WINDOW};
 use trax_emulator::timing::ChipConfig;
 
 use super::spec::{self, Grid, Limits, PVal, PlotSpec, Point, SpecError, SweepSpec, KNOBS};
@@ -294,13 +295,20 @@ impl Plan {
             "quantum",
             "max_instructions",
             "max_cycles",
-        ] {
+            "sample",
+        ]
+        .into_iter()
+        .chain(spec::SAMPLE_KNOBS.iter().copied())
+        {
             if let Some(v) = int(k) {
                 args.extend([format!("--{}", k.replace('_', "-")), v.to_string()]);
             }
         }
         if s("mode").as_deref() == Some("functional") {
             args.push("--functional".into());
+        }
+        if checks.is_some() {
+            self.check_sampling(p)?;
         }
         Ok(PlanPoint {
             index: p.index,
@@ -313,6 +321,50 @@ impl Plan {
             threads,
             l2s,
         })
+    }
+
+    /// Checks a point's sampling knobs against each other and its mode (what `trax run`
+    /// would refuse before running; the work items against the chip are checked by the run).
+    fn check_sampling(&self, p: &Point) -> Result<(), SpecError> {
+        let given = |k: &str| p.params.get(k);
+        let sampled = given("sample").is_some();
+        if let Some(k) = spec::SAMPLE_KNOBS.iter().find(|k| given(k).is_some()) {
+            if !sampled {
+                return Err(self.err_at(
+                    p,
+                    k,
+                    format!("`{k}` needs `sample = N` (a sampled run) for this point"),
+                ));
+            }
+        }
+        if sampled && given("mode") == Some(&PVal::Str("functional".into())) {
+            return Err(self.err_at(
+                p,
+                "sample",
+                "a sampled run is a timing run: `sample` needs `mode = \"timing\"`".into(),
+            ));
+        }
+        let cycles = |k: &str, default: u64| match given(k) {
+            Some(PVal::Int(i)) => *i as u64,
+            _ => default,
+        };
+        let warmup = cycles("sample_warmup", DEFAULT_WARMUP);
+        let window = cycles("sample_window", DEFAULT_WINDOW);
+        if window < warmup {
+            let field = if given("sample_window").is_some() {
+                "sample_window"
+            } else {
+                "sample_warmup"
+            };
+            return Err(self.err_at(
+                p,
+                field,
+                format!(
+                    "the measured window ({window} cycles) is shorter than its warm-up ({warmup} cycles)"
+                ),
+            ));
+        }
+        Ok(())
     }
 
     /// Checks a point's chip config: the base, then each field (so an error names its

@@ -49,6 +49,8 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 use toml_edit::{ImDocument, Item, Value};
+use trax_emulator::timing::sample::{MIN_WARMUP_CYCLES, MIN_WINDOWS};
+use trax_emulator::NUM_GLOBALS;
 
 /// A parameter value.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -206,6 +208,39 @@ pub const KNOBS: &[Knob] = &[
     knob("quantum", U32, None),
     knob("max_instructions", KnobKind::Int(1, i64::MAX), None),
     knob("max_cycles", KnobKind::Int(1, i64::MAX), None),
+    // Sampled simulation (`trax run --sample N` and its `--sample-*` flags): a point with
+    // `sample` is a sampled run, its metrics estimates with 95% intervals.
+    knob(
+        "sample",
+        KnobKind::Int(MIN_WINDOWS as i64, u32::MAX as i64),
+        None,
+    ),
+    knob(
+        "sample_warmup",
+        KnobKind::Int(MIN_WARMUP_CYCLES as i64, i64::MAX),
+        None,
+    ),
+    knob(
+        "sample_window",
+        KnobKind::Int(MIN_WARMUP_CYCLES as i64, i64::MAX),
+        None,
+    ),
+    knob(
+        "sample_counter",
+        KnobKind::Int(0, NUM_GLOBALS as i64 - 1),
+        None,
+    ),
+    knob("sample_items", U32, None),
+    knob("sample_seed", KnobKind::Int(0, u32::MAX as i64), None),
+];
+
+/// The knobs that set how a sampled point samples (each needs `sample`).
+pub const SAMPLE_KNOBS: &[&str] = &[
+    "sample_warmup",
+    "sample_window",
+    "sample_counter",
+    "sample_items",
+    "sample_seed",
 ];
 
 const fn knob(name: &'static str, kind: KnobKind, default: Option<DefaultVal>) -> Knob {
@@ -482,6 +517,38 @@ pub struct SweepSpec {
     pub plots: Vec<PlotSpec>,
     /// Per-point limits.
     pub limits: Limits,
+}
+
+impl SweepSpec {
+    /// Adds a parameter every point shares, as if the file gave it at the top level (`trax
+    /// sweep --sample N`); refused when the file gives it already, or the value is not one
+    /// the knob takes. `flag` names the option in errors.
+    pub fn add_fixed(&mut self, flag: &str, name: &str, v: PVal) -> Result<(), String> {
+        check_knob(name, &v).map_err(|m| format!("{flag}: {m}"))?;
+        let given = self
+            .fixed
+            .iter()
+            .map(|(n, _)| n)
+            .chain(self.axes.iter().map(|a| &a.name))
+            .chain(self.cases.iter().flatten().map(|(n, _)| n))
+            .find(|n| n.v == name);
+        if let Some(n) = given {
+            return Err(format!(
+                "{flag}: {} gives `{name}` already (line {})",
+                self.file.display(),
+                n.loc.line
+            ));
+        }
+        let loc = Loc::default();
+        self.fixed.push((
+            At {
+                v: name.to_string(),
+                loc,
+            },
+            At { v, loc },
+        ));
+        Ok(())
+    }
 }
 
 /// One expanded point.

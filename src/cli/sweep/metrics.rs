@@ -219,6 +219,80 @@ pub fn all() -> &'static [Metric] {
     &ALL
 }
 
+/// Where a sampled run (`trax run --sample N`) has the estimate of a metric:
+/// `(column, name in sampled.estimates, factor to the column's unit)`. A sampled run's
+/// other metrics are its exact counts (`rays`), or missing (it does not estimate them).
+pub const SAMPLED: &[(&str, &str, f64)] = &[
+    ("instructions", "instructions", 1.0),
+    ("cycles", "cycles", 1.0),
+    ("seconds", "seconds", 1.0),
+    ("fps", "fps", 1.0),
+    ("mrps", "mrps", 1.0),
+    ("issue_rate", "issue_rate", 1.0),
+    ("l1_hit_rate", "l1_hit_rate", 1.0),
+    ("l1_hit_rate_merged", "l1_hit_rate_merged_as_hits", 1.0),
+    ("l2_hit_rate", "l2_hit_rate", 1.0),
+    ("l2_accesses", "l2_accesses", 1.0),
+    ("dram_gbps", "dram_gbps", 1.0),
+    ("dram_reads", "dram_reads", 1.0),
+    ("dram_row_hit_rate", "dram_row_hit_rate", 1.0),
+    ("dram_read_latency", "dram_read_latency_cycles", 1.0),
+    ("power_w", "power_w", 1.0),
+    ("energy_j", "energy_j", 1.0),
+    ("energy_l1_j", "energy_l1_j", 1.0),
+    ("energy_l2_j", "energy_l2_j", 1.0),
+    ("energy_stream_j", "energy_stream_j", 1.0),
+    ("energy_dram_j", "energy_dram_j", 1.0),
+    ("dram_background_nj", "energy_dram_background_j", 1e9),
+    ("dram_dynamic_nj", "energy_dram_dynamic_j", 1e9),
+    ("energy_per_ray_nj", "energy_per_ray_nj", 1.0),
+    ("energy_memsys_j", "energy_memsys_j", 1.0),
+    ("stream_accesses", "stream_accesses", 1.0),
+    ("rays_in_flight", "mean_rays_in_flight", 1.0),
+    ("stream_idle_tm_cycles", "idle_tm_cycles", 1.0),
+    ("stream_rays_per_visit", "rays_per_visit", 1.0),
+];
+
+/// Suffix of the column with a sampled estimate's 95% half-width (`cycles_ci95`).
+pub const CI_SUFFIX: &str = "_ci95";
+
+/// The estimate of `m` in a sampled run's statistics, and the factor to its unit.
+fn sampled_estimate<'a>(m: &Metric, stats: &'a Value) -> Option<(&'a Value, f64)> {
+    let (_, name, scale) = SAMPLED.iter().find(|(c, _, _)| *c == m.column)?;
+    Some((stats.get("sampled")?.get("estimates")?.get(*name)?, *scale))
+}
+
+/// Whether a statistics document is a sampled run's.
+fn is_sampled(stats: &Value) -> bool {
+    stats.get("mode").and_then(Value::as_str) == Some("sampled")
+}
+
+/// The column of `m`'s 95% half-width in sampled sweeps (`None`: not estimated).
+pub fn ci_column(m: &Metric) -> Option<String> {
+    SAMPLED
+        .iter()
+        .any(|(c, _, _)| *c == m.column)
+        .then(|| format!("{}{CI_SUFFIX}", m.column))
+}
+
+/// The metric whose half-width column this is (`cycles_ci95` -> cycles).
+pub fn ci_of(column: &str) -> Option<&'static Metric> {
+    let m = metric(column.strip_suffix(CI_SUFFIX)?)?;
+    ci_column(m).is_some().then_some(m)
+}
+
+/// The half-width of `m`'s 95% interval in a sampled run's statistics (in the column's
+/// unit; `None` for other runs, and metrics a sampled run does not estimate).
+pub fn extract_ci95(m: &Metric, stats: &Value) -> Option<f64> {
+    if !is_sampled(stats) {
+        return None;
+    }
+    let (e, scale) = sampled_estimate(m, stats)?;
+    let lo = e.get("ci95_low")?.as_f64()?;
+    let hi = e.get("ci95_high")?.as_f64()?;
+    Some((hi - lo) / 2.0 * scale)
+}
+
 /// The metric of a column.
 pub fn metric(column: &str) -> Option<&'static Metric> {
     all().iter().find(|m| m.column == column)
@@ -234,10 +308,15 @@ pub fn axis_label(m: &Metric) -> String {
 }
 
 /// A metric's value in a run's statistics document (none where the run does not report
-/// it: `null`, or a document of another schema).
+/// it: `null`, or a document of another schema); a sampled run's estimate ([`SAMPLED`]).
 pub fn extract(m: &Metric, stats: &Value) -> Option<f64> {
     if stats.get("schema").and_then(Value::as_u64) != Some(u64::from(trax::stats::SCHEMA)) {
         return None;
+    }
+    if is_sampled(stats) {
+        if let Some((e, scale)) = sampled_estimate(m, stats) {
+            return e.get("estimate")?.as_f64().map(|v| v * scale);
+        }
     }
     m.path
         .split('+')
@@ -332,6 +411,15 @@ mod tests {
                 );
             }
         }
+        for (column, name, _) in SAMPLED {
+            assert!(metric(column).is_some(), "SAMPLED: no metric {column}");
+            assert!(
+                stats.contains(&format!("`sampled.estimates.{name}`")),
+                "{column}: `sampled.estimates.{name}` is not in docs/STATS.md"
+            );
+        }
+        assert_eq!(ci_of("cycles_ci95").map(|m| m.column), Some("cycles"));
+        assert!(ci_of("l1_accesses_ci95").is_none() && ci_of("cycles").is_none());
         assert!(!metric("energy_memsys_j").unwrap().functional());
         assert!(metric("instructions").unwrap().functional());
     }

@@ -97,6 +97,11 @@ pub struct SweepArgs {
     /// unless an input changed since).
     #[arg(long)]
     retry_failed: bool,
+    /// Sample every point (`trax run --sample N`), as `sample = N` at the top of the sweep
+    /// file would: results.csv then has each estimate's 95% half-width (`METRIC_ci95`),
+    /// and the points are others than the full runs' (their ids hold the setting).
+    #[arg(long, value_name = "N")]
+    sample: Option<u32>,
     /// List the points (id and parameters) and run nothing.
     #[arg(long)]
     dry_run: bool,
@@ -221,7 +226,10 @@ fn settled(judge: &Mutex<Judge>, p: &PlanPoint, since: f64) -> bool {
 
 fn sweep(a: &SweepArgs) -> Result<ExitCode, String> {
     let file = a.file.as_deref().ok_or("no sweep file given")?;
-    let spec = spec::load(file).map_err(|e| e.to_string())?;
+    let mut spec = spec::load(file).map_err(|e| e.to_string())?;
+    if let Some(n) = a.sample {
+        spec.add_fixed("--sample", "sample", spec::PVal::Int(n.into()))?;
+    }
     let dir = a
         .out
         .clone()

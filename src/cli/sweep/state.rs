@@ -245,6 +245,9 @@ fn diff_leaves(path: &str, a: &Value, b: &Value, out: &mut Vec<String>) {
 /// `build/`, named by content, so nothing a running point reads changes); a kernel that
 /// can't be built is an error of its points, not of the whole.
 pub fn current_plan(dir: &Path, exe: &Path) -> Result<(Plan, Vec<Option<String>>), String> {
+    // Absolute, as the sweep that ran the points named the kernels' executables (a
+    // relative `DIR` would make every point's command differ from the one it ran).
+    let dir = &std::path::absolute(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let mut plan = Plan::load(dir)?;
     let errors = plan
         .kernels

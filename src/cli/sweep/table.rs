@@ -5,7 +5,9 @@
 //! Columns: `id`, `status` (`ok`; `failed`; `stale` = its result's inputs changed since, see
 //! [`super::state`]; `running`; `pending` = not run yet), the parameters, the metrics
 //! ([`super::metrics::all`]; timing-only ones when the sweep has timing points; only
-//! for `ok` rows: a stale result is not reported), `wall_seconds` (host time of the run)
+//! for `ok` rows: a stale result is not reported; a sampled point's are its estimates, and
+//! in a sweep with sampled points each estimated metric is followed by `METRIC_ci95`, the
+//! half-width of its 95% interval, empty for full runs), `wall_seconds` (host time of the run)
 //! and `error` (a failed point's error, what changed for a stale one). Empty cells are
 //! missing values.
 
@@ -74,7 +76,19 @@ pub fn collect_with(dir: &Path, plan: &Plan, judge: &mut Judge) -> Result<Collec
     let mcols = metric_columns(plan);
     let mut header: Vec<String> = vec!["id".into(), "status".into()];
     header.extend(plan.columns.iter().cloned());
-    header.extend(mcols.iter().map(|m| m.column.to_string()));
+    // In a sweep with sampled points, each estimated metric's 95% half-width follows it.
+    let sampled = plan.columns.iter().any(|c| c == "sample");
+    let cells: Vec<(&Metric, bool)> = mcols
+        .iter()
+        .flat_map(|m| {
+            let ci = sampled && metrics::ci_column(m).is_some();
+            std::iter::once((*m, false)).chain(ci.then_some((*m, true)))
+        })
+        .collect();
+    header.extend(cells.iter().map(|(m, ci)| match ci {
+        false => m.column.to_string(),
+        true => metrics::ci_column(m).unwrap_or_default(),
+    }));
     header.extend(["wall_seconds".into(), "error".into()]);
     // Streamed to a temporary file, renamed when whole.
     let out = dir.join("results.csv");
@@ -121,13 +135,13 @@ pub fn collect_with(dir: &Path, plan: &Plan, judge: &mut Judge) -> Result<Collec
         for col in &plan.columns {
             row.push(p.params.get(col).map(PVal::plain).unwrap_or_default());
         }
-        for m in &mcols {
-            row.push(
-                stats
-                    .and_then(|s| metrics::extract(m, s))
-                    .map(num)
-                    .unwrap_or_default(),
-            );
+        for (m, ci) in &cells {
+            let get = if *ci {
+                metrics::extract_ci95
+            } else {
+                metrics::extract
+            };
+            row.push(stats.and_then(|s| get(m, s)).map(num).unwrap_or_default());
         }
         row.push(wall.map(num).unwrap_or_default());
         row.push(error);

@@ -20,8 +20,9 @@ def dram(d):
 
 
 def stream(d, key):
+    """A stream statistic; None on a chip without a stream memory (nothing read from it)."""
     s = d["timing"].get("stream")
-    return s[key] if s else None
+    return s[key] if s and s.get("reads") else None
 
 
 # column (as trax sweep's metrics) -> (value in a full run's JSON, sampled estimate's name)
@@ -38,6 +39,9 @@ METRICS = {
                           "dram_read_latency_cycles"),
     "energy_dram_j": (lambda d: d["timing"]["energy"]["dram"], "energy_dram_j"),
     "energy_j": (lambda d: d["timing"]["energy"]["total"], "energy_j"),
+    "energy_memsys_j": (lambda d: d["timing"]["energy"]["l2"] + d["timing"]["energy"]["dram"]
+                        + (d["timing"]["energy"].get("stream_memory") or 0.0),
+                        "energy_memsys_j"),
     "stream_accesses": (lambda d: (stream(d, "reads") or 0) + (stream(d, "writes") or 0),
                         "stream_accesses"),
     "stream_rays_per_visit": (lambda d: stream(d, "rays_per_visit"), "rays_per_visit"),
@@ -119,5 +123,17 @@ for r in sorted(rows, key=lambda r: (r["scene"], r["size"], r["chip"])):
         f"{fmt(r, 'l2_accesses', 1e-6, 2)} | {fmt(r, 'stream_accesses', 1e-6, 2)} | "
         f"{fmt(r, 'dram_accesses', 1e-6, 2)} | {fmt(r, 'energy_dram_j', digits=3)} | "
         f"{fmt(r, 'cycles', 1e-6, 2)} |")
+lines += ["", "## STRaTA+ over the baseline, by frame size (Sibenik)", "",
+          "| size | rays/visit | cycles | L2 accesses | DRAM accesses | DRAM energy | memory energy |",
+          "|---|---|---|---|---|---|---|"]
+by = {(r["scene"], r["size"], r["chip"]): r for r in rows}
+for (scene, size, chip), r in sorted(by.items()):
+    b = by.get((scene, size, "baseline"))
+    if chip != "strata" or not b or scene != "sibenik":
+        continue
+    ratio = lambda c: f"{r[c] / b[c]:.2f}x" if r.get(c) and b.get(c) else "-"
+    lines.append(f"| {size}² | {fmt(r, 'stream_rays_per_visit')} | {ratio('cycles')} | "
+                 f"{ratio('l2_accesses')} | {ratio('dram_accesses')} | {ratio('energy_dram_j')} | "
+                 f"{ratio('energy_memsys_j')} |")
 open(os.path.join(out, "summary.md"), "w").write("\n".join(lines) + "\n")
 print("\n".join(lines))

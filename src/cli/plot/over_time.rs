@@ -245,3 +245,35 @@ fn render<DB: DrawingBackend>(
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The over-time chart fits its canvas, with byte values across decades of time steps.
+    #[test]
+    fn over_time_chart_fits_its_canvas() {
+        let steps: Vec<Step> = (0..50u64)
+            .map(|i| Step {
+                start: i * 1000,
+                end: (i + 1) * 1000,
+                value: (i % 7 != 3).then(|| (i as f64 * 0.37).sin().abs() * 3.2e9),
+            })
+            .collect();
+        let path = std::env::temp_dir().join(format!("trax-over-time-{}.png", std::process::id()));
+        crate::cli::plot::png_chart(&path, |root| {
+            render(
+                root,
+                &steps,
+                1.0,
+                "DRAM bytes over time",
+                "DRAM bytes (per interval)",
+                Unit::Bytes,
+            )
+        })
+        .unwrap();
+        let fits = crate::cli::plot::margins_blank(&path);
+        let _ = std::fs::remove_file(&path);
+        fits.unwrap();
+    }
+}

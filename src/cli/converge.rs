@@ -395,14 +395,15 @@ fn plot(path: &Path, levels: &[Level], slope: Option<f64>, name: &str) -> Result
         0.0,
     )?;
     super::plot::png_chart(path, |root| {
-        let e = |x: &dyn std::fmt::Display| x.to_string();
+        let e = |x: &dyn std::fmt::Display| format!("{}: {x}", path.display());
         let (main, legend) = root.split_horizontally(super::plot::SIZE.0 - 230);
         let mut chart = super::plot::axes_chart(
             &main,
             &title,
             (&xa, "samples per pixel"),
             (&ya, "RMSE vs reference"),
-        )?;
+        )
+        .map_err(|x| e(&x))?;
         let at = |(x, y): (f64, f64)| (xa.to_axis(x), ya.to_axis(y));
         let pts: Vec<(f64, f64)> = pts.iter().map(|p| at(*p)).collect();
         chart
@@ -429,7 +430,8 @@ fn plot(path: &Path, levels: &[Level], slope: Option<f64>, name: &str) -> Result
                     super::plot::Mark::Line,
                 ),
             ],
-        )?;
+        )
+        .map_err(|x| e(&x))?;
         Ok(())
     })
 }

@@ -404,8 +404,8 @@ fn overlaps(a: Rect, b: Rect) -> bool {
 /// left of it, else nudged up or down a line at a time (up to 20 lines), taking the first
 /// place where the label stays inside `area` and overlaps no placed label and no marker
 /// (`markers`, boxes).
-/// Returns each label's top-left corner. A label that fits nowhere keeps the last place
-/// tried, clamped inside `area`.
+/// Returns each label's top-left corner. A label that fits nowhere goes right of its anchor,
+/// clamped inside `area`.
 fn place_labels(
     anchors: &[(i32, i32)],
     sizes: &[(i32, i32)],
@@ -509,14 +509,15 @@ fn plot(path: &Path, rungs: &[Rung], name: &str) -> Result<(), String> {
     let size = super::plot::SIZE;
     let legend_width = 130;
     super::plot::png_chart(path, |root| {
-        let e = |x: &dyn std::fmt::Display| x.to_string();
+        let e = |x: &dyn std::fmt::Display| format!("{}: {x}", path.display());
         let (main, legend) = root.split_horizontally(size.0 - legend_width);
         let chart = super::plot::axes_chart(
             &main,
             &format!("{name}: error against host time"),
             (&xa, "host seconds"),
             (&ya, "|error| vs full detailed timing, %"),
-        )?;
+        )
+        .map_err(|x| e(&x))?;
         let at = |x: f64, y: f64| chart.backend_coord(&(xa.to_axis(x), ya.to_axis(y)));
         // Cycles and MRPS errors are often equal (the rays are exact): a ring, a dot and
         // a cross keep every metric visible; their error bars sit side by side.

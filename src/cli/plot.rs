@@ -325,7 +325,8 @@ pub(crate) fn register_font() {
 }
 
 /// A PNG chart of [`SIZE`] at `path`: `draw` gets the white drawing area (the font
-/// registered); errors name the file. Shared by `trax ladder` and `trax converge`.
+/// registered) and words its own errors. Every chart trax draws as a bitmap goes through
+/// it (`trax plot`, `--over-time`, `trax ladder`, `trax converge`).
 pub(crate) fn png_chart(
     path: &Path,
     draw: impl FnOnce(&DrawingArea<BitMapBackend, Shift>) -> Result<(), String>,
@@ -335,9 +336,8 @@ pub(crate) fn png_chart(
     {
         let root = BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area();
         root.fill(&WHITE).map_err(|x| x.to_string())?;
-        draw(&root).map_err(|x| format!("{}: {x}", path.display()))?;
-        root.present()
-            .map_err(|x| format!("{}: {x}", path.display()))?;
+        draw(&root)?;
+        root.present().map_err(|x| x.to_string())?;
     }
     super::native::write_png(path, SIZE.0, SIZE.1, &rgb).map_err(|x| x.to_string())
 }
@@ -643,13 +643,7 @@ pub fn draw(t: &Table, spec: &PlotSpec, out: &Path) -> Result<(PathBuf, PathBuf)
     };
     let png = with_ext(".png");
     let svg = with_ext(".svg");
-    let mut rgb = vec![0u8; (SIZE.0 * SIZE.1 * 3) as usize];
-    {
-        let root = BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area();
-        render(&root, spec.kind, &data, &labels)?;
-        root.present().map_err(|e| e.to_string())?;
-    }
-    super::native::write_png(&png, SIZE.0, SIZE.1, &rgb).map_err(|e| e.to_string())?;
+    png_chart(&png, |root| render(root, spec.kind, &data, &labels))?;
     let mut text = String::new();
     {
         let root = SVGBackend::with_string(&mut text, SIZE).into_drawing_area();

@@ -165,13 +165,9 @@ pub(super) fn plot_cmd(a: &PlotArgs) -> Result<(PathBuf, PathBuf), String> {
         PathBuf::from(s)
     };
     let (png, svg) = (with_ext(".png"), with_ext(".svg"));
-    let mut rgb = vec![0u8; (SIZE.0 * SIZE.1 * 3) as usize];
-    {
-        let root = BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area();
-        render(&root, &steps, ghz, &title, &ylabel, unit)?;
-        root.present().map_err(|e| e.to_string())?;
-    }
-    crate::cli::native::write_png(&png, SIZE.0, SIZE.1, &rgb).map_err(|e| e.to_string())?;
+    super::png_chart(&png, |root| {
+        render(root, &steps, ghz, &title, &ylabel, unit)
+    })?;
     let mut text = String::new();
     {
         let root = SVGBackend::with_string(&mut text, SIZE).into_drawing_area();

@@ -1111,7 +1111,29 @@ fn parse_plots(src: &Src, item: &Item, kloc: Option<Loc>) -> Result<Vec<PlotSpec
                 return Err(src.err(tloc, &format!("plot[{i}]"), "needs `y` (a metric)"));
             }
         };
+        let named = name.is_some();
         let name = name.unwrap_or_else(|| default_plot_name(&x, &y, by.as_deref()));
+        // Two plots with one name would write one file, the second silently replacing the
+        // first (plot names are file names under `plots/`).
+        if let Some((j, _)) = plots
+            .iter()
+            .enumerate()
+            .find(|(_, p): &(usize, &PlotSpec)| p.name == name)
+        {
+            let how = if named {
+                "is named"
+            } else {
+                "gets the default name"
+            };
+            return Err(src.err(
+                tloc,
+                &format!("plot[{i}]"),
+                format!(
+                    "{how} {name:?}, as plot[{j}] is too: both would write plots/{name}.png; \
+                     give one a different `name`"
+                ),
+            ));
+        }
         plots.push(PlotSpec {
             name,
             x,
@@ -1454,6 +1476,29 @@ mod tests {
         parse(&text, Path::new("s.toml"))
             .map(|s| s.plots)
             .map_err(|e| e.to_string())
+    }
+
+    #[test]
+    fn two_plots_writing_one_file_are_refused() {
+        // Same x and y, no names: the second chart would replace the first's file.
+        let e =
+            plots("x = \"tms\"\ny = \"fps\"\n[[plot]]\nx = \"tms\"\ny = \"fps\"\nkind = \"bar\"\n")
+                .unwrap_err();
+        assert!(
+            e.contains("plot[1]")
+                && e.contains("plot[0]")
+                && e.contains("fps_vs_tms")
+                && e.contains(":7:"),
+            "{e}"
+        );
+        // An explicit name equal to another plot's default name is the same clash.
+        let e = plots("x = \"tms\"\ny = \"fps\"\n[[plot]]\nx = \"tms\"\ny = \"cycles\"\nname = \"fps_vs_tms\"\n")
+            .unwrap_err();
+        assert!(e.contains("is named \"fps_vs_tms\""), "{e}");
+        // Distinct names are fine.
+        let p = plots("x = \"tms\"\ny = \"fps\"\n[[plot]]\nx = \"tms\"\ny = \"fps\"\nkind = \"bar\"\nname = \"fps_bars\"\n")
+            .unwrap();
+        assert_eq!(p.len(), 2);
     }
 
     #[test]

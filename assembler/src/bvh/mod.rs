@@ -10,6 +10,7 @@ mod aabb;
 pub mod binned;
 pub mod sweep;
 pub mod treelet;
+pub mod wide;
 
 pub use aabb::Aabb;
 pub use treelet::{TreeletLayout, TreeletOptions, Treelets};

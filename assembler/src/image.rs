@@ -17,12 +17,13 @@
 //! writable ones (the framebuffer), so the data kernels only read stays contiguous.
 //!
 //! Adding a component: one entry in `abi::SCENE_COMPONENTS` (plus its element struct, if
-//! new) and its producer here ([`produce`] and [`count_bound`]).
+//! new), saying what it has one element per (`abi::Per`), and its producer here
+//! ([`produce`]).
 
 use std::ops::Range;
 
 use trax_runtime::abi::{
-    self, Access, Align, Component, ComponentDesc, Field, Need, SceneHeader, SCENE_COMPONENTS,
+    self, Access, Align, Component, ComponentDesc, Field, Need, Per, SceneHeader, SCENE_COMPONENTS,
 };
 use trax_runtime::exe::{ExeError, Executable};
 pub use trax_runtime::image::{MemoryImage, Perms, Segment};
@@ -279,7 +280,7 @@ pub fn build_image_from_symbols(
     precheck(&wanted, &Sizes::of(scene, opts), placer.cursor, limit)?;
 
     // The BVH, only when the program reads a component built from it.
-    let bvh = if wanted.iter().any(|c| from_bvh(c.name)) {
+    let bvh = if wanted.iter().any(|c| c.per.from_bvh()) {
         let bo = BvhOptions {
             treelets: opts.treelets.for_program(referenced),
             ..opts.bvh.clone()
@@ -425,14 +426,6 @@ impl Produced {
     }
 }
 
-/// Whether component `name` is built from the BVH.
-fn from_bvh(name: &str) -> bool {
-    matches!(
-        name,
-        "bvh_nodes" | "bvh_parents" | "treelet_ids" | "tri_treelet_ids" | "tri_leaf_ids"
-    )
-}
-
 /// What the sizes of the components depend on, known before anything is built.
 struct Sizes {
     tris: u64,
@@ -452,19 +445,18 @@ impl Sizes {
     }
 }
 
-/// An upper bound of component `c`'s element count, known before anything is built.
-fn count_bound(c: &ComponentDesc, n: &Sizes) -> Result<u64, ImageError> {
-    Ok(match c.name {
-        "camera" => 1,
-        "framebuffer" => n.pixels,
+/// A bound of component `c`'s element count, known before anything is built (treelet
+/// padding slots can exceed it; placement checks the real sizes).
+fn count_bound(c: &ComponentDesc, n: &Sizes) -> u64 {
+    match c.per {
+        Per::Scene => 1,
+        Per::Pixel => n.pixels,
         // A binary BVH over n triangles has fewer than 2n nodes.
-        "bvh_nodes" | "bvh_parents" | "treelet_ids" => 2 * n.tris,
-        "triangles" | "normals" | "texcoords" | "material_ids" | "emitters" | "tri_treelet_ids"
-        | "tri_leaf_ids" => n.tris,
-        "materials" => n.materials,
-        "point_lights" => n.lights,
-        other => return Err(ImageError::NoProducer(table_name(other))),
-    })
+        Per::Node => 2 * n.tris,
+        Per::Triangle | Per::LeafSlot => n.tris,
+        Per::Material => n.materials,
+        Per::Light => n.lights,
+    }
 }
 
 /// Refuses components of sizes `n` that cannot fit between `start` and `limit` (upper
@@ -478,7 +470,7 @@ fn precheck(
     let mut probe = start;
     let mut fb_bytes = 0;
     for c in wanted {
-        let bytes = c.element_bytes as u64 * count_bound(c, n)?;
+        let bytes = c.element_bytes as u64 * count_bound(c, n);
         if c.name == "framebuffer" {
             fb_bytes = bytes;
         }

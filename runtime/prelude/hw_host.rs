@@ -696,95 +696,125 @@ pub fn store_f32(addr: u32, v: f32) {
     store_u32(addr, v.to_bits())
 }
 
-// ---- Scene header fields ----
+// ---- Scene header fields, generated from abi::SceneHeader (prelude::render_header_fields) ----
 
 pub fn hdr_magic() -> u32 {
     layout::SCENE_HEADER_ADDR + layout::HDR_MAGIC
 }
+
 pub fn hdr_version() -> u32 {
     layout::SCENE_HEADER_ADDR + layout::HDR_VERSION
 }
+
 pub fn hdr_width() -> u32 {
     layout::SCENE_HEADER_ADDR + layout::HDR_WIDTH
 }
+
 pub fn hdr_height() -> u32 {
     layout::SCENE_HEADER_ADDR + layout::HDR_HEIGHT
 }
+
 pub fn hdr_inv_width() -> u32 {
     layout::SCENE_HEADER_ADDR + layout::HDR_INV_WIDTH
 }
+
 pub fn hdr_inv_height() -> u32 {
     layout::SCENE_HEADER_ADDR + layout::HDR_INV_HEIGHT
 }
+
 pub fn hdr_spp() -> u32 {
     layout::SCENE_HEADER_ADDR + layout::HDR_SPP
 }
+
 pub fn hdr_max_depth() -> u32 {
     layout::SCENE_HEADER_ADDR + layout::HDR_MAX_DEPTH
 }
+
 pub fn hdr_epsilon() -> u32 {
     layout::SCENE_HEADER_ADDR + layout::HDR_EPSILON
 }
+
 pub fn hdr_seed() -> u32 {
     layout::SCENE_HEADER_ADDR + layout::HDR_SEED
 }
+
 pub fn hdr_background() -> u32 {
     layout::SCENE_HEADER_ADDR + layout::HDR_BACKGROUND
 }
+
 pub fn hdr_camera() -> u32 {
     layout::SCENE_HEADER_ADDR + layout::HDR_CAMERA
 }
+
 pub fn hdr_framebuffer() -> u32 {
     layout::SCENE_HEADER_ADDR + layout::HDR_FRAMEBUFFER
 }
+
 pub fn hdr_bvh_nodes() -> u32 {
     layout::SCENE_HEADER_ADDR + layout::HDR_BVH_NODES
 }
+
 pub fn hdr_triangles() -> u32 {
     layout::SCENE_HEADER_ADDR + layout::HDR_TRIANGLES
 }
+
 pub fn hdr_normals() -> u32 {
     layout::SCENE_HEADER_ADDR + layout::HDR_NORMALS
 }
+
 pub fn hdr_texcoords() -> u32 {
     layout::SCENE_HEADER_ADDR + layout::HDR_TEXCOORDS
 }
+
 pub fn hdr_material_ids() -> u32 {
     layout::SCENE_HEADER_ADDR + layout::HDR_MATERIAL_IDS
 }
+
 pub fn hdr_materials() -> u32 {
     layout::SCENE_HEADER_ADDR + layout::HDR_MATERIALS
 }
+
 pub fn hdr_emitters() -> u32 {
     layout::SCENE_HEADER_ADDR + layout::HDR_EMITTERS
 }
+
 pub fn hdr_point_lights() -> u32 {
     layout::SCENE_HEADER_ADDR + layout::HDR_POINT_LIGHTS
 }
+
 pub fn hdr_bvh_parents() -> u32 {
     layout::SCENE_HEADER_ADDR + layout::HDR_BVH_PARENTS
 }
+
 pub fn hdr_treelet_ids() -> u32 {
     layout::SCENE_HEADER_ADDR + layout::HDR_TREELET_IDS
 }
+
 pub fn hdr_tri_treelet_ids() -> u32 {
     layout::SCENE_HEADER_ADDR + layout::HDR_TRI_TREELET_IDS
 }
+
 pub fn hdr_tri_leaf_ids() -> u32 {
     layout::SCENE_HEADER_ADDR + layout::HDR_TRI_LEAF_IDS
 }
-pub fn hdr_pipe_modes() -> u32 {
-    layout::SCENE_HEADER_ADDR + layout::HDR_PIPE_MODES
-}
+
 pub fn hdr_stream_rays() -> u32 {
     layout::SCENE_HEADER_ADDR + layout::HDR_STREAM_RAYS
 }
+
 pub fn hdr_stream_ray_bytes() -> u32 {
     layout::SCENE_HEADER_ADDR + layout::HDR_STREAM_RAY_BYTES
 }
+
 pub fn hdr_stream_buffers() -> u32 {
     layout::SCENE_HEADER_ADDR + layout::HDR_STREAM_BUFFERS
 }
+
+pub fn hdr_pipe_modes() -> u32 {
+    layout::SCENE_HEADER_ADDR + layout::HDR_PIPE_MODES
+}
+
+// ---- end of the scene header fields ----
 
 // ---- The host runner ----
 

@@ -133,7 +133,7 @@ pub fn store_f32(addr: u32, v: f32) {
     }
 }
 
-// ---- Scene header fields: each references only its own linker symbol ----
+// ---- Scene header fields, generated from abi::SceneHeader (prelude::render_header_fields) ----
 
 pub fn hdr_magic() -> u32 {
     __trax_symbol_addr!("__trax_scene_magic")
@@ -235,10 +235,6 @@ pub fn hdr_tri_leaf_ids() -> u32 {
     __trax_symbol_addr!("__trax_scene_tri_leaf_ids")
 }
 
-pub fn hdr_pipe_modes() -> u32 {
-    __trax_symbol_addr!("__trax_scene_pipe_modes")
-}
-
 pub fn hdr_stream_rays() -> u32 {
     __trax_symbol_addr!("__trax_scene_stream_rays")
 }
@@ -250,6 +246,12 @@ pub fn hdr_stream_ray_bytes() -> u32 {
 pub fn hdr_stream_buffers() -> u32 {
     __trax_symbol_addr!("__trax_scene_stream_buffers")
 }
+
+pub fn hdr_pipe_modes() -> u32 {
+    __trax_symbol_addr!("__trax_scene_pipe_modes")
+}
+
+// ---- end of the scene header fields ----
 
 // ---- Ray streams (STRaTA): one instruction each ----
 

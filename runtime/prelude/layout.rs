@@ -22,7 +22,7 @@ pub const WORK_ITEMS_REG: u32 = 253;
 /// Words of the ray record `trax::stream` writes and reads (thesis §3.2.1).
 pub const STREAM_RECORD_WORDS: usize = 12;
 
-// `abi::SceneHeader` (C: `trax_scene_header`).
+// `abi::SceneHeader` (C: `trax_scene_header_t`).
 /// `SCENE_MAGIC`.
 pub const HDR_MAGIC: u32 = 0;
 /// `SCENE_VERSION`.
@@ -86,7 +86,7 @@ pub const HDR_RESERVED: u32 = 176;
 /// Size of `SceneHeader` in bytes.
 pub const HDR_SIZE: u32 = 180;
 
-// `abi::Component` (C: `trax_component`).
+// `abi::Component` (C: `trax_component_t`).
 /// Address of the first element.
 pub const COMPONENT_ADDR: u32 = 0;
 /// Number of elements.
@@ -94,7 +94,7 @@ pub const COMPONENT_COUNT: u32 = 4;
 /// Size of `Component` in bytes.
 pub const COMPONENT_SIZE: u32 = 8;
 
-// `abi::Camera` (C: `trax_camera`).
+// `abi::Camera` (C: `trax_camera_t`).
 /// Eye position.
 pub const CAM_EYE: u32 = 0;
 /// Right (unit).
@@ -118,13 +118,17 @@ pub const CAM_APERTURE: u32 = 68;
 /// Size of `Camera` in bytes.
 pub const CAM_SIZE: u32 = 72;
 
-// `abi::Pixel` (C: `trax_pixel`).
-/// Red, green, blue.
-pub const PIXEL_RGB: u32 = 0;
+// `abi::Pixel` (C: `trax_pixel_t`).
+/// Red.
+pub const PIXEL_R: u32 = 0;
+/// Green.
+pub const PIXEL_G: u32 = 4;
+/// Blue.
+pub const PIXEL_B: u32 = 8;
 /// Size of `Pixel` in bytes.
 pub const PIXEL_SIZE: u32 = 12;
 
-// `abi::BvhNode` (C: `trax_bvh_node`).
+// `abi::BvhNode` (C: `trax_bvh_node_t`).
 /// Minimum corner of the box.
 pub const BVH_MIN: u32 = 0;
 /// Maximum corner of the box.
@@ -136,7 +140,7 @@ pub const BVH_B: u32 = 28;
 /// Size of `BvhNode` in bytes.
 pub const BVH_SIZE: u32 = 32;
 
-// `abi::Triangle` (C: `trax_triangle`).
+// `abi::Triangle` (C: `trax_triangle_t`).
 /// First vertex.
 pub const TRI_V0: u32 = 0;
 /// Second vertex.
@@ -146,7 +150,7 @@ pub const TRI_V2: u32 = 24;
 /// Size of `Triangle` in bytes.
 pub const TRI_SIZE: u32 = 36;
 
-// `abi::VertexNormals` (C: `trax_vertex_normals`).
+// `abi::VertexNormals` (C: `trax_normals_t`).
 /// Normal at the first vertex.
 pub const NORMALS_N0: u32 = 0;
 /// Normal at the second vertex.
@@ -156,7 +160,7 @@ pub const NORMALS_N2: u32 = 24;
 /// Size of `VertexNormals` in bytes.
 pub const NORMALS_SIZE: u32 = 36;
 
-// `abi::TexCoords` (C: `trax_texcoords`).
+// `abi::TexCoords` (C: `trax_texcoords_t`).
 /// `(s, t)` at the first vertex.
 pub const TEXCOORDS_T0: u32 = 0;
 /// `(s, t)` at the second vertex.
@@ -166,7 +170,7 @@ pub const TEXCOORDS_T2: u32 = 16;
 /// Size of `TexCoords` in bytes.
 pub const TEXCOORDS_SIZE: u32 = 24;
 
-// `abi::Material` (C: `trax_material`).
+// `abi::Material` (C: `trax_material_t`).
 /// Diffuse reflectance (linear RGB).
 pub const MAT_DIFFUSE: u32 = 0;
 /// Specular reflectance (linear RGB).
@@ -182,7 +186,7 @@ pub const MAT_RESERVED: u32 = 44;
 /// Size of `Material` in bytes.
 pub const MAT_SIZE: u32 = 48;
 
-// `abi::PointLight` (C: `trax_point_light`).
+// `abi::PointLight` (C: `trax_point_light_t`).
 /// Position.
 pub const LIGHT_POSITION: u32 = 0;
 /// Colour (intensity, linear RGB).

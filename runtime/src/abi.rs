@@ -68,7 +68,7 @@ contract_struct! {
     ///
     /// `addr` is 0 and `count` is 0 when the component is absent (not built because the
     /// program does not reference it, or the scene has none).
-    pub struct Component as "trax_component", prefix "COMPONENT" {
+    pub struct Component as "trax_component_t", prefix "COMPONENT" {
         /// Address of the first element.
         pub addr: u32,
         /// Number of elements.
@@ -83,7 +83,7 @@ contract_struct! {
     /// `s = left + (right-left)*(x+0.5)/width`, `t = bottom + (top-bottom)*(y+0.5)/height`
     /// has origin `eye` and direction `normalize(distance*w + s*u + t*v)`, where `w` is the
     /// normalized gaze direction, `u` = normalize(gaze × up) (right) and `v` = u × w (up).
-    pub struct Camera as "trax_camera", prefix "CAM" {
+    pub struct Camera as "trax_camera_t", prefix "CAM" {
         /// Eye position.
         pub eye: [f32; 3],
         /// Right (unit).
@@ -109,16 +109,20 @@ contract_struct! {
 
 contract_struct! {
     /// One framebuffer pixel: linear RGB.
-    pub struct Pixel as "trax_pixel", prefix "PIXEL" {
-        /// Red, green, blue.
-        pub rgb: [f32; 3],
+    pub struct Pixel as "trax_pixel_t", prefix "PIXEL" {
+        /// Red.
+        pub r: f32,
+        /// Green.
+        pub g: f32,
+        /// Blue.
+        pub b: f32,
     }
 }
 
 contract_struct! {
     /// A BVH node. Interior node: `b == 0`, children at node indices `a` and `a + 1`.
     /// Leaf: `b` = triangle count (>= 1), triangles `a .. a + b`.
-    pub struct BvhNode as "trax_bvh_node", prefix "BVH" {
+    pub struct BvhNode as "trax_bvh_node_t", prefix "BVH" {
         /// Minimum corner of the box.
         pub min: [f32; 3],
         /// Maximum corner of the box.
@@ -132,7 +136,7 @@ contract_struct! {
 
 contract_struct! {
     /// A triangle: three vertices.
-    pub struct Triangle as "trax_triangle", prefix "TRI" {
+    pub struct Triangle as "trax_triangle_t", prefix "TRI" {
         /// First vertex.
         pub v0: [f32; 3],
         /// Second vertex.
@@ -144,7 +148,7 @@ contract_struct! {
 
 contract_struct! {
     /// Per-vertex normals of one triangle.
-    pub struct VertexNormals as "trax_vertex_normals", prefix "NORMALS" {
+    pub struct VertexNormals as "trax_normals_t", prefix "NORMALS" {
         /// Normal at the first vertex.
         pub n0: [f32; 3],
         /// Normal at the second vertex.
@@ -156,7 +160,7 @@ contract_struct! {
 
 contract_struct! {
     /// Per-vertex texture coordinates of one triangle.
-    pub struct TexCoords as "trax_texcoords", prefix "TEXCOORDS" {
+    pub struct TexCoords as "trax_texcoords_t", prefix "TEXCOORDS" {
         /// `(s, t)` at the first vertex.
         pub t0: [f32; 2],
         /// `(s, t)` at the second vertex.
@@ -168,7 +172,7 @@ contract_struct! {
 
 contract_struct! {
     /// A material.
-    pub struct Material as "trax_material", prefix "MAT" {
+    pub struct Material as "trax_material_t", prefix "MAT" {
         /// Diffuse reflectance (linear RGB).
         pub diffuse: [f32; 3],
         /// Specular reflectance (linear RGB).
@@ -186,7 +190,7 @@ contract_struct! {
 
 contract_struct! {
     /// A point light.
-    pub struct PointLight as "trax_point_light", prefix "LIGHT" {
+    pub struct PointLight as "trax_point_light_t", prefix "LIGHT" {
         /// Position.
         pub position: [f32; 3],
         /// Colour (intensity, linear RGB).
@@ -233,6 +237,35 @@ pub enum Access {
     ReadWrite,
 }
 
+/// What a component has one element per: a bound of its length known before anything is
+/// built, and whether it is built from the BVH.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Per {
+    /// One element for the scene (the camera).
+    Scene,
+    /// One per pixel of the frame.
+    Pixel,
+    /// One per BVH node (a binary BVH over `n` triangles has fewer than `2n`); built from
+    /// the BVH.
+    Node,
+    /// At most one per scene triangle (in BVH leaf order when a BVH is built).
+    Triangle,
+    /// One per triangle slot of the BVH's leaves; built from the BVH.
+    LeafSlot,
+    /// One per material.
+    Material,
+    /// One per point light.
+    Light,
+}
+
+impl Per {
+    /// Whether components of this kind are built from the BVH (the image builder builds
+    /// one only when the program reads such a component).
+    pub fn from_bvh(self) -> bool {
+        matches!(self, Per::Node | Per::LeafSlot)
+    }
+}
+
 /// One scene component: a header field naming an array of elements in memory.
 #[derive(Clone, Copy, Debug)]
 pub struct ComponentDesc {
@@ -250,6 +283,8 @@ pub struct ComponentDesc {
     pub need: Need,
     /// Load only or load and store.
     pub access: Access,
+    /// What it has one element per.
+    pub per: Per,
     /// Byte offset of its field in the [`SceneHeader`].
     pub header_offset: u32,
     /// Doc comment (contents, element order).
@@ -310,7 +345,8 @@ macro_rules! scene_contract {
         }
         components {
             $( $(#[doc = $cdoc:literal])*
-               $c:ident : $ety:ty => $slot:ident, $align:ident, $need:ident, $access:ident; )*
+               $c:ident : $ety:ty => $slot:ident, $align:ident, $need:ident, $access:ident,
+               per $per:ident; )*
         }
         tail {
             $( $(#[doc = $tdoc:literal])* pub $t:ident : $tty:ty, )*
@@ -339,6 +375,7 @@ macro_rules! scene_contract {
                 align: Align::$align,
                 need: Need::$need,
                 access: Access::$access,
+                per: Per::$per,
                 header_offset: std::mem::offset_of!($name, $c) as u32,
                 doc: concat!($($cdoc, "\n",)*),
                 get: |h| HeaderSlot::component(&h.$c),
@@ -353,7 +390,7 @@ scene_contract! {
     /// field per scene component ([`SCENE_COMPONENTS`]).
     ///
     /// All fields are 4-byte words, so the layout has no padding.
-    pub struct SceneHeader as "trax_scene_header", prefix "HDR" {
+    pub struct SceneHeader as "trax_scene_header_t", prefix "HDR" {
         /// [`SCENE_MAGIC`].
         pub magic: u32,
         /// [`SCENE_VERSION`].
@@ -379,37 +416,37 @@ scene_contract! {
     }
     components {
         /// The [`Camera`] (its address).
-        camera: Camera => Addr, Component, Always, ReadOnly;
+        camera: Camera => Addr, Component, Always, ReadOnly, per Scene;
         /// Framebuffer: `width*height` [`Pixel`]s, row 0 at the top.
-        framebuffer: Pixel => Range, Component, Always, ReadWrite;
+        framebuffer: Pixel => Range, Component, Always, ReadWrite, per Pixel;
         /// [`BvhNode`]s, root at index 0; leaves index [`SceneHeader::triangles`].
-        bvh_nodes: BvhNode => Range, Rows, OnDemand, ReadOnly;
+        bvh_nodes: BvhNode => Range, Rows, OnDemand, ReadOnly, per Node;
         /// [`Triangle`]s, in BVH leaf order when the BVH is built.
-        triangles: Triangle => Range, Rows, OnDemand, ReadOnly;
+        triangles: Triangle => Range, Rows, OnDemand, ReadOnly, per Triangle;
         /// Per-vertex normals ([`VertexNormals`]), same order as the triangles.
-        normals: VertexNormals => Range, Component, OnDemand, ReadOnly;
+        normals: VertexNormals => Range, Component, OnDemand, ReadOnly, per Triangle;
         /// Per-vertex texture coordinates ([`TexCoords`]), same order as the triangles.
-        texcoords: TexCoords => Range, Component, OnDemand, ReadOnly;
+        texcoords: TexCoords => Range, Component, OnDemand, ReadOnly, per Triangle;
         /// Material index per triangle, same order as the triangles.
-        material_ids: u32 => Range, Component, OnDemand, ReadOnly;
+        material_ids: u32 => Range, Component, OnDemand, ReadOnly, per Triangle;
         /// [`Material`]s.
-        materials: Material => Range, Component, OnDemand, ReadOnly;
+        materials: Material => Range, Component, OnDemand, ReadOnly, per Material;
         /// Indices of the emissive triangles, for light sampling.
-        emitters: u32 => Range, Component, OnDemand, ReadOnly;
+        emitters: u32 => Range, Component, OnDemand, ReadOnly, per Triangle;
         /// [`PointLight`]s.
-        point_lights: PointLight => Range, Component, OnDemand, ReadOnly;
+        point_lights: PointLight => Range, Component, OnDemand, ReadOnly, per Light;
         /// BVH parent pointers: the parent's node index per node (the root's is 0xFFFFFFFF).
-        bvh_parents: u32 => Range, Component, OnDemand, ReadOnly;
+        bvh_parents: u32 => Range, Component, OnDemand, ReadOnly, per Node;
         /// Treelet id per BVH node.
-        treelet_ids: u32 => Range, Component, OnDemand, ReadOnly;
+        treelet_ids: u32 => Range, Component, OnDemand, ReadOnly, per Node;
         /// Triangle treelet id per triangle slot.
         /// (Ids follow the node treelets', as the assembler's `Treelets` numbers them;
         /// 0xFFFFFFFF for padding slots.)
-        tri_treelet_ids: u32 => Range, Component, OnDemand, ReadOnly;
+        tri_treelet_ids: u32 => Range, Component, OnDemand, ReadOnly, per LeafSlot;
         /// BVH leaf (node index) per triangle slot.
         /// (A leaf's triangles are the run of slots from its first that name it;
         /// 0xFFFFFFFF for padding slots.)
-        tri_leaf_ids: u32 => Range, Component, OnDemand, ReadOnly;
+        tri_leaf_ids: u32 => Range, Component, OnDemand, ReadOnly, per LeafSlot;
     }
     tail {
         /// Rays the chip's ray stream memory holds (0: the chip has none).

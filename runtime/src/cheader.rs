@@ -7,6 +7,7 @@
 //! name the allocator picked for an operand (`$2`, `$sp`, `$f12`...) into its number, and
 //! `.word` ORs the numbers into the instruction's fields.
 
+use crate::abi::{self, Kind, Scalar, Struct, StructLayout};
 use crate::isa::{Field, OperandKind, TraxInstr, TraxOp, TRAX_INSTRUCTIONS};
 use std::fmt::Write;
 
@@ -201,121 +202,56 @@ pub fn render_c_header() -> String {
     out
 }
 
-/// A C struct of the scene data: name, comment, fields as (C type, name, array length
-/// or 0 for a scalar). The layouts are those of `abi.rs` and the prelude's `layout.rs`
-/// (`runtime/tests/c_header.rs` compiles a probe that checks every offset and size).
-pub struct CStruct {
-    /// Type name (`trax_camera_t`).
-    pub name: &'static str,
-    /// What it is.
-    pub doc: &'static str,
-    /// Fields in memory order.
-    pub fields: &'static [(&'static str, &'static str, usize)],
+/// The C type of a field or element kind (`unsigned int`, `float`, `trax_camera_t`).
+fn c_kind(kind: Kind) -> String {
+    match kind {
+        Kind::Scalar(Scalar::U32) => "unsigned int".into(),
+        Kind::Scalar(Scalar::F32) => "float".into(),
+        Kind::Struct(l) => l().c_name.into(),
+    }
 }
 
-/// The scene element structs of `trax.h`, besides the header (see [`header_field_type`]).
-pub static C_STRUCTS: &[CStruct] = &[
-    CStruct {
-        name: "trax_component_t",
-        doc: "a scene component: address of the first element and element count (0, 0 when absent)",
-        fields: &[("unsigned int", "addr", 0), ("unsigned int", "count", 0)],
-    },
-    CStruct {
-        name: "trax_camera_t",
-        doc: "the camera (simtrax .view semantics, see runtime::abi::Camera)",
-        fields: &[
-            ("float", "eye", 3),
-            ("float", "u", 3),
-            ("float", "v", 3),
-            ("float", "w", 3),
-            ("float", "left", 0),
-            ("float", "right", 0),
-            ("float", "bottom", 0),
-            ("float", "top", 0),
-            ("float", "distance", 0),
-            ("float", "aperture", 0),
-        ],
-    },
-    CStruct {
-        name: "trax_pixel_t",
-        doc: "a framebuffer pixel, linear RGB",
-        fields: &[("float", "r", 0), ("float", "g", 0), ("float", "b", 0)],
-    },
-    CStruct {
-        name: "trax_bvh_node_t",
-        doc: "a BVH node: interior when b == 0 (children a and a + 1), else a leaf of triangles a .. a + b",
-        fields: &[
-            ("float", "min", 3),
-            ("float", "max", 3),
-            ("unsigned int", "a", 0),
-            ("unsigned int", "b", 0),
-        ],
-    },
-    CStruct {
-        name: "trax_triangle_t",
-        doc: "a triangle: three vertices of 3 floats, in BVH leaf order",
-        fields: &[("float", "v0", 3), ("float", "v1", 3), ("float", "v2", 3)],
-    },
-    CStruct {
-        name: "trax_normals_t",
-        doc: "per-vertex normals of one triangle",
-        fields: &[("float", "n0", 3), ("float", "n1", 3), ("float", "n2", 3)],
-    },
-    CStruct {
-        name: "trax_texcoords_t",
-        doc: "per-vertex texture coordinates of one triangle",
-        fields: &[("float", "t0", 2), ("float", "t1", 2), ("float", "t2", 2)],
-    },
-    CStruct {
-        name: "trax_material_t",
-        doc: "a material",
-        fields: &[
-            ("float", "diffuse", 3),
-            ("float", "specular", 3),
-            ("float", "emission", 3),
-            ("float", "shininess", 0),
-            ("unsigned int", "flags", 0),
-            ("unsigned int", "reserved", 0),
-        ],
-    },
-    CStruct {
-        name: "trax_point_light_t",
-        doc: "a point light",
-        fields: &[("float", "position", 3), ("float", "color", 3)],
-    },
-];
+/// The structs of `trax.h` besides the header, in the contract's order: the header's
+/// component reference ([`abi::Component`]) and every component's element struct, each
+/// rendered from its `abi` layout.
+pub fn c_structs() -> Vec<StructLayout> {
+    let mut out = vec![abi::Component::layout()];
+    for c in abi::SCENE_COMPONENTS {
+        if let Kind::Struct(l) = c.element {
+            let l = l();
+            if !out.iter().any(|s| s.name == l.name) {
+                out.push(l);
+            }
+        }
+    }
+    out
+}
+
+/// The C fields of a contract struct: type, name and array length (0: scalar; arrays of
+/// arrays flattened, which keeps the bytes where they are).
+fn c_fields(l: &StructLayout) -> Vec<(String, String, usize)> {
+    l.fields
+        .iter()
+        .map(|f| {
+            let n = if f.dims.is_empty() {
+                0
+            } else {
+                f.dims.iter().product()
+            };
+            (c_kind(f.kind), f.name.to_string(), n)
+        })
+        .collect()
+}
 
 /// The C type of scene header field `name` (a name of [`crate::abi::scene_header_fields`])
-/// and its array length (0: scalar); `None` for a field this table does not know (a test
-/// checks every field has one).
-pub fn header_field_type(name: &str) -> Option<(&'static str, usize)> {
-    Some(match name {
-        "magic" | "version" | "width" | "height" | "spp" | "max_depth" | "seed" | "camera"
-        | "stream_rays" | "stream_ray_bytes" | "stream_buffers" | "pipe_modes" => {
-            ("unsigned int", 0)
-        }
-        "inv_width" | "inv_height" | "epsilon" => ("float", 0),
-        "background" => ("float", 3),
-        "reserved" => ("unsigned int", 1),
-        "framebuffer" | "bvh_nodes" | "triangles" | "normals" | "texcoords" | "material_ids"
-        | "materials" | "emitters" | "point_lights" | "bvh_parents" | "treelet_ids"
-        | "tri_treelet_ids" | "tri_leaf_ids" => ("trax_component_t", 0),
-        _ => return None,
-    })
-}
-
-/// Element type of a component field of the header (for typed accessors).
-fn component_element(name: &str) -> &'static str {
-    match name {
-        "framebuffer" => "trax_pixel_t",
-        "bvh_nodes" => "trax_bvh_node_t",
-        "triangles" => "trax_triangle_t",
-        "normals" => "trax_normals_t",
-        "texcoords" => "trax_texcoords_t",
-        "materials" => "trax_material_t",
-        "point_lights" => "trax_point_light_t",
-        _ => "unsigned int",
-    }
+/// and its array length (0: scalar), from the header's layout; `None` for a field the
+/// header does not have.
+pub fn header_field_type(name: &str) -> Option<(String, usize)> {
+    let h = abi::SceneHeader::layout();
+    c_fields(&h)
+        .into_iter()
+        .find(|(_, f, _)| f == name)
+        .map(|(t, _, n)| (t, n))
 }
 
 fn render_struct(out: &mut String, name: &str, doc: &str, fields: &[(String, String, usize)]) {
@@ -474,7 +410,6 @@ TRAX_INLINE unsigned int trax_stream_size(unsigned int buffer) { return trax_str
 /// structs, the header fields (each an extern linker symbol `__trax_scene_<field>`, so
 /// the image builder lays out only the components the kernel reads) and accessors.
 pub fn render_trax_h() -> String {
-    use crate::abi;
     let mut out = String::new();
     out.push_str("/* trax.h: the kernel API for C and C++ kernels (clang-14, MIPS32r6).\n");
     out.push_str(" * Generated from trax_runtime (isa.rs, abi.rs, cheader.rs) by `trax header`;\n");
@@ -520,24 +455,15 @@ pub fn render_trax_h() -> String {
         abi::WORK_COUNTER_REG,
         abi::WORK_ITEMS_REG
     );
-    for st in C_STRUCTS {
-        let fields: Vec<(String, String, usize)> = st
-            .fields
-            .iter()
-            .map(|(t, f, n)| (t.to_string(), f.to_string(), *n))
-            .collect();
-        render_struct(&mut out, st.name, st.doc, &fields);
+    for st in c_structs() {
+        let doc = st.doc.split_whitespace().collect::<Vec<_>>().join(" ");
+        let doc = doc.trim_end_matches('.');
+        render_struct(&mut out, st.c_name, doc, &c_fields(&st));
     }
-    let fields: Vec<(String, String, usize)> = abi::scene_header_fields()
-        .iter()
-        .map(|(f, _)| {
-            let (t, n) = header_field_type(f).unwrap_or(("unsigned int", 0));
-            (t.to_string(), f.to_string(), n)
-        })
-        .collect();
+    let fields = c_fields(&abi::SceneHeader::layout());
     render_struct(
         &mut out,
-        "trax_scene_header_t",
+        abi::SceneHeader::layout().c_name,
         "the scene header at TRAX_SCENE_HEADER_ADDR (kernels read fields through the symbols below)",
         &fields,
     );
@@ -579,23 +505,33 @@ pub fn render_trax_h() -> String {
     let p = abi::SCENE_SYMBOL_PREFIX;
     for (t, f, n) in &fields {
         match (t.as_str(), *n) {
-            ("trax_component_t", _) => {
-                let el = component_element(f);
-                let cst = if f == "framebuffer" { "" } else { "const " };
-                let _ = writeln!(
-                    out,
-                    "TRAX_INLINE {cst}{el} *trax_scene_{f}(void) {{ return TRAX_PTR({cst}{el}, {p}{f}.addr); }}"
-                );
-                let _ = writeln!(
-                    out,
-                    "TRAX_INLINE unsigned int trax_scene_{f}_count(void) {{ return {p}{f}.count; }}"
-                );
-            }
-            (_, 0) if f == "camera" => {
-                let _ = writeln!(
-                    out,
-                    "TRAX_INLINE const trax_camera_t *trax_scene_camera(void) {{ return TRAX_PTR(const trax_camera_t, {p}camera); }}"
-                );
+            _ if abi::component(f).is_some() => {
+                let Some(c) = abi::component(f) else {
+                    continue;
+                };
+                let el = c_kind(c.element);
+                let cst = match c.access {
+                    abi::Access::ReadOnly => "const ",
+                    abi::Access::ReadWrite => "",
+                };
+                match c.slot {
+                    abi::Slot::Range => {
+                        let _ = writeln!(
+                            out,
+                            "TRAX_INLINE {cst}{el} *trax_scene_{f}(void) {{ return TRAX_PTR({cst}{el}, {p}{f}.addr); }}"
+                        );
+                        let _ = writeln!(
+                            out,
+                            "TRAX_INLINE unsigned int trax_scene_{f}_count(void) {{ return {p}{f}.count; }}"
+                        );
+                    }
+                    abi::Slot::Addr => {
+                        let _ = writeln!(
+                            out,
+                            "TRAX_INLINE {cst}{el} *trax_scene_{f}(void) {{ return TRAX_PTR({cst}{el}, {p}{f}); }}"
+                        );
+                    }
+                }
             }
             (_, 0) => {
                 let _ = writeln!(

@@ -7,6 +7,8 @@
 //! pipeline and ray-stream semantics, the memory-image format and the counters' report verbatim. Writers of these files to disk must keep
 //! the relative layout (write `p` to `<root>/prelude/<p>`).
 
+use crate::abi;
+
 /// Root file of crate `trax`.
 pub const ROOT: &str = "lib.rs";
 
@@ -95,7 +97,7 @@ impl Default for Fnv1a {
 /// keeps the rendered text in `prelude/layout.rs` (TRaX-Rust cannot use the Rust structs);
 /// a test fails when the file and the contract differ (`TRAX_BLESS=1` rewrites it).
 pub fn render_layout() -> String {
-    use crate::abi::{self, Kind, Struct, StructLayout};
+    use crate::abi::{Kind, Struct, StructLayout};
     use std::fmt::Write as _;
     let mut out = String::from(
         "//! Byte layouts of the scene data in simulated memory, generated from the scene\n\
@@ -192,9 +194,78 @@ pub fn render_layout() -> String {
     out
 }
 
+/// The prelude backends whose scene header accessors [`render_header_fields`] writes.
+pub const HEADER_FIELD_BACKENDS: [&str; 2] = ["hw_trax.rs", "hw_host.rs"];
+
+/// First line of the generated header-field accessors in a backend file.
+const HEADER_FIELDS_BEGIN: &str =
+    "// ---- Scene header fields, generated from abi::SceneHeader (prelude::render_header_fields) ----";
+/// Line after them.
+const HEADER_FIELDS_END: &str = "// ---- end of the scene header fields ----";
+
+/// The accessors `hdr_<field>() -> u32` (the field's address) of every scene header
+/// field, as backend `backend` of [`HEADER_FIELD_BACKENDS`] defines them: on the machine each
+/// references only its own linker symbol (so a kernel's image holds only the components
+/// it reads), on the host it is the header's address plus the field's offset. Begin and
+/// end lines included.
+pub fn render_header_fields(backend: &str) -> String {
+    use std::fmt::Write;
+    let mut out = String::new();
+    let _ = writeln!(out, "{HEADER_FIELDS_BEGIN}");
+    for (name, _) in abi::scene_header_fields() {
+        if name == "reserved" {
+            continue;
+        }
+        let body = if backend == "hw_trax.rs" {
+            format!(
+                "__trax_symbol_addr!(\"{}{name}\")",
+                abi::SCENE_SYMBOL_PREFIX
+            )
+        } else {
+            format!(
+                "layout::SCENE_HEADER_ADDR + layout::HDR_{}",
+                name.to_uppercase()
+            )
+        };
+        let _ = writeln!(out, "\npub fn hdr_{name}() -> u32 {{\n    {body}\n}}");
+    }
+    let _ = writeln!(out, "\n{HEADER_FIELDS_END}");
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The generated header-field accessors in a backend file's text (begin to end line).
+    fn header_fields_in(text: &str) -> Option<std::ops::Range<usize>> {
+        let a = text.find(HEADER_FIELDS_BEGIN)?;
+        let b = text[a..].find(HEADER_FIELDS_END)? + a + HEADER_FIELDS_END.len() + 1;
+        Some(a..b.min(text.len()))
+    }
+
+    #[test]
+    fn header_field_accessors_are_rendered_from_the_contract() {
+        for backend in HEADER_FIELD_BACKENDS {
+            let path = format!("{DIR}/{backend}");
+            let mut have = std::fs::read_to_string(&path).unwrap();
+            let at = header_fields_in(&have).unwrap_or_else(|| {
+                panic!("{path}: no generated header fields ({HEADER_FIELDS_BEGIN})")
+            });
+            let want = render_header_fields(backend);
+            if std::env::var_os("TRAX_BLESS").is_some() {
+                have.replace_range(at.clone(), &want);
+                std::fs::write(&path, &have).unwrap();
+                continue;
+            }
+            assert!(
+                have[at] == want,
+                "{path}'s header field accessors differ from the scene contract: run \
+                 `TRAX_BLESS=1 cargo test -p trax-runtime --lib prelude` to rewrite them\n\
+                 --- rendered:\n{want}"
+            );
+        }
+    }
 
     #[test]
     fn files_match_the_prelude_directory() {

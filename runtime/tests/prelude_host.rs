@@ -278,7 +278,7 @@ fn prelude_reads_every_component_as_the_runtime_encodes_it() {
             .read(fb + i * abi::PIXEL_BYTES, abi::PIXEL_BYTES)
             .unwrap();
         let p: abi::Pixel = abi::decode(&b).unwrap();
-        assert_eq!(p.rgb, [i as f32, 0.5, -2.0]);
+        assert_eq!([p.r, p.g, p.b], [i as f32, 0.5, -2.0]);
     }
 }
 

@@ -43,7 +43,7 @@ pub enum Kind {
 }
 
 impl Kind {
-    /// The C type name (`float`, `uint32_t`, `trax_camera`).
+    /// The C type name (`float`, `uint32_t`, `trax_camera_t`).
     pub fn c_type(&self) -> &'static str {
         match self {
             Kind::Scalar(s) => s.c_type(),
@@ -147,7 +147,7 @@ pub fn decode<T: Field>(b: &[u8]) -> Option<T> {
 pub struct StructLayout {
     /// Rust name (`Camera`).
     pub name: &'static str,
-    /// C name (`trax_camera`).
+    /// C name (`trax_camera_t`).
     pub c_name: &'static str,
     /// Prefix of its constants in the prelude's `layout.rs` (`CAM` → `CAM_EYE`, `CAM_SIZE`).
     pub prefix: &'static str,

@@ -3,6 +3,7 @@
 
 use std::borrow::Cow;
 use std::collections::HashMap;
+use std::path::Path;
 use std::sync::{Arc, Mutex};
 
 use object::{Object, ObjectSection};
@@ -61,6 +62,19 @@ impl std::fmt::Debug for DebugInfo {
         f.debug_struct("DebugInfo")
             .field("has_dwarf", &self.ctx.is_some())
             .finish()
+    }
+}
+
+/// The text of source file `file` as DWARF names it: a prelude file's from the prelude
+/// embedded in this trax, any other file's from disk.
+fn source_text(file: &str) -> Option<String> {
+    let embedded = Path::new(file)
+        .strip_prefix(trax_runtime::prelude::DIR)
+        .ok()
+        .and_then(|rel| trax_runtime::prelude::file(rel.to_str()?));
+    match embedded {
+        Some(s) => Some(s.to_string()),
+        None => std::fs::read_to_string(file).ok(),
     }
 }
 
@@ -170,6 +184,9 @@ impl DebugInfo {
     }
 
     /// The text of `file` at `line` (1-based), if the file can be read. Files are cached.
+    /// Prelude files are read from the prelude this trax was built with (the one the
+    /// kernel was compiled against), not from the disk path DWARF names, which may have
+    /// changed since or not exist where trax is installed.
     pub fn source_line(&self, file: &str, line: u32) -> Option<String> {
         if line == 0 {
             return None;
@@ -178,11 +195,32 @@ impl DebugInfo {
         let lines = cache
             .entry(file.to_string())
             .or_insert_with(|| {
-                std::fs::read_to_string(file)
-                    .ok()
-                    .map(|s| Arc::new(s.lines().map(str::to_string).collect()))
+                source_text(file).map(|s| Arc::new(s.lines().map(str::to_string).collect()))
             })
             .clone()?;
         lines.get(line as usize - 1).cloned()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn prelude_sources_are_the_embedded_ones() {
+        let dir = trax_runtime::prelude::DIR;
+        for (rel, text) in trax_runtime::prelude::FILES {
+            assert_eq!(
+                source_text(&format!("{dir}/{rel}")).as_deref(),
+                Some(*text),
+                "{rel}"
+            );
+        }
+        // Other files come from disk; a missing one is no text, not an error.
+        let me = concat!(env!("CARGO_MANIFEST_DIR"), "/src/debuginfo.rs");
+        assert!(source_text(me)
+            .unwrap()
+            .contains("fn prelude_sources_are_the_embedded_ones"));
+        assert_eq!(source_text(&format!("{dir}/no_such_file.rs")), None);
     }
 }

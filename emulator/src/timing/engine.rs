@@ -116,8 +116,18 @@ impl ThreadCycles {
 
     /// `docs/STATS.md` rows of the buckets of the object at `path`.
     pub fn md_rows(path: &str) -> String {
+        Self::BUCKETS
+            .iter()
+            .map(|b| super::stat::md_row(&format!("{path}.{}", b.name), "int", b.doc))
+            .collect()
+    }
+
+    /// `docs/STATS.md` rows of the buckets of the object at `path`, each `as` the bucket of
+    /// the object at `of`, `suffix`.
+    pub fn md_rows_as(path: &str, of: &str, suffix: &str) -> String {
         let row = |b: &ThreadCycleBucket| {
-            super::stat::md_row(&format!("{path}.{}", b.name), "int", b.doc)
+            let doc = format!("as `{of}.{}`, {suffix}", b.name);
+            super::stat::md_row(&format!("{path}.{}", b.name), "int", &doc)
         };
         Self::BUCKETS.iter().map(row).collect()
     }

@@ -1,13 +1,15 @@
 //! Statistics declared once. A group of statistics (one object of the statistics
 //! document, such as `timing` or `timing.stream`) is declared with [`stat_group!`]: per
 //! field its Rust type, its document type, its meaning, and optionally its sweep column
-//! (`results.csv`, `trax plot --y`), a label that prints it in the text summary, and the
-//! `docs/STATS.md` rows of what is nested in it. From that one declaration come the
+//! (`results.csv`, `trax plot --y`), a label that prints it in the text summary, its axis
+//! label as a series over time (`trax plot --over-time`), and the `docs/STATS.md` rows of
+//! what is nested in it. From that one declaration come the
 //! struct (its field docs are the meanings), its JSON (serde, in field order), its
 //! [`Stat`] table, and from the table `docs/STATS.md`'s rows ([`md_rows`], checked
 //! against the committed file by `timing::stats::tests::stats_md_timing_section_is_generated`),
 //! the sweep's metrics (`src/cli/sweep/metrics.rs` reads [`Stat::column`]) and the
-//! summary's lines of labelled statistics ([`summary_lines`]).
+//! summary's lines of labelled statistics ([`summary_lines`]) and the over-time series
+//! (`Interval::series`).
 //!
 //! Adding a statistic to a group is one field in its declaration plus the line of
 //! `stats::build` that computes it; `the_declaration_reaches_every_output` walks a
@@ -42,6 +44,9 @@ pub struct Stat {
     /// Its label in the text summary's lines of labelled statistics, if it has one there
     /// (the summary's older lines print the others in their own words).
     pub summary: Option<&'static str>,
+    /// Its axis label in `trax plot --over-time`, if it is a series over time (a field of
+    /// `timing.intervals[]`).
+    pub series: Option<&'static str>,
     /// The statistics of the group it is (an object declared with [`stat_group!`]).
     pub nested: &'static [Stat],
     /// `docs/STATS.md` rows of what else is nested in it (given the statistic's path): an
@@ -57,6 +62,7 @@ impl Stat {
         doc: "",
         column: None,
         summary: None,
+        series: None,
         nested: &[],
         rows: None,
     };
@@ -113,7 +119,8 @@ pub fn summary_lines(stats: &'static [Stat], doc: &Value, root: &str) -> String 
 
 /// Declares a group of statistics: a struct whose documented fields
 /// (`field: Type => ("doc type", "meaning" [, column = (name, label, unit)]
-/// [, summary = "label"] [, nested = { Group::STATS }] [, rows = { fn }])`) are statistics at `PATH.field`, and whose other
+/// [, summary = "label"] [, series = "axis label"] [, nested = { Group::STATS }]
+/// [, rows = { fn }])`) are statistics at `PATH.field`, and whose other
 /// fields (plain `field: Type`) are documented elsewhere or not part of the document
 /// (`#[serde(skip)]`). `Self::STATS` lists the statistics in field order.
 macro_rules! stat_group {
@@ -145,6 +152,7 @@ macro_rules! stat_group {
         Some($crate::timing::stat::Column { name: $n, label: $l, unit: $u })
     };
     (@summary $s:literal) => { Some($s) };
+    (@series $s:literal) => { Some($s) };
     (@rows $f:expr) => { Some($f) };
     (@nested $g:expr) => { $g };
 }

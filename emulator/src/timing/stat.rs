@@ -3,13 +3,12 @@
 //! field its Rust type, its document type, its meaning, and optionally its sweep column
 //! (`results.csv`, `trax plot --y`), a label that prints it in the text summary, its axis
 //! label as a series over time (`trax plot --over-time`), and the `docs/STATS.md` rows of
-//! what is nested in it. From that one declaration come the
-//! struct (its field docs are the meanings), its JSON (serde, in field order), its
-//! [`Stat`] table, and from the table `docs/STATS.md`'s rows ([`md_rows`], checked
-//! against the committed file by `timing::stats::tests::stats_md_timing_section_is_generated`),
-//! the sweep's metrics (`src/cli/sweep/metrics.rs` reads [`Stat::column`]) and the
-//! summary's lines of labelled statistics ([`summary_lines`]) and the over-time series
-//! (`Interval::series`).
+//! what is nested in it. From that one declaration come the struct (its field docs are
+//! the meanings), its JSON (serde, in field order) and its [`Stat`] table; from the table
+//! `docs/STATS.md`'s rows ([`md_rows`], checked against the committed file by
+//! `tests/stats_json.rs` `stats_md_timing_section_is_generated`), the sweep's metrics
+//! (`src/cli/sweep/metrics.rs` reads [`Stat::column`]), the summary's lines of labelled
+//! statistics ([`summary_lines`]) and the over-time series (`Interval::series`).
 //!
 //! Adding a statistic to a group is one field in its declaration plus the line of
 //! `stats::build` that computes it; `the_declaration_reaches_every_output` walks a

@@ -610,3 +610,41 @@ fn every_interval_series_of_a_document_plots() {
         assert!(svg.exists(), "--y {y}: no {}", svg.display());
     }
 }
+
+/// `docs/STATS.md`'s table under `heading` is `want`; `TRAX_BLESS=1` rewrites it.
+fn check_stats_md_table(heading: &str, want: &str) {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/docs/STATS.md");
+    let doc = std::fs::read_to_string(path).unwrap();
+    let head = format!("{heading}\n");
+    let at = doc
+        .find(&head)
+        .unwrap_or_else(|| panic!("docs/STATS.md lacks {heading}"));
+    let table = "| field | type | meaning |\n|---|---|---|\n";
+    let start = at + doc[at..].find(table).expect("the section has a table") + table.len();
+    let end = start + doc[start..].find("\n\n").expect("the table ends") + 1;
+    if doc[start..end] == *want {
+        return;
+    }
+    assert!(
+        std::env::var_os("TRAX_BLESS").is_some(),
+        "docs/STATS.md's table under {heading} differs from its declaration: run \
+         `TRAX_BLESS=1 cargo test --test stats_json stats_md` to rewrite it"
+    );
+    std::fs::write(path, format!("{}{want}{}", &doc[..start], &doc[end..])).unwrap();
+}
+
+/// `docs/STATS.md`'s tables of the `timing` object and of the intervals are the ones
+/// their declarations (`TimingStats::STATS`, `intervals::md_table`)
+/// give.
+#[test]
+fn stats_md_timing_section_is_generated() {
+    use trax_emulator::timing::{intervals, stat, TimingStats};
+    check_stats_md_table(
+        "## Timing statistics (`timing`, timing mode)",
+        &stat::md_rows(TimingStats::STATS),
+    );
+    check_stats_md_table(
+        "## Statistics over time (`timing.intervals`, `trax run --stats-interval N`)",
+        &intervals::md_table(),
+    );
+}

@@ -49,15 +49,16 @@ pub use super::units::NUM_CLASSES;
 
 /// Declares [`ThreadCycles`] and its bucket table [`ThreadCycles::BUCKETS`] from one list:
 /// each bucket's field (also its name in the statistics document, `thread_cycles.NAME`, and
-/// the interval series `--over-time --y thread_cycles.NAME`) and its label in the text
-/// summary. Sums, differences, the JSON and the plots walk the table, so a bucket added
-/// here appears in all of them.
+/// the interval series `--over-time --y thread_cycles.NAME`), its label in the text
+/// summary and what it counts (the field's doc and its `docs/STATS.md` row). Sums,
+/// differences, the JSON, the docs and the plots walk the table, so a bucket added here
+/// appears in all of them.
 macro_rules! thread_cycles {
-    ($( $(#[$doc:meta])* $field:ident => $label:literal, )*) => {
+    ($( $field:ident => ($label:literal, $doc:literal), )*) => {
         /// Thread-cycle accounting (each live thread lands in exactly one bucket per cycle).
         #[derive(Clone, Debug, Default, PartialEq, Eq)]
         pub struct ThreadCycles {
-            $( $(#[$doc])* pub $field: u64, )*
+            $( #[doc = $doc] pub $field: u64, )*
         }
 
         impl ThreadCycles {
@@ -66,6 +67,7 @@ macro_rules! thread_cycles {
                 $( ThreadCycleBucket {
                     name: stringify!($field),
                     label: $label,
+                    doc: $doc,
                     get: |t| t.$field,
                     get_mut: |t| &mut t.$field,
                 }, )*
@@ -75,31 +77,17 @@ macro_rules! thread_cycles {
 }
 
 thread_cycles! {
-    /// Issued an instruction.
-    issued => "issued",
-    /// Waited for a source or destination register.
-    data_dependence => "data dependence",
-    /// Its execution unit (or the global register file) was taken.
-    unit_conflict => "unit conflict",
-    /// Its I-cache bank was out of fetch slots.
-    icache_conflict => "icache conflict",
-    /// L1 bank conflict.
-    l1_bank_conflict => "L1 bank conflict",
-    /// All L1 MSHRs were busy.
-    l1_mshr_full => "L1 MSHRs full",
-    /// Waiting at a barrier or semaphore.
-    sync_wait => "barrier/semaphore",
-    /// Waiting in `trax.strsched` for the TM's other live threads to finish their rays
-    /// (and for the scheduling decision, `stream_memory.schedule_cycles`).
-    stream_drain => "stream drain",
-    /// Waiting in `trax.strsched` with the TM drained and every ray buffer empty.
-    stream_idle => "stream idle",
-    /// Waiting, after a chip-wide instruction (store to global memory, global-register,
-    /// barrier, semaphore, stream or halt operation), for the end of the quantum in which
-    /// it is ordered with the other TMs.
-    global_sync => "chip-wide order",
-    /// Halted (finished) while others ran.
-    halted => "halted",
+    issued => ("issued", "issued an instruction"),
+    data_dependence => ("data dependence", "waited for a source or destination register"),
+    unit_conflict => ("unit conflict", "its execution unit (or the global registers) was taken"),
+    icache_conflict => ("icache conflict", "its I-cache bank was out of fetch slots"),
+    l1_bank_conflict => ("L1 bank conflict", "its L1 access was refused because another access had the bank that cycle (equals `timing.memory.l1.bank_retries`)"),
+    l1_mshr_full => ("L1 MSHRs full", "every L1 MSHR was busy"),
+    sync_wait => ("barrier/semaphore", "waiting at a barrier or semaphore"),
+    stream_drain => ("stream drain", "waiting in `trax.strsched` for the TM's other live threads to finish their rays, and for the scheduling decision (`chip.stream_memory.schedule_cycles`)"),
+    stream_idle => ("stream idle", "waiting in `trax.strsched` with the TM drained and every ray buffer empty (the TM idles until a ray is written or the frame's stream work is done)"),
+    global_sync => ("chip-wide order", "waiting, after a chip-wide instruction (store to global memory, global-register, barrier, semaphore, stream or halt operation), for the end of the quantum in which it is ordered with the other TMs"),
+    halted => ("halted", "halted while other threads ran"),
 }
 
 /// One thread-cycle bucket of [`ThreadCycles::BUCKETS`].
@@ -108,6 +96,8 @@ pub struct ThreadCycleBucket {
     pub name: &'static str,
     /// Label in the text summary.
     pub label: &'static str,
+    /// What it counts (its `docs/STATS.md` row).
+    pub doc: &'static str,
     /// Reads the bucket.
     pub get: fn(&ThreadCycles) -> u64,
     /// The bucket's counter.
@@ -122,6 +112,24 @@ impl ThreadCycles {
             *(b.get_mut)(&mut d) = (b.get)(self) - (b.get)(earlier);
         }
         d
+    }
+
+    /// `docs/STATS.md` rows of the buckets of the object at `path`.
+    pub fn md_rows(path: &str) -> String {
+        Self::BUCKETS
+            .iter()
+            .map(|b| super::stat::md_row(&format!("{path}.{}", b.name), "int", b.doc))
+            .collect()
+    }
+
+    /// `docs/STATS.md` rows of the buckets of the object at `path`, each `as` the bucket of
+    /// the object at `of`, `suffix`.
+    pub fn md_rows_as(path: &str, of: &str, suffix: &str) -> String {
+        let row = |b: &ThreadCycleBucket| {
+            let doc = format!("as `{of}.{}`, {suffix}", b.name);
+            super::stat::md_row(&format!("{path}.{}", b.name), "int", &doc)
+        };
+        Self::BUCKETS.iter().map(row).collect()
     }
 
     /// Adds `o`'s buckets into `self`.

@@ -14,6 +14,7 @@
 use serde::Serialize;
 
 use super::engine::ThreadCycles;
+use super::stat::stat_group;
 use super::stats::{EnergyBreakdown, TimingStats};
 use super::stats_doc;
 use crate::memsys::{CacheStats, DramStats};
@@ -81,65 +82,65 @@ impl Snapshot {
     }
 }
 
-/// Declares [`Interval`] and its plottable series [`Interval::SERIES`] from one list: a
-/// field given `=> "label"` is a series (`trax plot --over-time --y FIELD`, the label its
-/// axis label with its unit); the others place the interval in time.
-macro_rules! interval {
-    ($( $(#[$attr:meta])* $field:ident: $ty:ty $(=> $label:literal)?, )*) => {
-        /// One interval of the run (`timing.intervals[]` of the statistics document).
-        #[derive(Clone, Debug, PartialEq, Serialize)]
-        pub struct Interval {
-            $( $(#[$attr])* pub $field: $ty, )*
-        }
+stat_group!(
+    /// One interval of the run (`timing.intervals[]` of the statistics document). A field
+    /// declared with `series` is a series of `trax plot --over-time --y FIELD`, the label
+    /// its axis label with its unit; the others place the interval in time. The
+    /// thread-cycle buckets are series too ([`ThreadCycles::BUCKETS`]).
+    #[derive(Clone, Debug, PartialEq, Serialize)]
+    pub struct Interval at "timing.intervals[]" {
+        start_cycle: u64 => ("int", "first cycle of the interval"),
+        end_cycle: u64 => ("int", "cycle after its last (`start_cycle` of the next)"),
+        cycles: u64 => ("int", "`end_cycle - start_cycle`"),
+        partial: bool => ("bool", "shorter than N (only the last interval can be)"),
+        instructions: u64 => ("int", "thread-instructions issued", series = "instructions issued (per interval)"),
+        issue_rate: f64 => ("float", "`instructions` / (`cycles` × threads)", series = "issue rate (issued / thread-cycles)"),
+        #[serde(serialize_with = "stats_doc::thread_cycles")]
+        thread_cycles: ThreadCycles => ("object", "the interval's thread-cycles, bucketed as `timing.thread_cycles`", rows = { |p| ThreadCycles::md_rows_as(p, "timing.thread_cycles", "in this interval") }),
+        l1_accesses: u64 => ("int", "L1 accesses, all TMs (as `timing.memory.l1.accesses`)", series = "L1 accesses (per interval)"),
+        l1_hits: u64 => ("int", "L1 load hits", series = "L1 load hits (per interval)"),
+        l1_misses: u64 => ("int", "L1 load misses", series = "L1 load misses (per interval)"),
+        l1_hit_rate: f64 => ("float", "`l1_hits` / (`l1_hits` + `l1_misses`); 0 without loads", series = "L1 hit rate (fraction of loads)"),
+        l1_to_register_gbps: f64 => ("float", "L1 load bytes / interval seconds, GB/s", series = "L1 → register bandwidth (GB/s)"),
+        l2_accesses: u64 => ("int", "L2 accesses, all L2s", series = "L2 accesses (per interval)"),
+        l2_hits: u64 => ("int", "L2 load hits", series = "L2 load hits (per interval)"),
+        l2_misses: u64 => ("int", "L2 load misses", series = "L2 load misses (per interval)"),
+        l2_hit_rate: f64 => ("float", "`l2_hits` / (`l2_hits` + `l2_misses`); 0 without loads", series = "L2 hit rate (fraction of loads)"),
+        l2_to_l1_gbps: f64 => ("float", "L2 load bytes / interval seconds, GB/s", series = "L2 → L1 bandwidth (GB/s)"),
+        dram_reads: u64 => ("int", "DRAM reads served", series = "DRAM reads (per interval)"),
+        dram_writes: u64 => ("int", "DRAM line writes performed", series = "DRAM writes (per interval)"),
+        dram_bytes: u64 => ("int", "DRAM bytes moved", series = "DRAM bytes (per interval)"),
+        dram_gbps: f64 => ("float", "`dram_bytes` / interval seconds, GB/s", series = "DRAM bandwidth (GB/s)"),
+        mean_rays_in_flight: Option<f64> => ("float?", "rays in the stream memory averaged over the interval; `null` for a chip without one", series = "rays in flight (mean over interval)"),
+        energy_j: f64 => ("float", "energy spent in the interval, J (the difference of `timing.energy.total` so far)", series = "energy (J per interval)"),
+        power_w: f64 => ("float", "`energy_j` / interval seconds, W", series = "power (W)"),
+    }
+);
 
-        impl Interval {
-            /// The plottable series, `(field, axis label)`, in the document's order (the
-            /// thread-cycle buckets are series too: [`ThreadCycles::BUCKETS`]).
-            pub const SERIES: &'static [(&'static str, &'static str)] = &[
-                $( $( (stringify!($field), $label), )? )*
-            ];
-        }
-    };
+/// `docs/STATS.md`'s table of the intervals: the rows that place them, then the rows of
+/// [`Interval::STATS`].
+pub fn md_table() -> String {
+    use super::stat::{md_row, md_rows};
+    md_row(
+        "timing.interval_cycles",
+        "int?",
+        "N; `null` without `--stats-interval`",
+    ) + &md_row(
+        "timing.intervals",
+        "array",
+        "one entry per interval, in time order",
+    ) + &md_row("timing.intervals[]", "object", "one interval")
+        + &md_rows(Interval::STATS)
 }
 
-interval! {
-    /// First cycle.
-    start_cycle: u64,
-    /// Cycle after the last.
-    end_cycle: u64,
-    /// `end_cycle - start_cycle`.
-    cycles: u64,
-    /// Shorter than the interval length (the run's last interval).
-    partial: bool,
-    /// Thread-instructions issued.
-    instructions: u64 => "instructions issued (per interval)",
-    /// Issued / (cycles x threads).
-    issue_rate: f64 => "issue rate (issued / thread-cycles)",
-    /// Where the interval's thread-cycles went.
-    #[serde(serialize_with = "stats_doc::thread_cycles")]
-    thread_cycles: ThreadCycles,
-    /// L1 accesses, load hits and misses (all TMs), hit rate, L1 -> register GB/s.
-    l1_accesses: u64 => "L1 accesses (per interval)",
-    l1_hits: u64 => "L1 load hits (per interval)",
-    l1_misses: u64 => "L1 load misses (per interval)",
-    l1_hit_rate: f64 => "L1 hit rate (fraction of loads)",
-    l1_to_register_gbps: f64 => "L1 → register bandwidth (GB/s)",
-    /// The same for the L2s (L2 -> L1 GB/s).
-    l2_accesses: u64 => "L2 accesses (per interval)",
-    l2_hits: u64 => "L2 load hits (per interval)",
-    l2_misses: u64 => "L2 load misses (per interval)",
-    l2_hit_rate: f64 => "L2 hit rate (fraction of loads)",
-    l2_to_l1_gbps: f64 => "L2 → L1 bandwidth (GB/s)",
-    /// DRAM reads, writes, bytes, GB/s.
-    dram_reads: u64 => "DRAM reads (per interval)",
-    dram_writes: u64 => "DRAM writes (per interval)",
-    dram_bytes: u64 => "DRAM bytes (per interval)",
-    dram_gbps: f64 => "DRAM bandwidth (GB/s)",
-    /// Rays in the stream memory, averaged over the interval (`None` without one).
-    mean_rays_in_flight: Option<f64> => "rays in flight (mean over interval)",
-    /// Energy, joules, and average power, watts.
-    energy_j: f64 => "energy (J per interval)",
-    power_w: f64 => "power (W)",
+impl Interval {
+    /// The plottable series, `(field, axis label)`, in the document's order.
+    pub fn series() -> impl Iterator<Item = (&'static str, &'static str)> {
+        Self::STATS.iter().filter_map(|st| {
+            let name = st.path.rsplit_once('.').map_or(st.path, |(_, n)| n);
+            Some((name, st.series?))
+        })
+    }
 }
 
 fn ratio(a: f64, b: f64) -> f64 {

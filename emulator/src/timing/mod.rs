@@ -22,6 +22,7 @@ pub mod intervals;
 mod naps;
 pub(crate) mod operands;
 pub mod sample;
+pub mod stat;
 pub(crate) mod stats;
 mod stats_doc;
 mod tm;

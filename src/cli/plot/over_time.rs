@@ -14,14 +14,11 @@ use trax_emulator::timing::{Interval, ThreadCycles};
 use super::axis::{Axis, Unit};
 use super::{colour, register_font, PlotArgs, SIZE};
 
-/// Every series the chart can draw: the interval's own ([`Interval::SERIES`]) and its
+/// Every series the chart can draw: the interval's own ([`Interval::series`]) and its
 /// thread-cycle buckets (`thread_cycles.NAME`, [`ThreadCycles::BUCKETS`]), both from their
 /// one declaration in the emulator.
 fn names() -> String {
-    let mut v: Vec<String> = Interval::SERIES
-        .iter()
-        .map(|(n, _)| n.to_string())
-        .collect();
+    let mut v: Vec<String> = Interval::series().map(|(n, _)| n.to_string()).collect();
     v.extend(
         ThreadCycles::BUCKETS
             .iter()
@@ -69,8 +66,7 @@ fn load(path: &Path, y: &str) -> Result<(Vec<Step>, f64, String), String> {
             .ok_or_else(|| format!("no interval metric `{y}`; one of: {}", names()))?;
         format!("{} (fraction of thread-cycles)", bucket.label)
     } else {
-        Interval::SERIES
-            .iter()
+        Interval::series()
             .find(|(n, _)| *n == y)
             .map(|(_, l)| l.to_string())
             .ok_or_else(|| format!("no interval metric `{y}`; one of: {}", names()))?

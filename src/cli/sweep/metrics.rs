@@ -49,27 +49,25 @@ const fn m(
     }
 }
 
-/// The metrics, in table order.
+/// A place in [`METRICS`] for the declared statistic whose column is `column`.
+const fn stat(column: &'static str) -> Metric {
+    m(column, "", "", "")
+}
+
+/// The metrics, in table order (the layout of `results.csv`): those of statistics
+/// declared with a sweep column (`stat(COLUMN)`, label, unit and path from the
+/// declaration: `trax_emulator::timing::TimingStats::STATS`) and the others, defined here
+/// (counts at the document's top level, the memory system's, sums of paths).
 pub const METRICS: &[Metric] = &[
     m("instructions", "Instructions", "", "instructions"),
     m("rays", "Rays", "", "rays"),
     m("cycles", "Run time", "cycles", "cycles"),
-    m("seconds", "Simulated time", "s", "timing.seconds"),
-    m("fps", "Frame rate", "frames/s", "timing.fps"),
-    m("mrps", "Ray throughput", "Mrays/s", "timing.mrps"),
-    m(
-        "issue_rate",
-        "Issue rate",
-        "issued / thread-cycle",
-        "timing.issue_rate",
-    ),
-    m("l1_hit_rate", "L1 hit rate", "", "timing.l1_hit_rate"),
-    m(
-        "l1_hit_rate_merged",
-        "L1 hit rate (merged loads as hits)",
-        "",
-        "timing.l1_hit_rate_merged_as_hits",
-    ),
+    stat("seconds"),
+    stat("fps"),
+    stat("mrps"),
+    stat("issue_rate"),
+    stat("l1_hit_rate"),
+    stat("l1_hit_rate_merged"),
     m(
         "l1_accesses",
         "L1 accesses",
@@ -77,7 +75,7 @@ pub const METRICS: &[Metric] = &[
         "timing.memory.l1.accesses",
     ),
     m("l1_misses", "L1 misses", "", "timing.memory.l1.misses"),
-    m("l2_hit_rate", "L2 hit rate", "", "timing.l2_hit_rate"),
+    stat("l2_hit_rate"),
     m(
         "l2_accesses",
         "L2 accesses",
@@ -85,7 +83,7 @@ pub const METRICS: &[Metric] = &[
         "timing.memory.l2[].accesses",
     ),
     m("l2_misses", "L2 misses", "", "timing.memory.l2[].misses"),
-    m("dram_gbps", "DRAM bandwidth", "GB/s", "timing.dram_gbps"),
+    stat("dram_gbps"),
     m("dram_reads", "DRAM reads", "", "timing.memory.dram.reads"),
     m(
         "dram_writes",
@@ -105,7 +103,7 @@ pub const METRICS: &[Metric] = &[
         "cycles",
         "timing.memory.dram.avg_read_latency_cycles",
     ),
-    m("power_w", "Power", "W", "timing.power_w"),
+    stat("power_w"),
     m("energy_j", "Energy per frame", "J", "timing.energy.total"),
     m(
         "dram_background_nj",
@@ -119,12 +117,7 @@ pub const METRICS: &[Metric] = &[
         "nJ",
         "timing.memory.dram.energy.activate_nj+timing.memory.dram.energy.read_nj+timing.memory.dram.energy.write_nj",
     ),
-    m(
-        "energy_per_ray_nj",
-        "Energy per ray (per trax.stat 0 ray)",
-        "nJ",
-        "timing.energy_per_ray_nj",
-    ),
+    stat("energy_per_ray_nj"),
     // Not parts of the stack: sums of the parts above.
     m(
         "energy_memsys_j",
@@ -138,67 +131,49 @@ pub const METRICS: &[Metric] = &[
         "J",
         "timing.energy.instruction_caches+timing.energy.register_files",
     ),
-    m(
-        "stream_reads",
-        "Stream memory reads",
-        "",
-        "timing.stream.reads",
-    ),
-    m(
-        "stream_writes",
-        "Stream memory writes",
-        "",
-        "timing.stream.writes",
-    ),
+    stat("stream_reads"),
+    stat("stream_writes"),
     m(
         "stream_accesses",
         "Stream memory accesses",
         "",
         "timing.stream.reads+timing.stream.writes",
     ),
-    m(
-        "rays_in_flight",
-        "Rays in flight (mean)",
-        "",
-        "timing.stream.mean_rays_in_flight",
-    ),
-    m(
-        "stream_idle_tm_cycles",
-        "TM-cycles idle for lack of rays",
-        "cycles",
-        "timing.stream.idle_tm_cycles",
-    ),
-    m(
-        "stream_schedules",
-        "Stream buffer visits",
-        "",
-        "timing.stream.schedules",
-    ),
-    m(
-        "stream_rays_per_visit",
-        "Rays per buffer visit",
-        "",
-        "timing.stream.rays_per_visit",
-    ),
+    stat("rays_in_flight"),
+    stat("stream_idle_tm_cycles"),
+    stat("stream_schedules"),
+    stat("stream_rays_per_visit"),
     m("area_mm2", "Chip area", "mm²", "timing.area.total"),
-    m(
-        "mrps_per_mm2",
-        "Ray throughput per area",
-        "Mrays/s/mm²",
-        "timing.mrps_per_mm2",
-    ),
+    stat("mrps_per_mm2"),
 ];
 
-/// Every metric, in table order: [`METRICS`] with the energy components after
-/// `energy_j` and the area components after `area_mm2` (their declarations:
-/// `EnergyBreakdown::PARTS`, `AreaBreakdown::PARTS`), then per execution unit of the
-/// registry (`trax_emulator::timing::UNITS`) the operations issued to it.
+/// The metrics of the declared statistics with a sweep column, in declaration order.
+fn declared() -> impl Iterator<Item = Metric> {
+    use trax_emulator::timing::{stat, TimingStats};
+    stat::walk(TimingStats::STATS).into_iter().filter_map(|st| {
+        let c = st.column?;
+        Some(m(c.name, c.label, c.unit, st.path))
+    })
+}
+
+/// Every metric, in table order: [`METRICS`] (a declared statistic's in its place) with
+/// the energy components after `energy_j` and the area components after `area_mm2` (their
+/// declarations: `EnergyBreakdown::PARTS`, `AreaBreakdown::PARTS`), then the declared
+/// statistics [`METRICS`] does not place, then per execution unit of the registry
+/// (`trax_emulator::timing::UNITS`) the operations issued to it.
 pub fn all() -> &'static [Metric] {
     use trax_emulator::timing::{AreaBreakdown, EnergyBreakdown};
     static ALL: std::sync::LazyLock<Vec<Metric>> = std::sync::LazyLock::new(|| {
         let mut v = Vec::new();
         for x in METRICS {
-            v.push(*x);
+            match x.path {
+                "" => v.push(
+                    declared()
+                        .find(|d| d.column == x.column)
+                        .expect("METRICS places only declared statistics"),
+                ),
+                _ => v.push(*x),
+            }
             if x.column == "energy_j" {
                 v.extend(EnergyBreakdown::PARTS.iter().map(|p| Metric {
                     energy_part: true,
@@ -210,6 +185,7 @@ pub fn all() -> &'static [Metric] {
                 v.extend(area.map(|p| m(p.column, p.label, "mm²", p.path)));
             }
         }
+        v.extend(declared().filter(|d| !METRICS.iter().any(|x| x.column == d.column)));
         v.extend(trax_emulator::timing::UNITS.iter().map(|u| Metric {
             absent_is_zero: true,
             ..m(u.ops_column, u.ops_label, "", u.ops_path)
@@ -422,6 +398,25 @@ mod tests {
         assert!(ci_of("l1_accesses_ci95").is_none() && ci_of("cycles").is_none());
         assert!(!metric("energy_memsys_j").unwrap().functional());
         assert!(metric("instructions").unwrap().functional());
+    }
+
+    /// Every statistic declared with a sweep column is a metric, once, with its declared
+    /// label, unit and path; every metric `METRICS` places by name is declared.
+    #[test]
+    fn every_declared_column_is_a_metric() {
+        use trax_emulator::timing::{stat, TimingStats};
+        let mut n = 0;
+        for st in stat::walk(TimingStats::STATS) {
+            let Some(c) = st.column else { continue };
+            n += 1;
+            let m = metric(c.name).unwrap_or_else(|| panic!("{}", c.name));
+            assert_eq!((m.label, m.unit, m.path), (c.label, c.unit, st.path));
+            assert_eq!(all().iter().filter(|x| x.column == c.name).count(), 1);
+        }
+        assert!(n > 0);
+        assert!(all()
+            .iter()
+            .all(|m| !m.path.is_empty() && !m.label.is_empty()));
     }
 
     /// Every energy and area component has its column at its path; energy ones stack.

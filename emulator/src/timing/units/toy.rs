@@ -76,6 +76,30 @@ mod tests {
         }
     }
 
+    /// Every statistic declared in the `timing` object ([`stats::TimingStats::STATS`] and
+    /// the groups nested in it) is in a run's JSON at its path, with its declared type.
+    #[test]
+    fn every_declared_statistic_is_in_the_json() {
+        use crate::timing::stat::{value_at, walk};
+        let s = run(&chip(None));
+        let json = serde_json::to_value(&s).unwrap();
+        for st in walk(stats::TimingStats::STATS) {
+            let v = value_at(&json, "timing", st.path)
+                .unwrap_or_else(|| panic!("{} is not in the JSON", st.path));
+            let ok = match st.ty.trim_end_matches('?') {
+                "int" => v.is_u64(),
+                "float" => v.is_f64(),
+                "object" | "map" => v.is_object(),
+                t => panic!("{}: no check for type {t}", st.path),
+            };
+            assert!(
+                ok || (st.ty.ends_with('?') && v.is_null()),
+                "{}: {v}",
+                st.path
+            );
+        }
+    }
+
     #[test]
     fn the_toy_unit_appears_in_every_output() {
         // Config: `trax config show` documents it, validation accepts it, and a wrong

@@ -9,6 +9,8 @@
 //! object of the executable (`program:NAME`, a sized non-function symbol in a program
 //! segment). Thread stacks live in the local stores and never reach a cache.
 
+use std::sync::Arc;
+
 use trax_runtime::abi::SCENE_COMPONENTS;
 
 /// Number of fixed regions: the scene components, then `scene_header`, `program`, `other`.
@@ -47,7 +49,16 @@ pub struct RegionMap {
     ids: Vec<u16>,
     /// Region names, by id.
     names: Vec<String>,
+    /// Per 4 KiB page below the last interval's end: the region of every interval in it
+    /// (`other` if none is), or [`MIXED`] when they differ (then the intervals decide).
+    /// The unmapped bytes of a page are counted as its mapped bytes' region: no access
+    /// reaches a cache there (it faults). Shared by the TMs' copies.
+    pages: Arc<[u16]>,
 }
+
+/// A page of [`RegionMap::pages`] that the intervals decide.
+const MIXED: u16 = u16::MAX;
+const PAGE_SHIFT: u32 = 12;
 
 impl Default for RegionMap {
     /// No segments: every address is `other`.
@@ -97,7 +108,10 @@ impl RegionMap {
                 if os as u64 > cur {
                     out.push((cur as u32, os as u64, PROGRAM));
                 }
-                let id = match names.iter().position(|n| n.strip_prefix("program:") == Some(name)) {
+                let id = match names
+                    .iter()
+                    .position(|n| n.strip_prefix("program:") == Some(name))
+                {
                     Some(i) => i as u16,
                     None => {
                         names.push(format!("program:{name}"));
@@ -111,28 +125,60 @@ impl RegionMap {
                 out.push((cur as u32, e, PROGRAM));
             }
         }
-        // Region ids are `u16`: objects past that stay `program`.
-        names.truncate(u16::MAX as usize);
+        // Region ids are `u16` below `MIXED`: objects past that stay `program`.
+        names.truncate(MIXED as usize);
         for o in &mut out {
             if o.2 as usize >= names.len() {
                 o.2 = PROGRAM;
             }
         }
-        RegionMap {
+        let mut m = RegionMap {
             starts: out.iter().map(|s| s.0).collect(),
             ends: out.iter().map(|s| s.1).collect(),
             ids: out.iter().map(|s| s.2).collect(),
             names,
+            pages: Arc::new([]),
+        };
+        let end = m.ends.last().copied().unwrap_or(0);
+        let pages: Vec<u16> = (0..end.div_ceil(1 << PAGE_SHIFT))
+            .map(|p| {
+                let (first, last) = (p << PAGE_SHIFT, ((p + 1) << PAGE_SHIFT) - 1);
+                // The intervals that touch the page: the one holding its first byte, if
+                // any, and those starting in it.
+                let a = m.starts.partition_point(|&s| s as u64 <= first);
+                let b = m.starts.partition_point(|&s| s as u64 <= last);
+                let from = match a.checked_sub(1) {
+                    Some(j) if m.ends[j] > first => j,
+                    _ => a,
+                };
+                let mut ids = m.ids[from..b].iter();
+                match ids.next() {
+                    None => OTHER,
+                    Some(&id) if ids.all(|&x| x == id) => id,
+                    Some(_) => MIXED,
+                }
+            })
+            .collect();
+        m.pages = pages.into();
+        m
+    }
+
+    /// The region holding `addr`, by the intervals.
+    fn search(&self, addr: u32) -> u16 {
+        let i = self.starts.partition_point(|&s| s <= addr);
+        match i.checked_sub(1) {
+            Some(j) if (addr as u64) < self.ends[j] => self.ids[j],
+            _ => OTHER,
         }
     }
 
     /// The region holding `addr`.
     #[inline]
     pub fn region_of(&self, addr: u32) -> u16 {
-        let i = self.starts.partition_point(|&s| s <= addr);
-        match i.checked_sub(1) {
-            Some(j) if (addr as u64) < self.ends[j] => self.ids[j],
-            _ => OTHER,
+        match self.pages.get((addr >> PAGE_SHIFT) as usize) {
+            Some(&id) if id != MIXED => id,
+            Some(_) => self.search(addr),
+            None => OTHER,
         }
     }
 
@@ -191,7 +237,8 @@ mod tests {
 
     /// Components by their segment names, the header, program data split around its
     /// objects, and gaps (before, between and after segments) as `other`; an object
-    /// overlapping another or outside the program's segments is left out.
+    /// overlapping another or outside the program's segments is left out; the page table
+    /// agrees with the intervals wherever memory is mapped.
     #[test]
     fn addresses_map_to_their_segments_and_objects() {
         let m = RegionMap::new(
@@ -232,10 +279,35 @@ mod tests {
             (0x4040, "other"),
             (0xffff_ffff, "bvh_nodes"),
         ] {
+            assert_eq!(m.names()[m.search(addr) as usize], want, "{addr:#x}");
+        }
+        // By pages: unmapped pages are `other`; a page's unmapped bytes count as its
+        // mapped bytes' region (no access reaches a cache there).
+        for (addr, want) in [
+            (0x0fff, "other"),
+            (0x1080, "scene_header"),
+            (0x5000, "other"),
+            (0x3100, "triangles"),
+        ] {
             assert_eq!(m.names()[m.region_of(addr) as usize], want, "{addr:#x}");
         }
         assert_eq!(m.len(), FIXED_REGIONS + 2, "{:?}", m.names());
         assert_eq!(id("program:B"), FIXED_REGIONS as u16 + 1);
+        // The page table agrees with the intervals at every page edge and around every
+        // interval's bounds.
+        let mut probes: Vec<u32> = Vec::new();
+        for p in 0..8u32 {
+            probes.extend([p << 12, (p << 12).wrapping_sub(1), (p << 12) + 1]);
+        }
+        for (&s, &e) in m.starts.iter().zip(&m.ends) {
+            probes.extend([s, s.wrapping_sub(1), s + 1, (e - 1) as u32, e as u32]);
+        }
+        for a in probes {
+            if m.search(a) != OTHER {
+                assert_eq!(m.region_of(a), m.search(a), "{a:#x}");
+            }
+        }
+        assert!(m.pages.contains(&MIXED) && m.pages.len() == 0x10_0000);
         let d = RegionMap::default();
         assert_eq!(d.names()[d.region_of(0x1000) as usize], "other");
         let names: std::collections::BTreeSet<&String> = m.names().iter().collect();

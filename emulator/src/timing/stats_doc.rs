@@ -44,7 +44,13 @@ struct RegionDoc {
 
 /// The regions with accesses, in region order.
 fn by_region(names: &[String], b: &[RegionCounts]) -> Vec<RegionDoc> {
-    let rate = |a: u64, loads: u64| if loads > 0 { a as f64 / loads as f64 } else { 0.0 };
+    let rate = |a: u64, loads: u64| {
+        if loads > 0 {
+            a as f64 / loads as f64
+        } else {
+            0.0
+        }
+    };
     (b.iter().enumerate())
         .filter(|(_, r)| r.accesses > 0)
         .map(|(i, r)| RegionDoc {

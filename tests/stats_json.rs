@@ -648,3 +648,112 @@ fn stats_md_timing_section_is_generated() {
         &intervals::md_table(),
     );
 }
+
+/// Cache accesses by memory region against a kernel that reads each region a known number
+/// of times (volatile loads, one thread on one TM, cold caches): per region the L1 sees
+/// exactly its loads, sends exactly its lines to the L2 (components start on 64-byte
+/// boundaries, each read within one line here), whose cold misses they all are; stores go
+/// around both; the regions sum to the caches' totals.
+#[test]
+fn cache_accesses_by_region_count_a_kernel_that_counts_them() {
+    let kernel = scratch().join("regions.rs");
+    std::fs::write(
+        &kernel,
+        r#"static mut TABLE: [u32; 64] = [0; 64];
+
+fn load(a: u32) -> u32 {
+    unsafe { std::ptr::read_volatile(a as *const u32) }
+}
+
+fn trax_main() {
+    let cam = trax::scene::camera_addr();
+    let nodes = trax::scene::bvh_base();
+    let tris = trax::scene::triangles_base();
+    let table = unsafe { &TABLE as *const [u32; 64] as u32 };
+    let fb = trax::scene::pixel_addr(0, 0);
+    let mut acc = 0u32;
+    for _ in 0..5 {
+        for w in 0..4 {
+            acc = acc.wrapping_add(load(cam + w * 4));
+        }
+    }
+    for _ in 0..3 {
+        for w in 0..16 {
+            acc = acc.wrapping_add(load(nodes + w * 4));
+        }
+    }
+    for _ in 0..7 {
+        acc = acc.wrapping_add(load(tris));
+    }
+    for _ in 0..9 {
+        acc = acc.wrapping_add(load(table));
+    }
+    for i in 0..5 {
+        unsafe { std::ptr::write_volatile((fb + i * 4) as *mut u32, acc) };
+    }
+}
+"#,
+    )
+    .unwrap();
+    let (out, v) = run(
+        "regions",
+        kernel.to_str().unwrap(),
+        &["--tms", "1", "--threads", "1"],
+    );
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert!(v["chip"]["memory"]["l1"]["line_bytes"].as_u64().unwrap() >= 64);
+    let m = &v["timing"]["memory"];
+    let region = |cache: &str, name: &str| -> Value {
+        let rows = m[cache].as_array().unwrap();
+        rows.iter()
+            .find(|r| r["region"] == name)
+            .unwrap_or_else(|| panic!("{cache} has no {name}: {rows:?}"))
+            .clone()
+    };
+    let n = |r: &Value, k: &str| r[k].as_u64().unwrap();
+    // (region, loads): camera 5 x 4 words, bvh_nodes 3 x 16 words (64 bytes), triangles
+    // 7 x 1 word, the program's TABLE 9 x 1 word; each region one line.
+    for (name, loads) in [
+        ("camera", 20),
+        ("bvh_nodes", 48),
+        ("triangles", 7),
+        ("program:regions::TABLE", 9),
+    ] {
+        let l1 = region("l1_by_region", name);
+        assert_eq!(n(&l1, "accesses"), loads, "{name}: {l1}");
+        assert_eq!(n(&l1, "stores"), 0, "{name}");
+        assert_eq!(n(&l1, "hits") + n(&l1, "misses"), loads, "{name}");
+        assert_eq!(n(&l1, "misses") - n(&l1, "merged"), 1, "{name}: {l1}");
+        let rate = (n(&l1, "hits") + n(&l1, "merged")) as f64 / loads as f64;
+        assert_eq!(l1["hit_rate_merged_as_hits"].as_f64(), Some(rate), "{name}");
+        let l2 = region("l2_by_region", name);
+        assert_eq!(
+            [n(&l2, "accesses"), n(&l2, "hits"), n(&l2, "misses")],
+            [1, 0, 1],
+            "{name}: {l2}"
+        );
+    }
+    let fb = region("l1_by_region", "framebuffer");
+    assert_eq!([n(&fb, "accesses"), n(&fb, "stores")], [5, 5], "{fb}");
+    let fb = region("l2_by_region", "framebuffer");
+    assert_eq!([n(&fb, "accesses"), n(&fb, "stores")], [5, 5], "{fb}");
+    assert!(n(&region("l1_by_region", "scene_header"), "accesses") > 0);
+    // The regions tile the caches' counts.
+    for (cache, totals) in [
+        ("l1_by_region", vec![m["l1"].clone()]),
+        ("l2_by_region", m["l2"].as_array().unwrap().clone()),
+    ] {
+        for k in ["accesses", "hits", "misses", "merged", "stores"] {
+            let sum: u64 = m[cache].as_array().unwrap().iter().map(|r| n(r, k)).sum();
+            let total: u64 = totals.iter().map(|t| n(t, k)).sum();
+            assert_eq!(sum, total, "{cache}.{k}");
+        }
+    }
+    // The summary's table has the same rows.
+    let err = text(&out.stderr);
+    assert!(
+        err.lines()
+            .any(|l| l.trim_start().starts_with("program:regions::TABLE") && l.contains(" 9 ")),
+        "{err}"
+    );
+}

@@ -364,6 +364,11 @@ impl Memory {
         true
     }
 
+    /// The loaded segments, in address order.
+    pub fn segments(&self) -> &[SegmentInfo] {
+        &self.segments
+    }
+
     /// The loaded segment holding `addr`.
     pub fn segment_at(&self, addr: u32) -> Option<&SegmentInfo> {
         let i = self.segments.partition_point(|s| s.addr <= addr);

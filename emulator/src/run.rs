@@ -539,6 +539,13 @@ fn run_timing(mut req: RunRequest<'_>, out: &mut dyn Write) -> Result<RunReport,
     let mut hook = |d: &Detection| sink.as_mut().is_some_and(|s| s.take(d, &exe));
     let mut engine = timing::engine::Engine::new(chip, &machine, req.limits, host_threads)
         .map_err(RunError::Memory)?;
+    // The statistics by region name the program's data objects too.
+    engine.mem_mut().set_regions(&crate::memsys::RegionMap::new(
+        (machine.shared.mem.segments().iter()).map(|s| (s.name.as_str(), s.addr, s.size)),
+        (exe.symbols.iter())
+            .filter(|s| !s.is_function && !s.is_absolute)
+            .map(|s| (s.name.as_str(), s.addr, s.size)),
+    ));
     if watching {
         engine.on_livelock = Some(&mut hook);
     }

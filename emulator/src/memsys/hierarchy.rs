@@ -10,6 +10,7 @@ use super::cache::{Cache, CacheGeometry, CacheStats, Lookup};
 use super::cacti::{self, CacheCost};
 use super::config::MemSysConfig;
 use super::dram::{Dram, DramStats};
+use super::regions::{self, ByRegion, RegionCounts, RegionMap};
 use super::sentinel::{is_dma, DmaEvent, DmaJob, DmaStats, Sentinel};
 use super::{AccessKind, Completion, Cycle, MemRequest, MemSysError};
 
@@ -63,6 +64,12 @@ pub struct MemStats {
     pub dma_columns: u64,
     /// See `dma_columns`.
     pub dma_row_hits: u64,
+    /// The memory regions' names, by id (see [`super::regions`]).
+    pub region_names: Vec<String>,
+    /// All L1s' accesses by memory region.
+    pub l1_by_region: ByRegion,
+    /// All L2s' accesses by memory region.
+    pub l2_by_region: ByRegion,
 }
 
 /// A load or store leaving a TM's L1 for its L2.
@@ -76,6 +83,8 @@ pub struct L2Request {
     pub tm: u32,
     /// Store (write-around) rather than a line fill.
     pub write: bool,
+    /// The memory region of `addr` ([`super::regions`]).
+    pub region: u16,
 }
 
 /// The TM side of the memory system: one L1 and the requests it sends to its L2.
@@ -92,6 +101,10 @@ pub struct TmMem {
     /// Line fills received (line, cycle the line is valid in the L1).
     fills: Vec<(u32, Cycle)>,
     waiters: Vec<u64>,
+    /// Address → memory region, for `by_region`.
+    regions: RegionMap,
+    /// The L1's accesses by memory region.
+    by_region: ByRegion,
 }
 
 impl TmMem {
@@ -105,15 +118,20 @@ impl TmMem {
         if !l1.claim_bank(addr, now) {
             return Access::Stall(Stall::L1Bank);
         }
+        let region = self.regions.region_of(addr);
+        let rc = &mut self.by_region[region as usize];
         if req.kind == AccessKind::Write {
             l1.stats.accesses += 1;
             l1.stats.stores += 1;
             l1.stats.store_bytes += u64::from(req.size);
+            rc.accesses += 1;
+            rc.stores += 1;
             self.sent.push(L2Request {
                 cycle: now,
                 addr,
                 tm: self.tm,
                 write: true,
+                region,
             });
             return Access::Ready(now + l1.hit_latency());
         }
@@ -123,15 +141,17 @@ impl TmMem {
                 l1.stats.accesses += 1;
                 l1.stats.hits += 1;
                 l1.stats.load_bytes += u64::from(req.size);
+                rc.accesses += 1;
+                rc.hits += 1;
                 l1.touch(line);
                 Access::Ready(r)
             }
             Lookup::Merged(r) => {
-                count_merged(l1, req);
+                count_merged(l1, rc, req);
                 Access::Ready(r)
             }
             Lookup::Pending(i) => {
-                count_merged(l1, req);
+                count_merged(l1, rc, req);
                 l1.mshr_join(i, req.id);
                 Access::Pending
             }
@@ -143,12 +163,15 @@ impl TmMem {
                 l1.stats.accesses += 1;
                 l1.stats.misses += 1;
                 l1.stats.load_bytes += u64::from(req.size);
+                rc.accesses += 1;
+                rc.misses += 1;
                 l1.mshr_alloc(line, req.id);
                 self.sent.push(L2Request {
                     cycle: now,
                     addr,
                     tm: self.tm,
                     write: false,
+                    region,
                 });
                 Access::Pending
             }
@@ -202,11 +225,14 @@ impl AsMut<TmMem> for TmMem {
     }
 }
 
-fn count_merged(l1: &mut Cache, req: &MemRequest) {
+fn count_merged(l1: &mut Cache, rc: &mut RegionCounts, req: &MemRequest) {
     l1.stats.accesses += 1;
     l1.stats.misses += 1;
     l1.stats.merged += 1;
     l1.stats.load_bytes += u64::from(req.size);
+    rc.accesses += 1;
+    rc.misses += 1;
+    rc.merged += 1;
 }
 
 /// The chip side of the memory system: the L2s and DRAM.
@@ -228,6 +254,8 @@ pub struct ChipMem {
     dram_queue_full: u64,
     /// The ray stream memory's DMA engine (spills and refills).
     sentinel: Sentinel,
+    /// The L2s' accesses by memory region.
+    by_region: ByRegion,
 }
 
 impl ChipMem {
@@ -296,6 +324,9 @@ impl ChipMem {
             l2.stats.accesses += 1;
             l2.stats.stores += 1;
             l2.stats.store_bytes += u64::from(l2.line_bytes());
+            let rc = &mut self.by_region[r.region as usize];
+            rc.accesses += 1;
+            rc.stores += 1;
             let line_addr = r.addr & !(l2.line_bytes() - 1);
             let ok = self
                 .dram
@@ -318,24 +349,32 @@ impl ChipMem {
         }
         l2.stats.accesses += 1;
         l2.stats.load_bytes += u64::from(l2.line_bytes());
+        let rc = &mut self.by_region[r.region as usize];
+        rc.accesses += 1;
         match res {
             Lookup::Hit(at) => {
                 l2.stats.hits += 1;
+                rc.hits += 1;
                 l2.touch(line);
                 tms[tm].as_mut().fills.push((line, at));
             }
             Lookup::Merged(at) => {
                 l2.stats.misses += 1;
                 l2.stats.merged += 1;
+                rc.misses += 1;
+                rc.merged += 1;
                 tms[tm].as_mut().fills.push((line, at));
             }
             Lookup::Pending(j) => {
                 l2.stats.misses += 1;
                 l2.stats.merged += 1;
+                rc.misses += 1;
+                rc.merged += 1;
                 l2.mshr_join(j, tm as u64);
             }
             Lookup::Miss => {
                 l2.stats.misses += 1;
+                rc.misses += 1;
                 l2.mshr_alloc(line, tm as u64);
                 let line_addr = line << self.l1_line_shift;
                 let id = ((g as u64) << 32) | u64::from(line);
@@ -405,6 +444,7 @@ impl ChipMem {
 pub struct MemSystem {
     tm: Vec<TmMem>,
     chip: ChipMem,
+    region_names: Vec<String>,
     l1_cost: CacheCost,
     l2_cost: CacheCost,
 }
@@ -467,6 +507,8 @@ impl MemSystem {
                     sent: Vec::new(),
                     fills: Vec::new(),
                     waiters: Vec::new(),
+                    regions: RegionMap::default(),
+                    by_region: vec![RegionCounts::default(); regions::FIXED_REGIONS],
                 })
                 .collect(),
             chip: ChipMem {
@@ -482,7 +524,9 @@ impl MemSystem {
                 waiters_l2: Vec::new(),
                 dram_queue_full: 0,
                 sentinel: Sentinel::new(cfg.l2.line_bytes),
+                by_region: vec![RegionCounts::default(); regions::FIXED_REGIONS],
             },
+            region_names: RegionMap::default().names().to_vec(),
             l1_cost: cacti::resolve(
                 cfg.l1.capacity_bytes,
                 cfg.l1.banks,
@@ -498,6 +542,17 @@ impl MemSystem {
                 cfg.l2.energy_nj,
             ),
         })
+    }
+
+    /// Sets the address → region map of the statistics by region (by default every
+    /// address is `other`); call it before the first access.
+    pub fn set_regions(&mut self, map: &RegionMap) {
+        for t in &mut self.tm {
+            t.regions = map.clone();
+            t.by_region = vec![RegionCounts::default(); map.len()];
+        }
+        self.chip.by_region = vec![RegionCounts::default(); map.len()];
+        self.region_names = map.names().to_vec();
     }
 
     /// Number of L2 caches.
@@ -619,9 +674,11 @@ impl MemSystem {
     /// Statistics so far, with the TM sides `tms` (taken by [`Self::take_tms`]).
     pub fn stats_with<'a>(&self, tms: impl IntoIterator<Item = &'a TmMem>) -> MemStats {
         let mut l1 = CacheStats::default();
+        let mut l1_by_region = ByRegion::new();
         let mut n = 0usize;
         for t in tms {
             l1.add(&t.l1.stats);
+            regions::add(&mut l1_by_region, &t.by_region);
             n += 1;
         }
         let l2: Vec<CacheStats> = self.chip.l2.iter().map(|c| c.stats.clone()).collect();
@@ -640,6 +697,9 @@ impl MemSystem {
             dram: self.chip.dram.stats(),
             l1_cost: self.l1_cost,
             l2_cost: self.l2_cost,
+            l1_by_region,
+            l2_by_region: self.chip.by_region.clone(),
+            region_names: self.region_names.clone(),
         }
     }
 }

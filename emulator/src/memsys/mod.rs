@@ -43,6 +43,7 @@ pub mod dram;
 pub mod dram_config;
 pub mod dram_detailed;
 pub mod hierarchy;
+pub mod regions;
 pub mod sentinel;
 pub mod timespec;
 
@@ -51,6 +52,7 @@ pub use config::{BankInterleave, L1Config, L2Config, MemSysConfig};
 pub use dram::{Dram, DramEnergy, DramStats};
 pub use dram_config::{AddressMapping, DramConfig, DramModel, DRAM_PRESETS};
 pub use hierarchy::{Access, ChipMem, L2Request, MemStats, MemSystem, Stall, TmMem};
+pub use regions::{RegionCounts, RegionMap};
 pub use timespec::{ns_to_cycles, TimeSpec};
 
 /// A time in core cycles.

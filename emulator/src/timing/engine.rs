@@ -40,7 +40,7 @@ use crate::exec::Stop;
 use crate::livelock::{self, Detection, Watch};
 use crate::machine::{drain, Crash, Machine, Outcome};
 use crate::memsys::sentinel::DmaJob;
-use crate::memsys::{CacheStats, MemStats, MemSystem};
+use crate::memsys::{CacheStats, MemStats, MemSystem, RegionMap};
 use crate::profile::Profiler;
 use crate::run::{Limits, Progress};
 use crate::thread::{Shared, Thread};
@@ -354,8 +354,12 @@ impl<'c> Engine<'c> {
         host_threads: usize,
     ) -> Result<Self, String> {
         let tms = cfg.tms as usize;
-        let mem = MemSystem::new(&cfg.memory, tms, cfg.tms_per_l2 as usize, cfg.clock_mhz())
+        let mut mem = MemSystem::new(&cfg.memory, tms, cfg.tms_per_l2 as usize, cfg.clock_mhz())
             .map_err(|e| e.to_string())?;
+        mem.set_regions(&RegionMap::new(
+            (machine.shared.mem.segments().iter()).map(|s| (s.name.as_str(), s.addr, s.size)),
+            [],
+        ));
         let units: Vec<UnitSpec> = (0..NUM_CLASSES)
             .map(
                 |k| match units::unit_at(k).map(|u| cfg.unit_named(u.name)) {

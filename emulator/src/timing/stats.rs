@@ -11,7 +11,7 @@ use super::engine::{Counters, ThreadCycles};
 use super::stat::{md_row, stat_group, summary_lines, walk};
 use super::stats_doc;
 use super::units::{self, UNITS};
-use crate::memsys::{CacheStats, MemStats};
+use crate::memsys::{CacheStats, MemStats, RegionCounts};
 use crate::program::Program;
 
 /// One component of a breakdown ([`EnergyBreakdown::PARTS`], [`AreaBreakdown::PARTS`]).
@@ -485,6 +485,46 @@ fn top(out: &mut String, title: &str, m: &BTreeMap<String, u64>, total: u64, n: 
     }
 }
 
+/// The summary's table of L1 and L2 loads by memory region: per region with accesses, its
+/// loads, strict and merged-as-hit hit rates, and its share of the cache's misses (strict)
+/// and of the requests it sent on (misses not merged).
+fn by_region(out: &mut String, m: &MemStats) {
+    let (l1, l2) = (&m.l1_by_region, &m.l2_by_region);
+    if l1.iter().chain(l2).all(|r| r.accesses == 0) {
+        return;
+    }
+    let _ = writeln!(
+        out,
+        "loads by region, L1 | L2: loads, hit % (counting merged as hits), share of the misses (of the requests sent on):"
+    );
+    let total = |b: &[RegionCounts]| {
+        b.iter()
+            .fold((0, 0), |(m, s), r| (m + r.misses, s + r.misses - r.merged))
+    };
+    let (t1, t2) = (total(l1), total(l2));
+    let cols = |r: &RegionCounts, (tm, ts): (u64, u64)| {
+        let loads = r.hits + r.misses;
+        format!(
+            "{loads:>12} {:6.2}% ({:6.2}%) {:5.1}% ({:5.1}%)",
+            pct(r.hits, loads),
+            pct(r.hits + r.merged, loads),
+            pct(r.misses, tm),
+            pct(r.misses - r.merged, ts)
+        )
+    };
+    for (i, (a, b)) in l1.iter().zip(l2).enumerate() {
+        if a.accesses + b.accesses > 0 {
+            let _ = writeln!(
+                out,
+                "   {:<30} {} | {}",
+                m.region_names[i],
+                cols(a, t1),
+                cols(b, t2)
+            );
+        }
+    }
+}
+
 impl TimingStats {
     /// Human-readable summary.
     pub fn summary(&self) -> String {
@@ -562,6 +602,7 @@ impl TimingStats {
             "L2 requests delayed (request-cycles): bank conflict {l2_bank}, MSHRs full {l2_mshr}, DRAM queue full {}",
             m.dram_queue_full
         );
+        by_region(&mut s, m);
         let _ = writeln!(
             s,
             "bandwidth (GB/s): L1->reg {:.2}  L2->L1 {:.2}  DRAM {:.2}",

@@ -9,6 +9,7 @@ use serde::{Serialize, Serializer};
 
 use super::engine::ThreadCycles;
 use crate::memsys::cacti::{CacheCost, Source};
+use crate::memsys::RegionCounts;
 use crate::memsys::{CacheStats, DramEnergy, DramStats, MemStats};
 
 /// `timing.memory`.
@@ -24,6 +25,45 @@ struct MemStatsDoc {
     l1_area_mm2: f64,
     l2_area_mm2: f64,
     dram_queue_full: u64,
+    l1_by_region: Vec<RegionDoc>,
+    l2_by_region: Vec<RegionDoc>,
+}
+
+/// `timing.memory.l1_by_region[]`, `timing.memory.l2_by_region[]`: one region's accesses.
+#[derive(Serialize)]
+struct RegionDoc {
+    region: String,
+    accesses: u64,
+    hits: u64,
+    misses: u64,
+    merged: u64,
+    stores: u64,
+    hit_rate: f64,
+    hit_rate_merged_as_hits: f64,
+}
+
+/// The regions with accesses, in region order.
+fn by_region(names: &[String], b: &[RegionCounts]) -> Vec<RegionDoc> {
+    let rate = |a: u64, loads: u64| {
+        if loads > 0 {
+            a as f64 / loads as f64
+        } else {
+            0.0
+        }
+    };
+    (b.iter().enumerate())
+        .filter(|(_, r)| r.accesses > 0)
+        .map(|(i, r)| RegionDoc {
+            region: names[i].clone(),
+            accesses: r.accesses,
+            hits: r.hits,
+            misses: r.misses,
+            merged: r.merged,
+            stores: r.stores,
+            hit_rate: rate(r.hits, r.hits + r.misses),
+            hit_rate_merged_as_hits: rate(r.hits + r.merged, r.hits + r.misses),
+        })
+        .collect()
 }
 
 /// `timing.memory.l1`, `timing.memory.l2[]`.
@@ -180,6 +220,8 @@ pub(super) fn memory<S: Serializer>(m: &MemStats, s: S) -> Result<S::Ok, S::Erro
         l1_area_mm2: m.l1_area_mm2,
         l2_area_mm2: m.l2_area_mm2,
         dram_queue_full: m.dram_queue_full,
+        l1_by_region: by_region(&m.region_names, &m.l1_by_region),
+        l2_by_region: by_region(&m.region_names, &m.l2_by_region),
     }
     .serialize(s)
 }

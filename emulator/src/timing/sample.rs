@@ -1589,24 +1589,16 @@ fn fast_forward(
     let cycles = engine.now;
     let mut progress = engine.progress.take();
     let global_end = m.shared.mem.global_end();
-    let mut ff = FastForward {
-        mem: engine.mem_mut(),
+    let mut ff = FastForward::new(
+        engine.mem_mut(),
         global_end,
-        reg,
-        until,
+        (reg, until),
         cross,
-        executed: x0,
-        paused: false,
-        progress: progress.as_deref_mut(),
-        cycles,
-        turns: 0,
-        last: Instant::now(),
-        vt: vec![0.0; m.threads.len()],
-        now_v: 0.0,
-        last_idx: usize::MAX,
-        q: f64::from(q),
-        load: [0.0, costs.l2_cycles, costs.dram_cycles],
-    };
+        x0,
+        progress.as_deref_mut(),
+        (cycles, m.threads.len()),
+        costs,
+    );
     let mut sched = Scheduler::new(m);
     let driven = sched.run(m, out, &mut ff);
     let x = ff.executed;
@@ -1643,6 +1635,11 @@ struct FastForward<'a, 'p> {
     last_idx: usize,
     /// Virtual cycles per round.
     q: f64,
+    /// The earliest virtual time of the threads this round left running (skipped or at
+    /// the end of their allowance): the next round starts no later than it is due.
+    next_due: f64,
+    /// Whether a turn of this round has retired an instruction.
+    ran_in_round: bool,
     /// Virtual cycles per load by where warming served it (an instruction costs one).
     load: [f64; 3],
 }
@@ -1687,6 +1684,44 @@ impl VtCosts {
     }
 }
 
+impl<'a, 'p> FastForward<'a, 'p> {
+    /// An executor at the start of a fast-forward: `(reg, until)` the counter and its
+    /// target, `executed` the instructions so far, `(cycles, threads)` the chip's cycle
+    /// and thread count.
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        mem: &'a mut MemSystem,
+        global_end: u32,
+        (reg, until): (usize, u32),
+        cross: &'a mut Crossings,
+        executed: u64,
+        progress: Option<&'a mut (dyn FnMut(&Progress) + 'p)>,
+        (cycles, threads): (u64, usize),
+        costs: VtCosts,
+    ) -> Self {
+        FastForward {
+            mem,
+            global_end,
+            reg,
+            until,
+            cross,
+            executed,
+            paused: false,
+            progress,
+            cycles,
+            turns: 0,
+            last: Instant::now(),
+            vt: vec![0.0; threads],
+            now_v: 0.0,
+            last_idx: usize::MAX,
+            q: f64::from(FF_QUANTUM),
+            next_due: f64::INFINITY,
+            ran_in_round: false,
+            load: [0.0, costs.l2_cycles, costs.dram_cycles],
+        }
+    }
+}
+
 impl Executor for FastForward<'_, '_> {
     fn exec(&mut self, idx: usize, t: &mut Thread, sh: &mut Shared, budget: u64) -> Stop {
         let c = sh.globals[self.reg];
@@ -1701,12 +1736,25 @@ impl Executor for FastForward<'_, '_> {
         // memory-bound and compute-bound phases at a window's start is the timed one.
         if idx <= self.last_idx {
             self.now_v += self.q;
+            // No thread still running is due before the new round's end: time skips to
+            // the round holding the earliest of them (they would all sit it out).
+            if self.next_due >= self.now_v && self.next_due.is_finite() {
+                self.now_v = self.next_due + self.q;
+            }
+            self.next_due = f64::INFINITY;
+            self.ran_in_round = false;
         }
         self.last_idx = idx;
         let vt = &mut self.vt[idx];
         // A thread back from a barrier (or paused) starts at most a round behind.
         *vt = vt.max(self.now_v - self.q);
-        // At least one instruction: a round always makes progress.
+        if *vt >= self.now_v && self.ran_in_round {
+            // Ahead of the round (waiting for memory in virtual time): it sits the round
+            // out, as in the timing model, without running. Skipping is only allowed once
+            // the round has made progress, so a round never runs nothing.
+            self.next_due = self.next_due.min(*vt);
+            return Stop::Budget;
+        }
         let allowance = (self.now_v - *vt).ceil().clamp(1.0, budget.max(1) as f64) as u64;
         let before = t.retired;
         let tm = t.tm as usize;
@@ -1725,6 +1773,10 @@ impl Executor for FastForward<'_, '_> {
         let ran = t.retired - before;
         self.vt[idx] += ran as f64 + stall;
         self.executed += ran;
+        self.ran_in_round |= ran != 0;
+        if stop == Stop::Budget {
+            self.next_due = self.next_due.min(self.vt[idx]);
+        }
         self.turns += 1;
         if self.turns >= 256 {
             self.turns = 0;
@@ -2028,5 +2080,86 @@ mod tests {
         assert_eq!(p.head_end, 512);
         assert_eq!(p.bounds.len(), 21);
         assert_eq!(*p.bounds.last().unwrap(), 16384 - 512);
+    }
+
+    /// Runs one fast-forward round (every thread's turn, a quantum's budget each); returns
+    /// the instructions each thread retired in it.
+    fn ff_round(ff: &mut FastForward<'_, '_>, m: &mut Machine) -> Vec<u64> {
+        (0..m.threads.len())
+            .map(|i| {
+                let t = &mut m.threads[i];
+                let before = t.retired;
+                assert_eq!(
+                    ff.exec(i, t, &mut m.shared, u64::from(FF_QUANTUM)),
+                    Stop::Budget
+                );
+                t.retired - before
+            })
+            .collect()
+    }
+
+    /// One TM of three threads running nops, on the tiny chip.
+    fn nop_machine() -> (ChipConfig, Machine) {
+        use trax_runtime::image::{Perms, Segment};
+        use trax_runtime::isa::{instr, TraxOp};
+        const TEXT: u32 = trax_runtime::abi::TEXT_BASE;
+        let mut words = vec![0u32; 5000];
+        words.push(instr(TraxOp::Halt).encode(&[]));
+        let text: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
+        let end = TEXT + text.len() as u32;
+        let mut cfg = ChipConfig::preset("tiny").unwrap();
+        (cfg.tms, cfg.threads_per_tm) = (1, 3);
+        cfg.validate().unwrap();
+        let mc = crate::machine::MachineConfig {
+            tms: 1,
+            threads_per_tm: 3,
+            ..Default::default()
+        };
+        let seg = Segment::new("text", TEXT, text, Perms::RX);
+        (cfg, Machine::new(&[seg], TEXT, end, TEXT, mc).unwrap())
+    }
+
+    #[test]
+    fn fast_forward_threads_ahead_of_the_round_sit_it_out() {
+        let (cfg, mut m) = nop_machine();
+        let mut engine = Engine::new(&cfg, &m, Limits::default(), 1).unwrap();
+        let mut cross = Crossings {
+            bounds: vec![],
+            at: vec![],
+        };
+        let global_end = m.shared.mem.global_end();
+        let costs = VtCosts {
+            l2_cycles: 0.0,
+            dram_cycles: 0.0,
+        };
+        let mut ff = FastForward::new(
+            engine.mem_mut(),
+            global_end,
+            (0, u32::MAX),
+            &mut cross,
+            0,
+            None,
+            (0, m.threads.len()),
+            costs,
+        );
+        assert_eq!(ff_round(&mut ff, &mut m), [100, 100, 100]);
+        // Thread 1 waited for memory (in virtual time) up to 450: it runs nothing in the
+        // rounds to 200, 300 and 400, and catches up to the round's end in the one to 500.
+        ff.vt[1] = 450.0;
+        assert_eq!(ff_round(&mut ff, &mut m), [100, 0, 100]);
+        assert_eq!(ff_round(&mut ff, &mut m), [100, 0, 100]);
+        assert_eq!(ff_round(&mut ff, &mut m), [100, 0, 100]);
+        assert_eq!(ff_round(&mut ff, &mut m), [100, 50, 100]);
+
+        // Every thread far ahead: until a turn of the round retires an instruction, a
+        // thread runs at least one (a round always makes progress); time then skips to
+        // the round of the earliest thread.
+        ff.vt = vec![2000.0, 1000.0, 1000.0];
+        ff.now_v = 600.0;
+        ff.last_idx = usize::MAX;
+        ff.next_due = f64::INFINITY;
+        assert_eq!(ff_round(&mut ff, &mut m), [1, 0, 0]);
+        assert_eq!(ff_round(&mut ff, &mut m), [1, 100, 100]);
+        assert_eq!(ff.now_v, 1100.0);
     }
 }

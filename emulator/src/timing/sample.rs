@@ -84,8 +84,9 @@ pub const DEFAULT_WINDOW: u64 = 8000;
 const _: () = assert!(DEFAULT_WARMUP >= MIN_WARMUP_CYCLES && DEFAULT_WINDOW >= DEFAULT_WARMUP);
 
 /// Virtual cycles per round of the fast-forward (each thread runs until its virtual time,
-/// instructions plus load stalls, reaches the round's): small, so the L1s see a TM's
-/// threads interleaved much as in timing; large enough to cost little.
+/// instructions plus load stalls, reaches the round's; one already past it sits the round
+/// out): small, so the L1s see a TM's threads interleaved much as in timing; large enough
+/// to cost little.
 pub const FF_QUANTUM: u32 = 100;
 
 /// Fewer of the rarer outcome than this in the windows (cache hits or misses, DRAM

@@ -63,7 +63,7 @@ use crate::memory::MemFault;
 use crate::memsys::MemSystem;
 use crate::run::{Limits, Progress};
 use crate::sched::{Driven, Executor, Scheduler};
-use crate::thread::{Shared, Thread, NUM_GLOBALS, NUM_STATS};
+use crate::thread::{RunState, Shared, Thread, NUM_GLOBALS, NUM_STATS};
 use trax_runtime::abi::{PIXEL_COUNTER_REG, WORK_COUNTER_REG, WORK_ITEMS_REG};
 use trax_runtime::rng::Rng;
 
@@ -1630,6 +1630,9 @@ struct FastForward<'a, 'p> {
     last: Instant,
     /// Per thread: its virtual time, cycles (instructions plus load stalls).
     vt: Vec<f64>,
+    /// Per thread: running at the end of its last turn of this fast-forward (it stays
+    /// so until its next turn: only a thread's own instructions block or halt it).
+    running: Vec<bool>,
     /// The round's virtual time: each thread runs until its own reaches it.
     now_v: f64,
     /// The thread of the last turn (a lower one starts a new round).
@@ -1713,6 +1716,7 @@ impl<'a, 'p> FastForward<'a, 'p> {
             turns: 0,
             last: Instant::now(),
             vt: vec![0.0; threads],
+            running: vec![false; threads],
             now_v: 0.0,
             last_idx: usize::MAX,
             q: f64::from(FF_QUANTUM),
@@ -1754,6 +1758,7 @@ impl Executor for FastForward<'_, '_> {
             // out, as in the timing model, without running. Skipping is only allowed once
             // the round has made progress, so a round never runs nothing.
             self.next_due = self.next_due.min(*vt);
+            self.running[idx] = true;
             return Stop::Budget;
         }
         let allowance = (self.now_v - *vt).ceil().clamp(1.0, budget.max(1) as f64) as u64;
@@ -1775,6 +1780,7 @@ impl Executor for FastForward<'_, '_> {
         self.vt[idx] += ran as f64 + stall;
         self.executed += ran;
         self.ran_in_round |= ran != 0;
+        self.running[idx] = matches!(t.state, RunState::Running);
         if stop == Stop::Budget {
             self.next_due = self.next_due.min(self.vt[idx]);
         }
@@ -1798,6 +1804,23 @@ impl Executor for FastForward<'_, '_> {
 
     fn pause(&self) -> bool {
         self.paused
+    }
+
+    /// The sit-out of [`Executor::exec`] decided from the dense `vt` and `running` arrays
+    /// alone, for a running thread in a round under way (`idx` after the last turn's) with
+    /// the counter short of its target: `exec` would only note crossings the next turn
+    /// notes alike (nothing runs in between) and lower `next_due`, as this does.
+    fn passes(&mut self, idx: usize, sh: &Shared) -> bool {
+        let passes = self.ran_in_round
+            && idx > self.last_idx
+            && self.running[idx]
+            && self.vt[idx] >= self.now_v
+            && sh.globals[self.reg] < self.until;
+        if passes {
+            self.last_idx = idx;
+            self.next_due = self.next_due.min(self.vt[idx]);
+        }
+        passes
     }
 }
 
@@ -2118,6 +2141,124 @@ mod tests {
         };
         let seg = Segment::new("text", TEXT, text, Perms::RX);
         (cfg, Machine::new(&[seg], TEXT, end, TEXT, mc).unwrap())
+    }
+
+    /// [`ff_round`] as the scheduler runs it: a thread the executor passes is not visited.
+    /// Returns the instructions each thread retired and whether its turn was passed.
+    fn ff_round_passing(ff: &mut FastForward<'_, '_>, m: &mut Machine) -> (Vec<u64>, Vec<bool>) {
+        (0..m.threads.len())
+            .map(|i| {
+                if ff.passes(i, &m.shared) {
+                    return (0, true);
+                }
+                let t = &mut m.threads[i];
+                let before = t.retired;
+                let stop = ff.exec(i, t, &mut m.shared, u64::from(FF_QUANTUM));
+                assert_eq!(stop, Stop::Budget);
+                (t.retired - before, false)
+            })
+            .unzip()
+    }
+
+    #[test]
+    fn fast_forward_passes_exactly_the_turns_it_would_sit_out() {
+        let (cfg, mut m_exec) = nop_machine();
+        let (_, mut m_pass) = nop_machine();
+        let mut e_exec = Engine::new(&cfg, &m_exec, Limits::default(), 1).unwrap();
+        let mut e_pass = Engine::new(&cfg, &m_pass, Limits::default(), 1).unwrap();
+        let mut x_exec = Crossings {
+            bounds: vec![],
+            at: vec![],
+        };
+        let mut x_pass = Crossings {
+            bounds: vec![],
+            at: vec![],
+        };
+        let global_end = m_exec.shared.mem.global_end();
+        let costs = VtCosts {
+            l2_cycles: 0.0,
+            dram_cycles: 0.0,
+        };
+        let n = m_exec.threads.len();
+        let mut ff_exec = FastForward::new(
+            e_exec.mem_mut(),
+            global_end,
+            (0, u32::MAX),
+            &mut x_exec,
+            0,
+            None,
+            (0, n),
+            costs,
+        );
+        let mut ff_pass = FastForward::new(
+            e_pass.mem_mut(),
+            global_end,
+            (0, u32::MAX),
+            &mut x_pass,
+            0,
+            None,
+            (0, n),
+            costs,
+        );
+        // Every round: the same instructions and state with and without passing, and the
+        // turns passed are exactly the sit-outs (a thread's first turn is always visited).
+        let mut round = |ff_exec: &mut FastForward<'_, '_>,
+                         ff_pass: &mut FastForward<'_, '_>,
+                         passed: [bool; 3]| {
+            let ran = ff_round(ff_exec, &mut m_exec);
+            assert_eq!(
+                ff_round_passing(ff_pass, &mut m_pass),
+                (ran.clone(), passed.to_vec())
+            );
+            assert_eq!(ff_exec.vt, ff_pass.vt);
+            assert_eq!(
+                (
+                    ff_exec.now_v,
+                    ff_exec.next_due,
+                    ff_exec.last_idx,
+                    ff_exec.ran_in_round
+                ),
+                (
+                    ff_pass.now_v,
+                    ff_pass.next_due,
+                    ff_pass.last_idx,
+                    ff_pass.ran_in_round
+                )
+            );
+            ran
+        };
+        assert_eq!(
+            round(&mut ff_exec, &mut ff_pass, [false; 3]),
+            [100, 100, 100]
+        );
+        ff_exec.vt[1] = 450.0;
+        ff_pass.vt[1] = 450.0;
+        for _ in 0..3 {
+            let passed = [false, true, false];
+            assert_eq!(round(&mut ff_exec, &mut ff_pass, passed), [100, 0, 100]);
+        }
+        assert_eq!(
+            round(&mut ff_exec, &mut ff_pass, [false; 3]),
+            [100, 50, 100]
+        );
+        for ff in [&mut ff_exec, &mut ff_pass] {
+            ff.vt = vec![2000.0, 1000.0, 1000.0];
+            ff.now_v = 600.0;
+            ff.last_idx = usize::MAX;
+            ff.next_due = f64::INFINITY;
+        }
+        // The round's first turn always runs; the threads ahead then pass.
+        let passed = [false, true, true];
+        assert_eq!(round(&mut ff_exec, &mut ff_pass, passed), [1, 0, 0]);
+        assert_eq!(round(&mut ff_exec, &mut ff_pass, [false; 3]), [1, 100, 100]);
+        // Far ahead in a round under way it passes; not known to be running (it blocked or
+        // halted), it is visited.
+        ff_pass.vt[2] = 1.0e9;
+        ff_pass.last_idx = 1;
+        assert!(ff_pass.passes(2, &m_pass.shared));
+        ff_pass.last_idx = 1;
+        ff_pass.running[2] = false;
+        assert!(!ff_pass.passes(2, &m_pass.shared));
     }
 
     #[test]

@@ -63,7 +63,7 @@ use crate::memory::MemFault;
 use crate::memsys::MemSystem;
 use crate::run::{Limits, Progress};
 use crate::sched::{Driven, Executor, Scheduler};
-use crate::thread::{Shared, Thread, NUM_GLOBALS, NUM_STATS};
+use crate::thread::{RunState, Shared, Thread, NUM_GLOBALS, NUM_STATS};
 use trax_runtime::abi::{PIXEL_COUNTER_REG, WORK_COUNTER_REG, WORK_ITEMS_REG};
 use trax_runtime::rng::Rng;
 
@@ -84,8 +84,9 @@ pub const DEFAULT_WINDOW: u64 = 8000;
 const _: () = assert!(DEFAULT_WARMUP >= MIN_WARMUP_CYCLES && DEFAULT_WINDOW >= DEFAULT_WARMUP);
 
 /// Virtual cycles per round of the fast-forward (each thread runs until its virtual time,
-/// instructions plus load stalls, reaches the round's): small, so the L1s see a TM's
-/// threads interleaved much as in timing; large enough to cost little.
+/// instructions plus load stalls, reaches the round's; one already past it sits the round
+/// out): small, so the L1s see a TM's threads interleaved much as in timing; large enough
+/// to cost little.
 pub const FF_QUANTUM: u32 = 100;
 
 /// Fewer of the rarer outcome than this in the windows (cache hits or misses, DRAM
@@ -1589,24 +1590,16 @@ fn fast_forward(
     let cycles = engine.now;
     let mut progress = engine.progress.take();
     let global_end = m.shared.mem.global_end();
-    let mut ff = FastForward {
-        mem: engine.mem_mut(),
+    let mut ff = FastForward::new(
+        engine.mem_mut(),
         global_end,
-        reg,
-        until,
+        (reg, until),
         cross,
-        executed: x0,
-        paused: false,
-        progress: progress.as_deref_mut(),
-        cycles,
-        turns: 0,
-        last: Instant::now(),
-        vt: vec![0.0; m.threads.len()],
-        now_v: 0.0,
-        last_idx: usize::MAX,
-        q: f64::from(q),
-        load: [0.0, costs.l2_cycles, costs.dram_cycles],
-    };
+        x0,
+        progress.as_deref_mut(),
+        (cycles, m.threads.len()),
+        costs,
+    );
     let mut sched = Scheduler::new(m);
     let driven = sched.run(m, out, &mut ff);
     let x = ff.executed;
@@ -1637,12 +1630,20 @@ struct FastForward<'a, 'p> {
     last: Instant,
     /// Per thread: its virtual time, cycles (instructions plus load stalls).
     vt: Vec<f64>,
+    /// Per thread: running at the end of its last turn of this fast-forward (it stays
+    /// so until its next turn: only a thread's own instructions block or halt it).
+    running: Vec<bool>,
     /// The round's virtual time: each thread runs until its own reaches it.
     now_v: f64,
     /// The thread of the last turn (a lower one starts a new round).
     last_idx: usize,
     /// Virtual cycles per round.
     q: f64,
+    /// The earliest virtual time of the threads this round left running (skipped or at
+    /// the end of their allowance): the next round starts no later than it is due.
+    next_due: f64,
+    /// Whether a turn of this round has retired an instruction.
+    ran_in_round: bool,
     /// Virtual cycles per load by where warming served it (an instruction costs one).
     load: [f64; 3],
 }
@@ -1687,6 +1688,45 @@ impl VtCosts {
     }
 }
 
+impl<'a, 'p> FastForward<'a, 'p> {
+    /// An executor at the start of a fast-forward: `(reg, until)` the counter and its
+    /// target, `executed` the instructions so far, `(cycles, threads)` the chip's cycle
+    /// and thread count.
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        mem: &'a mut MemSystem,
+        global_end: u32,
+        (reg, until): (usize, u32),
+        cross: &'a mut Crossings,
+        executed: u64,
+        progress: Option<&'a mut (dyn FnMut(&Progress) + 'p)>,
+        (cycles, threads): (u64, usize),
+        costs: VtCosts,
+    ) -> Self {
+        FastForward {
+            mem,
+            global_end,
+            reg,
+            until,
+            cross,
+            executed,
+            paused: false,
+            progress,
+            cycles,
+            turns: 0,
+            last: Instant::now(),
+            vt: vec![0.0; threads],
+            running: vec![false; threads],
+            now_v: 0.0,
+            last_idx: usize::MAX,
+            q: f64::from(FF_QUANTUM),
+            next_due: f64::INFINITY,
+            ran_in_round: false,
+            load: [0.0, costs.l2_cycles, costs.dram_cycles],
+        }
+    }
+}
+
 impl Executor for FastForward<'_, '_> {
     fn exec(&mut self, idx: usize, t: &mut Thread, sh: &mut Shared, budget: u64) -> Stop {
         let c = sh.globals[self.reg];
@@ -1701,12 +1741,26 @@ impl Executor for FastForward<'_, '_> {
         // memory-bound and compute-bound phases at a window's start is the timed one.
         if idx <= self.last_idx {
             self.now_v += self.q;
+            // No thread still running is due before the new round's end: time skips to
+            // the round holding the earliest of them (they would all sit it out).
+            if self.next_due >= self.now_v && self.next_due.is_finite() {
+                self.now_v = self.next_due + self.q;
+            }
+            self.next_due = f64::INFINITY;
+            self.ran_in_round = false;
         }
         self.last_idx = idx;
         let vt = &mut self.vt[idx];
         // A thread back from a barrier (or paused) starts at most a round behind.
         *vt = vt.max(self.now_v - self.q);
-        // At least one instruction: a round always makes progress.
+        if *vt >= self.now_v && self.ran_in_round {
+            // Ahead of the round (waiting for memory in virtual time): it sits the round
+            // out, as in the timing model, without running. Skipping is only allowed once
+            // the round has made progress, so a round never runs nothing.
+            self.next_due = self.next_due.min(*vt);
+            self.running[idx] = true;
+            return Stop::Budget;
+        }
         let allowance = (self.now_v - *vt).ceil().clamp(1.0, budget.max(1) as f64) as u64;
         let before = t.retired;
         let tm = t.tm as usize;
@@ -1725,6 +1779,11 @@ impl Executor for FastForward<'_, '_> {
         let ran = t.retired - before;
         self.vt[idx] += ran as f64 + stall;
         self.executed += ran;
+        self.ran_in_round |= ran != 0;
+        self.running[idx] = matches!(t.state, RunState::Running);
+        if stop == Stop::Budget {
+            self.next_due = self.next_due.min(self.vt[idx]);
+        }
         self.turns += 1;
         if self.turns >= 256 {
             self.turns = 0;
@@ -1745,6 +1804,23 @@ impl Executor for FastForward<'_, '_> {
 
     fn pause(&self) -> bool {
         self.paused
+    }
+
+    /// The sit-out of [`Executor::exec`] decided from the dense `vt` and `running` arrays
+    /// alone, for a running thread in a round under way (`idx` after the last turn's) with
+    /// the counter short of its target: `exec` would only note crossings the next turn
+    /// notes alike (nothing runs in between) and lower `next_due`, as this does.
+    fn passes(&mut self, idx: usize, sh: &Shared) -> bool {
+        let passes = self.ran_in_round
+            && idx > self.last_idx
+            && self.running[idx]
+            && self.vt[idx] >= self.now_v
+            && sh.globals[self.reg] < self.until;
+        if passes {
+            self.last_idx = idx;
+            self.next_due = self.next_due.min(self.vt[idx]);
+        }
+        passes
     }
 }
 
@@ -2028,5 +2104,204 @@ mod tests {
         assert_eq!(p.head_end, 512);
         assert_eq!(p.bounds.len(), 21);
         assert_eq!(*p.bounds.last().unwrap(), 16384 - 512);
+    }
+
+    /// Runs one fast-forward round (every thread's turn, a quantum's budget each); returns
+    /// the instructions each thread retired in it.
+    fn ff_round(ff: &mut FastForward<'_, '_>, m: &mut Machine) -> Vec<u64> {
+        (0..m.threads.len())
+            .map(|i| {
+                let t = &mut m.threads[i];
+                let before = t.retired;
+                assert_eq!(
+                    ff.exec(i, t, &mut m.shared, u64::from(FF_QUANTUM)),
+                    Stop::Budget
+                );
+                t.retired - before
+            })
+            .collect()
+    }
+
+    /// One TM of three threads running nops, on the tiny chip.
+    fn nop_machine() -> (ChipConfig, Machine) {
+        use trax_runtime::image::{Perms, Segment};
+        use trax_runtime::isa::{instr, TraxOp};
+        const TEXT: u32 = trax_runtime::abi::TEXT_BASE;
+        let mut words = vec![0u32; 5000];
+        words.push(instr(TraxOp::Halt).encode(&[]));
+        let text: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
+        let end = TEXT + text.len() as u32;
+        let mut cfg = ChipConfig::preset("tiny").unwrap();
+        (cfg.tms, cfg.threads_per_tm) = (1, 3);
+        cfg.validate().unwrap();
+        let mc = crate::machine::MachineConfig {
+            tms: 1,
+            threads_per_tm: 3,
+            ..Default::default()
+        };
+        let seg = Segment::new("text", TEXT, text, Perms::RX);
+        (cfg, Machine::new(&[seg], TEXT, end, TEXT, mc).unwrap())
+    }
+
+    /// [`ff_round`] as the scheduler runs it: a thread the executor passes is not visited.
+    /// Returns the instructions each thread retired and whether its turn was passed.
+    fn ff_round_passing(ff: &mut FastForward<'_, '_>, m: &mut Machine) -> (Vec<u64>, Vec<bool>) {
+        (0..m.threads.len())
+            .map(|i| {
+                if ff.passes(i, &m.shared) {
+                    return (0, true);
+                }
+                let t = &mut m.threads[i];
+                let before = t.retired;
+                let stop = ff.exec(i, t, &mut m.shared, u64::from(FF_QUANTUM));
+                assert_eq!(stop, Stop::Budget);
+                (t.retired - before, false)
+            })
+            .unzip()
+    }
+
+    #[test]
+    fn fast_forward_passes_exactly_the_turns_it_would_sit_out() {
+        let (cfg, mut m_exec) = nop_machine();
+        let (_, mut m_pass) = nop_machine();
+        let mut e_exec = Engine::new(&cfg, &m_exec, Limits::default(), 1).unwrap();
+        let mut e_pass = Engine::new(&cfg, &m_pass, Limits::default(), 1).unwrap();
+        let mut x_exec = Crossings {
+            bounds: vec![],
+            at: vec![],
+        };
+        let mut x_pass = Crossings {
+            bounds: vec![],
+            at: vec![],
+        };
+        let global_end = m_exec.shared.mem.global_end();
+        let costs = VtCosts {
+            l2_cycles: 0.0,
+            dram_cycles: 0.0,
+        };
+        let n = m_exec.threads.len();
+        let mut ff_exec = FastForward::new(
+            e_exec.mem_mut(),
+            global_end,
+            (0, u32::MAX),
+            &mut x_exec,
+            0,
+            None,
+            (0, n),
+            costs,
+        );
+        let mut ff_pass = FastForward::new(
+            e_pass.mem_mut(),
+            global_end,
+            (0, u32::MAX),
+            &mut x_pass,
+            0,
+            None,
+            (0, n),
+            costs,
+        );
+        // Every round: the same instructions and state with and without passing, and the
+        // turns passed are exactly the sit-outs (a thread's first turn is always visited).
+        let mut round = |ff_exec: &mut FastForward<'_, '_>,
+                         ff_pass: &mut FastForward<'_, '_>,
+                         passed: [bool; 3]| {
+            let ran = ff_round(ff_exec, &mut m_exec);
+            assert_eq!(
+                ff_round_passing(ff_pass, &mut m_pass),
+                (ran.clone(), passed.to_vec())
+            );
+            assert_eq!(ff_exec.vt, ff_pass.vt);
+            assert_eq!(
+                (
+                    ff_exec.now_v,
+                    ff_exec.next_due,
+                    ff_exec.last_idx,
+                    ff_exec.ran_in_round
+                ),
+                (
+                    ff_pass.now_v,
+                    ff_pass.next_due,
+                    ff_pass.last_idx,
+                    ff_pass.ran_in_round
+                )
+            );
+            ran
+        };
+        assert_eq!(
+            round(&mut ff_exec, &mut ff_pass, [false; 3]),
+            [100, 100, 100]
+        );
+        ff_exec.vt[1] = 450.0;
+        ff_pass.vt[1] = 450.0;
+        for _ in 0..3 {
+            let passed = [false, true, false];
+            assert_eq!(round(&mut ff_exec, &mut ff_pass, passed), [100, 0, 100]);
+        }
+        assert_eq!(
+            round(&mut ff_exec, &mut ff_pass, [false; 3]),
+            [100, 50, 100]
+        );
+        for ff in [&mut ff_exec, &mut ff_pass] {
+            ff.vt = vec![2000.0, 1000.0, 1000.0];
+            ff.now_v = 600.0;
+            ff.last_idx = usize::MAX;
+            ff.next_due = f64::INFINITY;
+        }
+        // The round's first turn always runs; the threads ahead then pass.
+        let passed = [false, true, true];
+        assert_eq!(round(&mut ff_exec, &mut ff_pass, passed), [1, 0, 0]);
+        assert_eq!(round(&mut ff_exec, &mut ff_pass, [false; 3]), [1, 100, 100]);
+        // Far ahead in a round under way it passes; not known to be running (it blocked or
+        // halted), it is visited.
+        ff_pass.vt[2] = 1.0e9;
+        ff_pass.last_idx = 1;
+        assert!(ff_pass.passes(2, &m_pass.shared));
+        ff_pass.last_idx = 1;
+        ff_pass.running[2] = false;
+        assert!(!ff_pass.passes(2, &m_pass.shared));
+    }
+
+    #[test]
+    fn fast_forward_threads_ahead_of_the_round_sit_it_out() {
+        let (cfg, mut m) = nop_machine();
+        let mut engine = Engine::new(&cfg, &m, Limits::default(), 1).unwrap();
+        let mut cross = Crossings {
+            bounds: vec![],
+            at: vec![],
+        };
+        let global_end = m.shared.mem.global_end();
+        let costs = VtCosts {
+            l2_cycles: 0.0,
+            dram_cycles: 0.0,
+        };
+        let mut ff = FastForward::new(
+            engine.mem_mut(),
+            global_end,
+            (0, u32::MAX),
+            &mut cross,
+            0,
+            None,
+            (0, m.threads.len()),
+            costs,
+        );
+        assert_eq!(ff_round(&mut ff, &mut m), [100, 100, 100]);
+        // Thread 1 waited for memory (in virtual time) up to 450: it runs nothing in the
+        // rounds to 200, 300 and 400, and catches up to the round's end in the one to 500.
+        ff.vt[1] = 450.0;
+        assert_eq!(ff_round(&mut ff, &mut m), [100, 0, 100]);
+        assert_eq!(ff_round(&mut ff, &mut m), [100, 0, 100]);
+        assert_eq!(ff_round(&mut ff, &mut m), [100, 0, 100]);
+        assert_eq!(ff_round(&mut ff, &mut m), [100, 50, 100]);
+
+        // Every thread far ahead: until a turn of the round retires an instruction, a
+        // thread runs at least one (a round always makes progress); time then skips to
+        // the round of the earliest thread.
+        ff.vt = vec![2000.0, 1000.0, 1000.0];
+        ff.now_v = 600.0;
+        ff.last_idx = usize::MAX;
+        ff.next_due = f64::INFINITY;
+        assert_eq!(ff_round(&mut ff, &mut m), [1, 0, 0]);
+        assert_eq!(ff_round(&mut ff, &mut m), [1, 100, 100]);
+        assert_eq!(ff.now_v, 1100.0);
     }
 }

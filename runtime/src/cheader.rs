@@ -504,43 +504,37 @@ pub fn render_trax_h() -> String {
     out.push_str("\n/* ---- Scene access ---- */\n");
     let p = abi::SCENE_SYMBOL_PREFIX;
     for (t, f, n) in &fields {
-        match (t.as_str(), *n) {
-            _ if abi::component(f).is_some() => {
-                let Some(c) = abi::component(f) else {
-                    continue;
-                };
+        match (abi::component(f), *n) {
+            (Some(c), _) => {
                 let el = c_kind(c.element);
                 let cst = match c.access {
                     abi::Access::ReadOnly => "const ",
                     abi::Access::ReadWrite => "",
                 };
-                match c.slot {
-                    abi::Slot::Range => {
-                        let _ = writeln!(
-                            out,
-                            "TRAX_INLINE {cst}{el} *trax_scene_{f}(void) {{ return TRAX_PTR({cst}{el}, {p}{f}.addr); }}"
-                        );
-                        let _ = writeln!(
-                            out,
-                            "TRAX_INLINE unsigned int trax_scene_{f}_count(void) {{ return {p}{f}.count; }}"
-                        );
-                    }
-                    abi::Slot::Addr => {
-                        let _ = writeln!(
-                            out,
-                            "TRAX_INLINE {cst}{el} *trax_scene_{f}(void) {{ return TRAX_PTR({cst}{el}, {p}{f}); }}"
-                        );
-                    }
+                // A range's address is its `.addr`; an address slot is the address.
+                let addr = match c.slot {
+                    abi::Slot::Range => ".addr",
+                    abi::Slot::Addr => "",
+                };
+                let _ = writeln!(
+                    out,
+                    "TRAX_INLINE {cst}{el} *trax_scene_{f}(void) {{ return TRAX_PTR({cst}{el}, {p}{f}{addr}); }}"
+                );
+                if c.slot == abi::Slot::Range {
+                    let _ = writeln!(
+                        out,
+                        "TRAX_INLINE unsigned int trax_scene_{f}_count(void) {{ return {p}{f}.count; }}"
+                    );
                 }
             }
-            (_, 0) => {
+            (None, 0) => {
                 let _ = writeln!(
                     out,
                     "TRAX_INLINE {t} trax_scene_{f}(void) {{ return {p}{f}; }}"
                 );
             }
-            _ if f == "reserved" => {}
-            _ => {
+            (None, _) if f == "reserved" => {}
+            (None, _) => {
                 let _ = writeln!(
                     out,
                     "TRAX_INLINE const {t} *trax_scene_{f}(void) {{ return {p}{f}; }}"

@@ -1725,6 +1725,18 @@ impl<'a, 'p> FastForward<'a, 'p> {
             load: [0.0, costs.l2_cycles, costs.dram_cycles],
         }
     }
+
+    /// Whether thread `idx` sits this round out: it is ahead of the round (waiting for
+    /// memory in virtual time), as in the timing model, and the round has already made
+    /// progress (so a round never runs nothing). If so, it is due in the round holding its
+    /// virtual time (`next_due`).
+    fn sits_out(&mut self, idx: usize) -> bool {
+        let sits = self.ran_in_round && self.vt[idx] >= self.now_v;
+        if sits {
+            self.next_due = self.next_due.min(self.vt[idx]);
+        }
+        sits
+    }
 }
 
 impl Executor for FastForward<'_, '_> {
@@ -1750,18 +1762,15 @@ impl Executor for FastForward<'_, '_> {
             self.ran_in_round = false;
         }
         self.last_idx = idx;
-        let vt = &mut self.vt[idx];
         // A thread back from a barrier (or paused) starts at most a round behind.
-        *vt = vt.max(self.now_v - self.q);
-        if *vt >= self.now_v && self.ran_in_round {
-            // Ahead of the round (waiting for memory in virtual time): it sits the round
-            // out, as in the timing model, without running. Skipping is only allowed once
-            // the round has made progress, so a round never runs nothing.
-            self.next_due = self.next_due.min(*vt);
+        self.vt[idx] = self.vt[idx].max(self.now_v - self.q);
+        if self.sits_out(idx) {
             self.running[idx] = true;
             return Stop::Budget;
         }
-        let allowance = (self.now_v - *vt).ceil().clamp(1.0, budget.max(1) as f64) as u64;
+        let allowance = (self.now_v - self.vt[idx])
+            .ceil()
+            .clamp(1.0, budget.max(1) as f64) as u64;
         let before = t.retired;
         let tm = t.tm as usize;
         let mut stall = 0.0;
@@ -1811,14 +1820,12 @@ impl Executor for FastForward<'_, '_> {
     /// the counter short of its target: `exec` would only note crossings the next turn
     /// notes alike (nothing runs in between) and lower `next_due`, as this does.
     fn passes(&mut self, idx: usize, sh: &Shared) -> bool {
-        let passes = self.ran_in_round
-            && idx > self.last_idx
+        let passes = idx > self.last_idx
             && self.running[idx]
-            && self.vt[idx] >= self.now_v
-            && sh.globals[self.reg] < self.until;
+            && sh.globals[self.reg] < self.until
+            && self.sits_out(idx);
         if passes {
             self.last_idx = idx;
-            self.next_due = self.next_due.min(self.vt[idx]);
         }
         passes
     }
